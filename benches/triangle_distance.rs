@@ -1,0 +1,68 @@
+//! Triangle–triangle distance kernels against parry, on the same 10,000
+//! pre-generated nearly touching pairs (gap 1e-3..1e-1, unit size).
+//!
+//! `cargo bench --bench triangle_distance`; criterion reports the time per
+//! batch of 10,000 pairs and the throughput in pairs per second.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use nearmiss::kernels::batch::{triangle_distances_with, TrianglesSoa};
+use nearmiss::kernels::{
+    dyop_distance, triangle_distance, triangle_distance_with, PointEdgeFormula, SimdLevel,
+};
+use nearmiss::report::parry_triangle_distance;
+use nearmiss::samples::nearly_touching_pairs;
+use std::hint::black_box;
+
+const PAIRS: usize = 10_000;
+
+fn triangle_kernels(c: &mut Criterion) {
+    let pairs = nearly_touching_pairs(PAIRS, 1e-3, 1e-1, 2024);
+    let a = TrianglesSoa::from_triangles(&pairs.iter().map(|p| p.0).collect::<Vec<_>>());
+    let b = TrianglesSoa::from_triangles(&pairs.iter().map(|p| p.1).collect::<Vec<_>>());
+    let mut out = vec![0.0; PAIRS];
+
+    let mut group = c.benchmark_group("triangle_distance");
+    group.throughput(Throughput::Elements(PAIRS as u64));
+    group.bench_function("parry3d-f64 query::distance", |bench| {
+        bench.iter(|| {
+            pairs.iter().map(|(x, y)| parry_triangle_distance(black_box(x), black_box(y))).sum::<f64>()
+        })
+    });
+    group.bench_function("nearmiss triangle_distance (scalar)", |bench| {
+        bench.iter(|| {
+            pairs.iter().map(|(x, y)| triangle_distance(black_box(x), black_box(y)).distance).sum::<f64>()
+        })
+    });
+    for level in SimdLevel::available() {
+        group.bench_function(format!("nearmiss triangle_distance (scalar, {})", level.name()), |bench| {
+            bench.iter(|| {
+                pairs
+                    .iter()
+                    .map(|(x, y)| triangle_distance_with(level, black_box(x), black_box(y)).distance)
+                    .sum::<f64>()
+            })
+        });
+        group.bench_function(format!("nearmiss triangle_distances (batch, {})", level.name()), |bench| {
+            bench.iter(|| {
+                triangle_distances_with(level, black_box(&a), black_box(&b), &mut out);
+                out[PAIRS - 1]
+            })
+        });
+    }
+    for formula in PointEdgeFormula::ALL {
+        group.bench_function(format!("nearmiss dyop_distance ({})", formula.name()), |bench| {
+            bench.iter(|| {
+                pairs.iter().map(|(x, y)| dyop_distance(black_box(x), black_box(y), formula)).sum::<f64>()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(30).warm_up_time(std::time::Duration::from_millis(500))
+        .measurement_time(std::time::Duration::from_secs(2));
+    targets = triangle_kernels
+}
+criterion_main!(benches);

@@ -1,0 +1,137 @@
+//! Batched kernels over structure-of-arrays (SoA) inputs.
+//!
+//! Each batched kernel runs the *same* branch-free per-query code as its
+//! scalar twin, in a plain loop over the SoA columns that the compiler
+//! vectorizes, dispatched at run time like the scalar kernels
+//! ([`super::SimdLevel`]). Results are bit-identical to the scalar kernels.
+//!
+//! Kernels never allocate: the caller owns the output slice. Each kernel
+//! processes `min` of the input and output lengths.
+
+use super::dispatch::multiversioned;
+use super::point_segment::{point_segment_distance_kernel, PointEdgeFormula};
+use super::triangle_triangle::{closest_separated, triangle_distance_kernel};
+use crate::math::{Point, Real, Triangle};
+
+/// Points in structure-of-arrays layout: one column per coordinate.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PointsSoa {
+    /// x coordinates.
+    pub x: Vec<Real>,
+    /// y coordinates.
+    pub y: Vec<Real>,
+    /// z coordinates.
+    pub z: Vec<Real>,
+}
+
+impl PointsSoa {
+    /// Columns from a list of points.
+    pub fn from_points(points: &[Point]) -> PointsSoa {
+        PointsSoa {
+            x: points.iter().map(|p| p.x).collect(),
+            y: points.iter().map(|p| p.y).collect(),
+            z: points.iter().map(|p| p.z).collect(),
+        }
+    }
+
+    /// Number of points (the shortest column).
+    pub fn len(&self) -> usize {
+        self.x.len().min(self.y.len()).min(self.z.len())
+    }
+
+    /// Whether there are no points.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Point `i`. Panics if `i` is out of range.
+    #[inline(always)]
+    pub fn get(&self, i: usize) -> Point {
+        Point::new(self.x[i], self.y[i], self.z[i])
+    }
+}
+
+/// Triangles in structure-of-arrays layout: one [`PointsSoa`] per vertex.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TrianglesSoa {
+    /// Vertex columns 0, 1 and 2.
+    pub vertices: [PointsSoa; 3],
+}
+
+impl TrianglesSoa {
+    /// Columns from a list of triangles.
+    pub fn from_triangles(triangles: &[Triangle]) -> TrianglesSoa {
+        let column = |k: usize| PointsSoa::from_points(&triangles.iter().map(|t| t[k]).collect::<Vec<_>>());
+        TrianglesSoa { vertices: [column(0), column(1), column(2)] }
+    }
+
+    /// Number of triangles (the shortest column).
+    pub fn len(&self) -> usize {
+        self.vertices.iter().map(PointsSoa::len).min().unwrap_or(0)
+    }
+
+    /// Whether there are no triangles.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Triangle `i`. Panics if `i` is out of range.
+    #[inline(always)]
+    pub fn get(&self, i: usize) -> Triangle {
+        [self.vertices[0].get(i), self.vertices[1].get(i), self.vertices[2].get(i)]
+    }
+}
+
+multiversioned! {
+    /// [`point_segment_distance`](super::point_segment_distance) for each `(p[i], a[i], b[i])`, into `out[i]`.
+    pub fn point_segment_distances / point_segment_distances_with(
+        p: &PointsSoa, a: &PointsSoa, b: &PointsSoa, formula: PointEdgeFormula, out: &mut [Real]
+    ) {
+        let n = out.len().min(p.len()).min(a.len()).min(b.len());
+        let out = &mut out[..n];
+        // One monomorphic loop per formula, so the formula is not a per-lane branch.
+        macro_rules! run {
+            ($formula:expr) => {
+                for (i, o) in out.iter_mut().enumerate() {
+                    *o = point_segment_distance_kernel(&p.get(i), &a.get(i), &b.get(i), $formula);
+                }
+            };
+        }
+        match formula {
+            PointEdgeFormula::Vector => run!(PointEdgeFormula::Vector),
+            PointEdgeFormula::PlainVector => run!(PointEdgeFormula::PlainVector),
+            PointEdgeFormula::Heron => run!(PointEdgeFormula::Heron),
+            PointEdgeFormula::StableHeron => run!(PointEdgeFormula::StableHeron),
+        }
+    }
+}
+
+multiversioned! {
+    /// [`triangle_distance`](super::triangle_distance)`(a[i], b[i]).distance` for each pair, into
+    /// `out[i]`. Pairs whose closest direction does not certainly separate
+    /// them (touching, crossing or nearly so) are finished by the scalar
+    /// kernel's exact test.
+    pub fn triangle_distances / triangle_distances_with(
+        a: &TrianglesSoa, b: &TrianglesSoa, out: &mut [Real]
+    ) {
+        let n = out.len().min(a.len()).min(b.len());
+        let out = &mut out[..n];
+        // Vectorized pass: separated pairs get their distance; the others are
+        // marked with -1 (distances are never negative).
+        for (i, o) in out.iter_mut().enumerate() {
+            let (ta, tb) = (a.get(i), b.get(i));
+            let origin = ta[0];
+            let local_a = ta.map(|v| Point::from(v - origin));
+            let local_b = tb.map(|v| Point::from(v - origin));
+            let closest = closest_separated(&local_a, &local_b);
+            let distance = closest.distance_squared.sqrt();
+            *o = if closest.certified { distance } else { -1.0 };
+        }
+        // Scalar pass over the few marked pairs, with the exact test.
+        for (i, o) in out.iter_mut().enumerate() {
+            if *o < 0.0 {
+                *o = triangle_distance_kernel(&a.get(i), &b.get(i)).distance;
+            }
+        }
+    }
+}

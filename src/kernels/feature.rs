@@ -1,0 +1,27 @@
+//! Which part of a triangle a closest point lies on.
+
+/// A feature of a triangle `[v0, v1, v2]`. Edge `i` joins `v_i` and
+/// `v_{(i+1) mod 3}`.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Feature {
+    /// Vertex `i`.
+    Vertex(u8),
+    /// Edge `i`, from vertex `i` to vertex `(i + 1) mod 3`, excluding its ends.
+    Edge(u8),
+    /// The interior of the face.
+    Face,
+}
+
+impl Feature {
+    /// The feature of edge `edge` at parameter `s` (0 at its first vertex).
+    #[inline]
+    pub fn on_edge(edge: u8, s: f64) -> Feature {
+        if s <= 0.0 {
+            Feature::Vertex(edge)
+        } else if s >= 1.0 {
+            Feature::Vertex((edge + 1) % 3)
+        } else {
+            Feature::Edge(edge)
+        }
+    }
+}

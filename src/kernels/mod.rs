@@ -1,0 +1,35 @@
+//! Pure distance kernels: no allocation, no I/O, never a panic, never NaN on
+//! finite input (coordinates below 1e150 in magnitude, so that squares stay
+//! finite).
+//!
+//! - [`point_segment_distance`] with the three [`PointEdgeFormula`]s of the
+//!   seed paper and its critics (plus the plain cross product).
+//! - [`triangle_distance`]: exact (to rounding) triangle–triangle distance with
+//!   closest points and features, built from [`point_face_interior`],
+//!   [`segment_segment`] and the exact [`triangles_intersect`].
+//! - [`dyop_distance`]: the seed's approximate DyOP kernel.
+//! - [`batch`]: the same kernels over structure-of-arrays batches, vectorized
+//!   with runtime CPU-feature dispatch, bit-identical to the scalar ones.
+
+pub mod batch;
+mod compensated;
+mod dispatch;
+mod dyop;
+mod feature;
+mod point_segment;
+mod point_triangle;
+mod segment_segment;
+mod triangle_intersection;
+mod triangle_triangle;
+
+pub use compensated::{cross as compensated_cross, difference_of_products};
+pub use dispatch::SimdLevel;
+pub use dyop::{dynamic_origin_point, dyop_distance};
+pub use feature::Feature;
+pub use point_segment::{
+    heron_height, point_segment_distance, point_segment_distance_with, stable_heron_height, PointEdgeFormula,
+};
+pub use point_triangle::{point_face_interior, point_triangle, FacePlane, PointTriangle};
+pub use segment_segment::{segment_segment, SegmentSegment};
+pub use triangle_intersection::triangles_intersect;
+pub use triangle_triangle::{triangle_distance, triangle_distance_with, TriangleDistance};

@@ -1,0 +1,19 @@
+//! # nearmiss
+//!
+//! A continuous-collision-detection (CCD) time-stepper for triangle meshes.
+//! A fixed-step integrator moves and rotates meshes; a broad phase selects
+//! candidate pairs; a conservative-advancement CCD driven by triangle distance
+//! kernels finds the time of first contact without stepping past it; distances
+//! over time are recorded and plotted.
+//!
+//! This release holds the foundation: the distance [`kernels`] (exact
+//! triangle–triangle, point–segment by vector and Heron formulas, the seed
+//! paper's DyOP kernel, and batched SIMD versions), the [`exact`] rational
+//! reference they are tested against, and [`samples`]: the seeded input
+//! classes shared by tests, benchmarks and the kernel report ([`report`]).
+
+pub mod exact;
+pub mod kernels;
+pub mod math;
+pub mod report;
+pub mod samples;

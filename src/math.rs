@@ -1,0 +1,39 @@
+//! Scalar and geometry types used throughout nearmiss, and the conversions to
+//! the glam types of parry (the peer), which appear only at that boundary.
+
+/// The scalar type of every computation in nearmiss.
+pub type Real = f64;
+/// A point in 3-D space.
+pub type Point = nalgebra::Point3<Real>;
+/// A displacement in 3-D space.
+pub type Vector = nalgebra::Vector3<Real>;
+/// A rigid pose (rotation then translation).
+pub type Pose = nalgebra::Isometry3<Real>;
+
+/// A triangle as its three vertices, in order.
+pub type Triangle = [Point; 3];
+
+/// Converts a nalgebra point to parry's glam vector.
+#[inline]
+pub fn to_parry(p: &Point) -> parry3d_f64::math::Vector {
+    parry3d_f64::math::Vector::new(p.x, p.y, p.z)
+}
+
+/// Converts parry's glam vector back to a nalgebra point.
+#[inline]
+pub fn from_parry(v: parry3d_f64::math::Vector) -> Point {
+    Point::new(v.x, v.y, v.z)
+}
+
+/// Converts a triangle to parry's triangle shape.
+#[inline]
+pub fn triangle_to_parry(t: &Triangle) -> parry3d_f64::shape::Triangle {
+    parry3d_f64::shape::Triangle::new(to_parry(&t[0]), to_parry(&t[1]), to_parry(&t[2]))
+}
+
+/// The largest absolute coordinate of a set of points: the scale that
+/// absolute error bounds ("a few ulps of the coordinates") refer to.
+#[inline]
+pub fn max_abs_coordinate(points: &[Point]) -> Real {
+    points.iter().flat_map(|p| p.coords.iter()).fold(0.0, |m: Real, c| m.max(c.abs()))
+}
