@@ -16,7 +16,7 @@ enum Command {
     /// reference, per input class, beside its rough time per query.
     Kernels {
         /// Inputs per class.
-        #[arg(long, default_value_t = 2000)]
+        #[arg(long, default_value_t = 500)]
         count: usize,
         /// Seed of the input generators.
         #[arg(long, default_value_t = 1)]
