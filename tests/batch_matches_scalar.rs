@@ -1,7 +1,9 @@
 //! The batched kernels give bit-identical results to the scalar ones, at
 //! every instruction-set level this CPU supports, on every input class.
 
-use nearmiss::kernels::batch::{point_segment_distances_with, triangle_distances_with, PointsSoa, TrianglesSoa};
+use nearmiss::kernels::batch::{
+    point_segment_distances_with, triangle_distances_with, PointsSoa, TrianglesSoa,
+};
 use nearmiss::kernels::{point_segment_distance_with, triangle_distance_with, PointEdgeFormula, SimdLevel};
 use nearmiss::samples::{point_segment_queries, triangle_pairs, InputClass};
 
@@ -29,7 +31,9 @@ fn triangle_batches_are_bit_identical() {
 fn point_segment_batches_are_bit_identical() {
     for class in InputClass::ALL {
         let queries = point_segment_queries(class, 1000, 17);
-        let column = |k: usize| PointsSoa::from_points(&queries.iter().map(|q| [q.0, q.1, q.2][k]).collect::<Vec<_>>());
+        let column = |k: usize| {
+            PointsSoa::from_points(&queries.iter().map(|q| [q.0, q.1, q.2][k]).collect::<Vec<_>>())
+        };
         let (p, a, b) = (column(0), column(1), column(2));
         for formula in PointEdgeFormula::ALL {
             for level in SimdLevel::available() {
@@ -37,7 +41,11 @@ fn point_segment_batches_are_bit_identical() {
                 point_segment_distances_with(level, &p, &a, &b, formula, &mut out);
                 for (i, (qp, qa, qb)) in queries.iter().enumerate() {
                     let reference = point_segment_distance_with(SimdLevel::Baseline, qp, qa, qb, formula);
-                    assert_eq!(out[i].to_bits(), reference.to_bits(), "{class:?} {formula:?} {level:?} query {i}");
+                    assert_eq!(
+                        out[i].to_bits(),
+                        reference.to_bits(),
+                        "{class:?} {formula:?} {level:?} query {i}"
+                    );
                 }
             }
         }

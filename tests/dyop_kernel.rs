@@ -10,7 +10,9 @@ use nearmiss::samples::{triangle_pairs, InputClass, Rng};
 /// The error each point–edge formula is allowed (see `point_segment_vs_exact.rs`).
 fn formula_bound(formula: PointEdgeFormula, exact: f64, extent: f64) -> f64 {
     match formula {
-        PointEdgeFormula::Vector | PointEdgeFormula::PlainVector => 1e-14 * exact + 4.0 * f64::EPSILON * extent,
+        PointEdgeFormula::Vector | PointEdgeFormula::PlainVector => {
+            1e-14 * exact + 4.0 * f64::EPSILON * extent
+        }
         PointEdgeFormula::Heron | PointEdgeFormula::StableHeron => 4.0 * f64::EPSILON.sqrt() * extent,
     }
 }
@@ -27,7 +29,11 @@ fn exact_on_the_seeds_vertex_edge_setting() {
     for _ in 0..500 {
         let gap = rng.log_range(1e-9, 1e-1);
         let y0 = rng.range(-0.8, 0.8);
-        let a = [Point::new(0.0, -1.0, 0.0), Point::new(0.0, 1.0, 0.0), Point::new(-3.0, rng.range(-1.0, 1.0), 0.5)];
+        let a = [
+            Point::new(0.0, -1.0, 0.0),
+            Point::new(0.0, 1.0, 0.0),
+            Point::new(-3.0, rng.range(-1.0, 1.0), 0.5),
+        ];
         let b = [
             Point::new(gap, y0, 0.0),
             Point::new(gap + 3.0, rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)),

@@ -22,7 +22,9 @@ const QUERIES_PER_CLASS: usize = 3000;
 
 fn bound(formula: PointEdgeFormula, exact: f64, extent: f64) -> f64 {
     match formula {
-        PointEdgeFormula::Vector | PointEdgeFormula::PlainVector => 1e-14 * exact + 4.0 * f64::EPSILON * extent,
+        PointEdgeFormula::Vector | PointEdgeFormula::PlainVector => {
+            1e-14 * exact + 4.0 * f64::EPSILON * extent
+        }
         PointEdgeFormula::Heron | PointEdgeFormula::StableHeron => 4.0 * f64::EPSILON.sqrt() * extent,
     }
 }

@@ -43,7 +43,10 @@ fn check_class(class: InputClass) {
         assert!((realised - computed.distance).abs() <= 8.0 * f64::EPSILON * extent.max(a[0].coords.amax()));
         for (point, triangle) in [(&computed.point_a, a), (&computed.point_b, b)] {
             let off = exact::to_f64(&exact::point_triangle_distance_squared(point, triangle)).sqrt();
-            assert!(off <= 8.0 * f64::EPSILON * extent.max(a[0].coords.amax()), "{class:?} pair {i}: point off by {off:e}");
+            assert!(
+                off <= 8.0 * f64::EPSILON * extent.max(a[0].coords.amax()),
+                "{class:?} pair {i}: point off by {off:e}"
+            );
         }
         worst = worst.max(error / (f64::EPSILON * extent));
     }

@@ -45,7 +45,10 @@ fn agrees_with_parry_at_benchmark_gaps() {
         let theirs = parry_triangle_distance(a, b);
         if (ours - theirs).abs() > 1e-12 {
             let expected = exact::triangle_distance_f64(a, b);
-            assert!((ours - expected).abs() <= 1e-12 * expected, "pair {i}: nearmiss {ours:e}, exact {expected:e}");
+            assert!(
+                (ours - expected).abs() <= 1e-12 * expected,
+                "pair {i}: nearmiss {ours:e}, exact {expected:e}"
+            );
             assert!((theirs - expected).abs() > 1e-12, "pair {i}");
         }
     }

@@ -16,13 +16,14 @@ mod compensated;
 mod dispatch;
 mod dyop;
 mod feature;
+pub mod lanes;
 mod point_segment;
 mod point_triangle;
 mod segment_segment;
 mod triangle_intersection;
 mod triangle_triangle;
 
-pub use compensated::{cross as compensated_cross, difference_of_products};
+pub use compensated::difference_of_products;
 pub use dispatch::SimdLevel;
 pub use dyop::{dynamic_origin_point, dyop_distance};
 pub use feature::Feature;
@@ -30,6 +31,6 @@ pub use point_segment::{
     heron_height, point_segment_distance, point_segment_distance_with, stable_heron_height, PointEdgeFormula,
 };
 pub use point_triangle::{point_face_interior, point_triangle, FacePlane, PointTriangle};
-pub use segment_segment::{segment_segment, SegmentSegment};
+pub use segment_segment::{segment_segment, segment_segment_lanes, Edge, SegmentSegment};
 pub use triangle_intersection::triangles_intersect;
 pub use triangle_triangle::{triangle_distance, triangle_distance_with, TriangleDistance};

@@ -29,6 +29,7 @@
 
 use super::compensated;
 use super::dispatch::multiversioned;
+use super::lanes::V3;
 use crate::math::{Point, Real};
 
 /// How the perpendicular distance from a point to an edge is computed.
@@ -64,7 +65,6 @@ impl PointEdgeFormula {
         }
     }
 }
-
 
 multiversioned! {
     /// Distance from point `p` to the segment `[a, b]`.
@@ -110,7 +110,9 @@ pub(crate) fn point_segment_distance_kernel(
     let to_b = bp.norm();
     let length = length_squared.sqrt();
     let interior = match formula {
-        PointEdgeFormula::Vector => compensated::cross(&ap, &ab).norm() / length,
+        PointEdgeFormula::Vector => {
+            compensated::cross(&V3::from(&ap), &V3::from(&ab)).norm_squared().sqrt() / length
+        }
         PointEdgeFormula::PlainVector => ap.cross(&ab).norm() / length,
         PointEdgeFormula::Heron => heron_height(length, to_a, to_b),
         PointEdgeFormula::StableHeron => stable_heron_height(length, to_a, to_b),

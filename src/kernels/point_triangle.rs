@@ -12,53 +12,61 @@
 
 use super::compensated;
 use super::feature::Feature;
-use super::segment_segment::{clamp_unit, point_on_segment};
-use crate::math::{Point, Real, Triangle, Vector};
+use super::lanes::{Lane, V3};
+use super::segment_segment::point_on_segment;
+use crate::math::{Point, Real, Triangle};
 
 /// A triangle's plane: the data shared by all point queries against it.
 #[derive(Copy, Clone, Debug)]
-pub struct FacePlane {
-    /// Vertex 0.
-    pub origin: Point,
-    /// The (unnormalised) normal `(v1 - v0) × (v2 - v0)`, FMA-compensated.
-    pub normal: Vector,
-    /// `|normal|²`; zero for a degenerate (collinear) triangle.
-    pub normal_squared: Real,
+pub struct FacePlane<L = Real> {
     /// The triangle's vertices.
-    pub vertices: Triangle,
+    pub vertices: [V3<L>; 3],
+    /// The (unnormalised) normal `(v1 - v0) × (v2 - v0)`, FMA-compensated.
+    pub normal: V3<L>,
+    /// `|normal|²`; zero for a degenerate (collinear) triangle.
+    pub normal_squared: L,
+    /// `1 / |normal|²` (infinite for a degenerate triangle, never used then).
+    pub inverse_normal_squared: L,
     /// `normal × edge_i`: points into the triangle from edge `i`.
-    pub edge_normals: [Vector; 3],
+    pub edge_normals: [V3<L>; 3],
+    /// `edge_normals[i] · v_i`: a point `p` is on the inner side of edge `i`
+    /// when `edge_normals[i] · p ≥ edge_offsets[i]`.
+    pub edge_offsets: [L; 3],
 }
 
-impl FacePlane {
-    /// Precomputes the plane of `triangle`.
+impl<L: Lane> FacePlane<L> {
+    /// Precomputes the plane of the triangle `vertices`.
     #[inline(always)]
-    pub fn new(triangle: &Triangle) -> FacePlane {
-        let [v0, v1, v2] = *triangle;
+    pub fn new(vertices: &[V3<L>; 3]) -> FacePlane<L> {
+        let [v0, v1, v2] = *vertices;
         let normal = compensated::cross(&(v1 - v0), &(v2 - v0));
+        let normal_squared = normal.norm_squared();
+        let edge_normals = [normal.cross(&(v1 - v0)), normal.cross(&(v2 - v1)), normal.cross(&(v0 - v2))];
         FacePlane {
-            origin: v0,
+            vertices: *vertices,
             normal,
-            normal_squared: normal.norm_squared(),
-            vertices: *triangle,
-            edge_normals: [normal.cross(&(v1 - v0)), normal.cross(&(v2 - v1)), normal.cross(&(v0 - v2))],
+            normal_squared,
+            inverse_normal_squared: L::splat(1.0) / normal_squared,
+            edge_normals,
+            edge_offsets: [edge_normals[0].dot(&v0), edge_normals[1].dot(&v1), edge_normals[2].dot(&v2)],
         }
     }
 }
 
 /// The squared distance from `p` to the interior of the face, or `+∞` when
 /// the projection of `p` falls outside the triangle or the triangle is
-/// degenerate (no face). Returns also the projection.
+/// degenerate (no face); and the projection of `p` on the plane.
 #[inline(always)]
-pub fn point_face_interior(p: &Point, face: &FacePlane) -> (Real, Point) {
-    let height = face.normal.dot(&(p - face.origin));
-    let inside = (face.edge_normals[0].dot(&(p - face.vertices[0])) >= 0.0)
-        & (face.edge_normals[1].dot(&(p - face.vertices[1])) >= 0.0)
-        & (face.edge_normals[2].dot(&(p - face.vertices[2])) >= 0.0)
-        & (face.normal_squared > 0.0);
-    let distance_squared = height * (height / face.normal_squared);
-    let projection = p - face.normal * (height / face.normal_squared);
-    (if inside { distance_squared } else { Real::INFINITY }, projection)
+pub fn point_face_interior<L: Lane>(p: &V3<L>, face: &FacePlane<L>) -> (L, V3<L>) {
+    let zero = L::splat(0.0);
+    let height = face.normal.dot(&(*p - face.vertices[0]));
+    let inside = face.edge_offsets[0].le(face.edge_normals[0].dot(p))
+        & face.edge_offsets[1].le(face.edge_normals[1].dot(p))
+        & face.edge_offsets[2].le(face.edge_normals[2].dot(p))
+        & zero.lt(face.normal_squared);
+    let ratio = height * face.inverse_normal_squared;
+    let projection = *p - face.normal * ratio;
+    (L::select(inside, height * ratio, L::splat(Real::INFINITY)), projection)
 }
 
 /// Closest point on a triangle to a point, with its feature.
@@ -85,14 +93,15 @@ pub struct PointTriangle {
 /// assert_eq!(c.feature, Feature::Vertex(0));
 /// ```
 pub fn point_triangle(p: &Point, triangle: &Triangle) -> PointTriangle {
-    let face = FacePlane::new(triangle);
-    let (face_squared, projection) = point_face_interior(p, &face);
-    let mut best = PointTriangle { point: projection, feature: Feature::Face, distance: face_squared };
+    let face = FacePlane::new(&triangle.each_ref().map(V3::from));
+    let (face_squared, projection) = point_face_interior(&V3::from(p), &face);
+    let mut best =
+        PointTriangle { point: projection.to_point(), feature: Feature::Face, distance: face_squared };
     for edge in 0..3u8 {
         let a = &triangle[edge as usize];
         let b = &triangle[(edge as usize + 1) % 3];
         let ab = b - a;
-        let s = clamp_unit((p - a).dot(&ab) / ab.norm_squared());
+        let s = ((p - a).dot(&ab) / ab.norm_squared()).clamp_unit();
         let s = if ab.norm_squared() > 0.0 { s } else { 0.0 };
         let point = point_on_segment(a, b, s);
         let squared = (p - point).norm_squared();

@@ -16,23 +16,53 @@
 //! start from `s = 0`, which attains the minimum as well; a zero-length
 //! segment is a point.
 //!
-//! The function has no early returns, so that batched callers vectorize.
+//! Written once for [`Lane`]s: selects, no branches, so it runs on one pair
+//! or eight at a time with the same result.
 
 use super::compensated;
-use crate::math::{Point, Real, Vector};
+use super::lanes::{Lane, V3};
+use crate::math::{Point, Real};
 
 /// Parameters `(s, t)` of the closest points `p0 + s(p1 - p0)` and
 /// `q0 + t(q1 - q0)`, and their squared distance.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct SegmentSegment {
+pub struct SegmentSegment<L = Real> {
     /// Parameter on the first segment, in `[0, 1]`.
-    pub s: Real,
+    pub s: L,
     /// Parameter on the second segment, in `[0, 1]`.
-    pub t: Real,
+    pub t: L,
     /// Squared distance between the two closest points.
-    pub distance_squared: Real,
+    pub distance_squared: L,
     /// `p(s) - q(t)`: from the closest point of the second segment to that of the first.
-    pub gap: Vector,
+    pub gap: V3<L>,
+}
+
+/// A segment with the data every query against it shares.
+#[derive(Copy, Clone, Debug)]
+pub struct Edge<L = Real> {
+    /// First end point.
+    pub start: V3<L>,
+    /// `end - start`.
+    pub direction: V3<L>,
+    /// `|direction|²`.
+    pub length_squared: L,
+    /// `1 / |direction|²` (infinite for a zero-length segment, never used then).
+    pub inverse_length_squared: L,
+}
+
+impl<L: Lane> Edge<L> {
+    /// The segment `[start, end]`.
+    #[inline(always)]
+    pub fn new(start: &V3<L>, end: &V3<L>) -> Edge<L> {
+        let direction = *end - *start;
+        let length_squared = direction.norm_squared();
+        Edge {
+            start: *start,
+            direction,
+            length_squared,
+            inverse_length_squared: L::splat(1.0) / length_squared,
+        }
+    }
 }
 
 /// Closest points between segments `[p0, p1]` and `[q0, q1]`.
@@ -46,13 +76,18 @@ pub struct SegmentSegment {
 /// );
 /// assert_eq!((c.s, c.t, c.distance_squared), (0.75, 0.5, 4.0));
 /// ```
-#[inline(always)]
 pub fn segment_segment(p0: &Point, p1: &Point, q0: &Point, q1: &Point) -> SegmentSegment {
-    let d1 = p1 - p0;
-    let d2 = q1 - q0;
-    let r = p0 - q0;
-    let a = d1.norm_squared();
-    let e = d2.norm_squared();
+    segment_segment_lanes(&Edge::new(&p0.into(), &p1.into()), &Edge::new(&q0.into(), &q1.into()))
+}
+
+/// [`segment_segment`] on lanes, with the per-edge data precomputed (a
+/// triangle pair shares each edge among three queries).
+#[inline(always)]
+pub fn segment_segment_lanes<L: Lane>(first: &Edge<L>, second: &Edge<L>) -> SegmentSegment<L> {
+    let zero = L::splat(0.0);
+    let (d1, d2) = (first.direction, second.direction);
+    let r = first.start - second.start;
+    let (a, e) = (first.length_squared, second.length_squared);
     let b = d1.dot(&d2);
     let c = d1.dot(&r);
     let f = d2.dot(&r);
@@ -61,25 +96,17 @@ pub fn segment_segment(p0: &Point, p1: &Point, q0: &Point, q1: &Point) -> Segmen
     let n_squared = n.norm_squared();
     let s_free = n.dot(&compensated::cross(&d2, &r)) / n_squared;
     // Parallel or degenerate segments: any s attains the minimum; take 0.
-    let s_first = if n_squared > 0.0 { clamp_unit(s_free) } else { 0.0 };
-    let t_free = b.mul_add(s_first, f) / e;
-    let t_unclamped = if e > 0.0 { t_free } else { 0.0 };
-    let t = clamp_unit(t_unclamped);
+    let s_first = L::select(zero.lt(n_squared), s_free.clamp_unit(), zero);
+    let t_free = b.mul_add(s_first, f) * second.inverse_length_squared;
+    let t_unclamped = L::select(zero.lt(e), t_free, zero);
+    let t = t_unclamped.clamp_unit();
     // t was clamped (or the second segment is a point): best s for that t.
-    let s_again = clamp_unit(b.mul_add(t, -c) / a);
-    let s_recomputed = if a > 0.0 { s_again } else { 0.0 };
-    let s = if (t != t_unclamped) | (e <= 0.0) { s_recomputed } else { s_first };
+    let s_again = (b.mul_add(t, -c) * first.inverse_length_squared).clamp_unit();
+    let s_recomputed = L::select(zero.lt(a), s_again, zero);
+    let s = L::select(t.ne(t_unclamped) | e.le(zero), s_recomputed, s_first);
 
-    // r + s·d1 - t·d2, with fused operations.
     let gap = r + d1 * s - d2 * t;
     SegmentSegment { s, t, distance_squared: gap.norm_squared(), gap }
-}
-
-/// `x` clamped to `[0, 1]`; NaN maps to 0 (`f64::clamp` would keep NaN).
-#[inline(always)]
-#[allow(clippy::manual_clamp)]
-pub(crate) fn clamp_unit(x: Real) -> Real {
-    x.max(0.0).min(1.0)
 }
 
 /// The point at parameter `s` on `[p0, p1]`, exactly `p0` or `p1` at the ends.

@@ -24,10 +24,11 @@
 
 use super::dispatch::multiversioned;
 use super::feature::Feature;
+use super::lanes::{Lane, V3};
 use super::point_triangle::{point_face_interior, point_triangle, FacePlane};
-use super::segment_segment::{point_on_segment, segment_segment};
+use super::segment_segment::{point_on_segment, segment_segment_lanes, Edge};
 use super::triangle_intersection::triangles_intersect;
-use crate::math::{Point, Real, Triangle, Vector};
+use crate::math::{Point, Real, Triangle};
 
 /// The distance between two triangles and where it is attained.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -69,9 +70,9 @@ multiversioned! {
 /// version and into the batched kernel's scalar pass.
 #[inline(always)]
 pub(crate) fn triangle_distance_kernel(a: &Triangle, b: &Triangle) -> TriangleDistance {
-    let origin = a[0];
-    let local_a = a.map(|v| Point::from(v - origin));
-    let local_b = b.map(|v| Point::from(v - origin));
+    let origin = V3::from(&a[0]);
+    let local_a = [V3::from(&a[0]) - origin, V3::from(&a[1]) - origin, V3::from(&a[2]) - origin];
+    let local_b = [V3::from(&b[0]) - origin, V3::from(&b[1]) - origin, V3::from(&b[2]) - origin];
     let closest = closest_separated(&local_a, &local_b);
     if !closest.certified {
         if let Some(common) = triangles_intersect(a, b) {
@@ -84,53 +85,53 @@ pub(crate) fn triangle_distance_kernel(a: &Triangle, b: &Triangle) -> TriangleDi
             };
         }
     }
-    let (point_a, point_b, feature_a, feature_b) = match closest.pair {
-        ClosestPair::VertexOverFace { vertex_of_b: true, vertex } => {
-            let face = FacePlane::new(&local_a);
-            let (_, projection) = point_face_interior(&local_b[vertex as usize], &face);
-            (projection + origin.coords, b[vertex as usize], Feature::Face, Feature::Vertex(vertex))
-        }
-        ClosestPair::VertexOverFace { vertex_of_b: false, vertex } => {
-            let face = FacePlane::new(&local_b);
-            let (_, projection) = point_face_interior(&local_a[vertex as usize], &face);
-            (a[vertex as usize], projection + origin.coords, Feature::Vertex(vertex), Feature::Face)
-        }
-        ClosestPair::EdgeEdge { edge_a, edge_b, s, t } => {
-            let (i, j) = (edge_a as usize, edge_b as usize);
-            (
-                point_on_segment(&a[i], &a[(i + 1) % 3], s),
-                point_on_segment(&b[j], &b[(j + 1) % 3], t),
-                Feature::on_edge(edge_a, s),
-                Feature::on_edge(edge_b, t),
-            )
-        }
+    let to_world = |v: V3<Real>| (v + origin).to_point();
+    // Candidate codes, in the order `closest_separated` considers them.
+    let code = closest.candidate as usize;
+    let (point_a, point_b, feature_a, feature_b) = if code < VERTEX_OF_A_OVER_FACE_OF_B {
+        let vertex = code - VERTEX_OF_B_OVER_FACE_OF_A;
+        let (_, projection) = point_face_interior(&local_b[vertex], &FacePlane::new(&local_a));
+        (to_world(projection), b[vertex], Feature::Face, Feature::Vertex(vertex as u8))
+    } else if code < EDGE_OF_A_AND_EDGE_OF_B {
+        let vertex = code - VERTEX_OF_A_OVER_FACE_OF_B;
+        let (_, projection) = point_face_interior(&local_a[vertex], &FacePlane::new(&local_b));
+        (a[vertex], to_world(projection), Feature::Vertex(vertex as u8), Feature::Face)
+    } else {
+        let (i, j) = ((code - EDGE_OF_A_AND_EDGE_OF_B) / 3, (code - EDGE_OF_A_AND_EDGE_OF_B) % 3);
+        (
+            point_on_segment(&a[i], &a[(i + 1) % 3], closest.s),
+            point_on_segment(&b[j], &b[(j + 1) % 3], closest.t),
+            Feature::on_edge(i as u8, closest.s),
+            Feature::on_edge(j as u8, closest.t),
+        )
     };
     TriangleDistance { distance: closest.distance_squared.sqrt(), point_a, point_b, feature_a, feature_b }
 }
 
-/// Which of the 15 candidate pairs attains the minimum.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub(crate) enum ClosestPair {
-    /// A vertex of one triangle over the interior of the other's face.
-    VertexOverFace { vertex_of_b: bool, vertex: u8 },
-    /// Edge `edge_a` of `a` at parameter `s`, edge `edge_b` of `b` at `t`.
-    EdgeEdge { edge_a: u8, edge_b: u8, s: Real, t: Real },
-}
+/// Candidate codes 0..3: vertex `code` of b over the face of a.
+const VERTEX_OF_B_OVER_FACE_OF_A: usize = 0;
+/// Candidate codes 3..6: vertex `code - 3` of a over the face of b.
+const VERTEX_OF_A_OVER_FACE_OF_B: usize = 3;
+/// Candidate codes 6..15: edge `(code - 6) / 3` of a and `(code - 6) % 3` of b.
+const EDGE_OF_A_AND_EDGE_OF_B: usize = 6;
 
 /// The minimum over the 15 candidate pairs, and whether the triangles are
 /// certainly disjoint.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub(crate) struct ClosestSeparated {
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct ClosestSeparated<L: Lane> {
     /// The smallest squared candidate distance.
-    pub distance_squared: Real,
-    /// The candidate pair attaining it.
-    pub pair: ClosestPair,
-    /// `point_b - point_a` of that pair.
-    pub separation: Vector,
-    /// Whether the plane normal to `separation` certainly separates the
-    /// triangles (then they are disjoint and the minimum is their distance);
-    /// `false` means "not certain": the exact test must decide.
-    pub certified: bool,
+    pub distance_squared: L,
+    /// Which candidate attains it (a code, see the constants above).
+    pub candidate: L,
+    /// Edge parameters of an edge–edge candidate.
+    pub s: L,
+    /// Edge parameters of an edge–edge candidate.
+    pub t: L,
+    /// Whether the plane normal to the direction between the winning pair
+    /// certainly separates the triangles (then they are disjoint and the
+    /// minimum is their distance); false means "not certain": the exact test
+    /// must decide.
+    pub certified: L::Mask,
 }
 
 /// How many `ε · ‖u‖₁ · S` a separation along `u` must exceed to be certain
@@ -143,49 +144,72 @@ const SEPARATION_MARGIN_ULPS: Real = 16.0;
 /// The smallest of the 15 candidate squared distances between two
 /// triangles (local coordinates), which pair attains it, and whether the
 /// direction between that pair certifies that the triangles are disjoint.
-/// The first minimum in the fixed candidate order wins ties.
+/// The first minimum in the fixed candidate order wins ties. Branch-free:
+/// runs on one pair or a batch of lanes with the same result.
 #[inline(always)]
-pub(crate) fn closest_separated(a: &Triangle, b: &Triangle) -> ClosestSeparated {
+#[allow(clippy::needless_range_loop)] // index loops: see the first comment
+pub(crate) fn closest_separated<L: Lane>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> ClosestSeparated<L> {
+    // No closures or iterator adapters here: inside the dispatched
+    // functions they would not be inlined, and run without the vector
+    // instruction set.
+    let zero = L::splat(0.0);
     let face_a = FacePlane::new(a);
     let face_b = FacePlane::new(b);
-    let mut best = ClosestSeparated {
-        distance_squared: Real::INFINITY,
-        pair: ClosestPair::VertexOverFace { vertex_of_b: true, vertex: 0 },
-        separation: Vector::zeros(),
-        certified: false,
+    let mut best = Best {
+        distance_squared: L::splat(Real::INFINITY),
+        candidate: zero,
+        s: zero,
+        t: zero,
+        separation: V3::zeros(),
     };
-    for vertex in 0..3u8 {
-        let (squared, projection) = point_face_interior(&b[vertex as usize], &face_a);
-        if squared < best.distance_squared {
-            best.distance_squared = squared;
-            best.pair = ClosestPair::VertexOverFace { vertex_of_b: true, vertex };
-            best.separation = b[vertex as usize] - projection;
-        }
-        let (squared, projection) = point_face_interior(&a[vertex as usize], &face_b);
-        if squared < best.distance_squared {
-            best.distance_squared = squared;
-            best.pair = ClosestPair::VertexOverFace { vertex_of_b: false, vertex };
-            best.separation = projection - a[vertex as usize];
-        }
+    for vertex in 0..3 {
+        let (squared, projection) = point_face_interior(&b[vertex], &face_a);
+        best.consider(squared, VERTEX_OF_B_OVER_FACE_OF_A + vertex, zero, zero, b[vertex] - projection);
+        let (squared, projection) = point_face_interior(&a[vertex], &face_b);
+        best.consider(squared, VERTEX_OF_A_OVER_FACE_OF_B + vertex, zero, zero, projection - a[vertex]);
     }
-    for edge_a in 0..3u8 {
-        let (i, i1) = (edge_a as usize, (edge_a as usize + 1) % 3);
-        for edge_b in 0..3u8 {
-            let (j, j1) = (edge_b as usize, (edge_b as usize + 1) % 3);
-            let c = segment_segment(&a[i], &a[i1], &b[j], &b[j1]);
-            if c.distance_squared < best.distance_squared {
-                best.distance_squared = c.distance_squared;
-                best.pair = ClosestPair::EdgeEdge { edge_a, edge_b, s: c.s, t: c.t };
-                best.separation = -c.gap;
-            }
+    let edges_a = [Edge::new(&a[0], &a[1]), Edge::new(&a[1], &a[2]), Edge::new(&a[2], &a[0])];
+    let edges_b = [Edge::new(&b[0], &b[1]), Edge::new(&b[1], &b[2]), Edge::new(&b[2], &b[0])];
+    for i in 0..3 {
+        for j in 0..3 {
+            let c = segment_segment_lanes(&edges_a[i], &edges_b[j]);
+            best.consider(c.distance_squared, EDGE_OF_A_AND_EDGE_OF_B + 3 * i + j, c.s, c.t, -c.gap);
         }
     }
     // Separating-axis certificate along the closest direction.
     let u = best.separation;
-    let highest_a = a.iter().map(|v| u.dot(&v.coords)).fold(Real::NEG_INFINITY, Real::max);
-    let lowest_b = b.iter().map(|v| u.dot(&v.coords)).fold(Real::INFINITY, Real::min);
-    let extent = a.iter().chain(b).flat_map(|v| v.coords.iter()).fold(0.0, |m: Real, c| m.max(c.abs()));
-    let margin = SEPARATION_MARGIN_ULPS * Real::EPSILON * u.lp_norm(1) * extent;
-    best.certified = lowest_b - highest_a > margin;
-    best
+    let highest_a = u.dot(&a[0]).max(u.dot(&a[1])).max(u.dot(&a[2]));
+    let lowest_b = u.dot(&b[0]).min(u.dot(&b[1])).min(u.dot(&b[2]));
+    let extent_a = a[0].max_abs().max(a[1].max_abs()).max(a[2].max_abs());
+    let extent = extent_a.max(b[0].max_abs()).max(b[1].max_abs()).max(b[2].max_abs());
+    let margin = L::splat(SEPARATION_MARGIN_ULPS * Real::EPSILON) * u.norm_l1() * extent;
+    ClosestSeparated {
+        distance_squared: best.distance_squared,
+        candidate: best.candidate,
+        s: best.s,
+        t: best.t,
+        certified: margin.lt(lowest_b - highest_a),
+    }
+}
+
+/// The running minimum of [`closest_separated`].
+struct Best<L: Lane> {
+    distance_squared: L,
+    candidate: L,
+    s: L,
+    t: L,
+    separation: V3<L>,
+}
+
+impl<L: Lane> Best<L> {
+    /// Keeps candidate `code` where it is strictly closer.
+    #[inline(always)]
+    fn consider(&mut self, squared: L, code: usize, s: L, t: L, separation: V3<L>) {
+        let better = squared.lt(self.distance_squared);
+        self.distance_squared = L::select(better, squared, self.distance_squared);
+        self.candidate = L::select(better, L::splat(code as Real), self.candidate);
+        self.s = L::select(better, s, self.s);
+        self.t = L::select(better, t, self.t);
+        self.separation = V3::select(better, separation, self.separation);
+    }
 }
