@@ -1,21 +1,14 @@
 //! The seed paper's DyOP kernel: exact on its own setting, an upper bound
 //! everywhere, and an over-estimate outside its setting.
 
+mod common;
+
+use common::formula_bound;
 use nearmiss::exact;
 use nearmiss::kernels::{dyop_distance, PointEdgeFormula};
 use nearmiss::math::Point;
 use nearmiss::report::pair_extent;
 use nearmiss::samples::{triangle_pairs, InputClass, Rng};
-
-/// The error each point–edge formula is allowed (see `point_segment_vs_exact.rs`).
-fn formula_bound(formula: PointEdgeFormula, exact: f64, extent: f64) -> f64 {
-    match formula {
-        PointEdgeFormula::Vector | PointEdgeFormula::PlainVector => {
-            1e-14 * exact + 4.0 * f64::EPSILON * extent
-        }
-        PointEdgeFormula::Heron | PointEdgeFormula::StableHeron => 4.0 * f64::EPSILON.sqrt() * extent,
-    }
-}
 
 #[test]
 fn exact_on_the_seeds_vertex_edge_setting() {

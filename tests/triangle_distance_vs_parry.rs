@@ -24,7 +24,7 @@ fn agrees_with_parry_or_parry_is_wrong() {
         let our_error = (ours - expected).abs();
         let their_error = (theirs - expected).abs();
         assert!(
-            our_error <= 1e-12 * expected + 4.0 * f64::EPSILON * pair_extent(a, b),
+            our_error <= 1e-12 * expected + 4.0 * f64::EPSILON * f64::EPSILON * pair_extent(a, b),
             "pair {i}: nearmiss {ours:e}, parry {theirs:e}, exact {expected:e}"
         );
         if their_error > 1e-12 {

@@ -11,7 +11,9 @@
 use super::dispatch::multiversioned;
 use super::lanes::{F64x, Lane, V3};
 use super::point_segment::{point_segment_distance_kernel, PointEdgeFormula};
-use super::triangle_triangle::{closest_separated, triangle_distance_kernel};
+use super::refine::{refined_distance, REFINE_BELOW_EXTENT};
+use super::separated::closest_separated;
+use super::triangle_triangle::triangle_distance_kernel;
 use crate::math::{Point, Real, Triangle};
 
 /// Points in structure-of-arrays layout: one column per coordinate.
@@ -111,7 +113,8 @@ multiversioned! {
     /// [`triangle_distance`](super::triangle_distance)`(a[i], b[i]).distance` for each pair, into
     /// `out[i]`. Eight pairs at a time in vector lanes; pairs whose closest
     /// direction does not certainly separate them (touching, crossing or
-    /// nearly so) are finished by the scalar kernel's exact test.
+    /// nearly so) are finished by the scalar kernel's exact test; small
+    /// distances are refined one lane at a time, as in the scalar kernel.
     pub fn triangle_distances / triangle_distances_with(a: &TrianglesSoa, b: &TrianglesSoa, out: &mut [Real]) {
         let n = out.len().min(a.len()).min(b.len());
         let out = &mut out[..n];
@@ -122,14 +125,26 @@ multiversioned! {
             let start = chunk * LANES;
             let ta = [load(&a.vertices[0], start), load(&a.vertices[1], start), load(&a.vertices[2], start)];
             let tb = [load(&b.vertices[0], start), load(&b.vertices[1], start), load(&b.vertices[2], start)];
-            o.copy_from_slice(&separated_distances(&ta, &tb).0);
+            let origin = ta[0];
+            let local_a = [ta[0] - origin, ta[1] - origin, ta[2] - origin];
+            let local_b = [tb[0] - origin, tb[1] - origin, tb[2] - origin];
+            let closest = closest_separated(&local_a, &local_b);
+            let plain = closest.distance_squared.sqrt();
+            let threshold = F64x::splat(REFINE_BELOW_EXTENT) * closest.extent;
+            let refine = closest.distance_squared.lt(threshold * threshold);
+            for (k, o) in o.iter_mut().enumerate() {
+                *o = if closest.certified.0[k] == 0 {
+                    -1.0
+                } else if refine.0[k] != 0 {
+                    refined_distance(&a.get(start + k), &b.get(start + k), &closest.lane(k))
+                } else {
+                    plain.0[k]
+                };
+            }
         }
         let tail_start = n - chunks.into_remainder().len();
         for (i, o) in out.iter_mut().enumerate().skip(tail_start) {
-            let (ta, tb) = (a.get(i), b.get(i));
-            let ta = [V3::from(&ta[0]), V3::from(&ta[1]), V3::from(&ta[2])];
-            let tb = [V3::from(&tb[0]), V3::from(&tb[1]), V3::from(&tb[2])];
-            *o = separated_distances(&ta, &tb);
+            *o = triangle_distance_kernel(&a.get(i), &b.get(i)).distance;
         }
         // Scalar pass over the few marked pairs, with the exact test.
         for (i, o) in out.iter_mut().enumerate() {
@@ -154,14 +169,4 @@ fn load(points: &PointsSoa, start: usize) -> V3<F64x<LANES>> {
         F64x(lanes)
     }
     V3::new(column(&points.x, start), column(&points.y, start), column(&points.z, start))
-}
-
-/// The distance of each lane's pair if certainly separated, else -1.
-#[inline(always)]
-fn separated_distances<L: Lane>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> L {
-    let origin = a[0];
-    let local_a = [a[0] - origin, a[1] - origin, a[2] - origin];
-    let local_b = [b[0] - origin, b[1] - origin, b[2] - origin];
-    let closest = closest_separated(&local_a, &local_b);
-    L::select(closest.certified, closest.distance_squared.sqrt(), L::splat(-1.0))
 }

@@ -41,3 +41,31 @@ pub fn cross<L: Lane>(u: &V3<L>, v: &V3<L>) -> V3<L> {
         difference_of_products(u.x, v.y, u.y, v.x),
     )
 }
+
+/// `x - y` exactly, as the unevaluated sum `high + low` (Knuth's TwoSum on
+/// `x + (-y)`): `high` is the rounded difference, `low` its rounding error.
+#[inline(always)]
+pub fn two_difference<L: Lane>(x: L, y: L) -> (L, L) {
+    let high = x - y;
+    let x_part = high + y;
+    let y_part = high - x_part;
+    (high, (x - x_part) - (y + y_part))
+}
+
+/// `u - v` exactly, componentwise, as `(high, low)` vectors.
+#[inline(always)]
+pub fn exact_difference<L: Lane>(u: &V3<L>, v: &V3<L>) -> (V3<L>, V3<L>) {
+    let (x, x_low) = two_difference(u.x, v.x);
+    let (y, y_low) = two_difference(u.y, v.y);
+    let (z, z_low) = two_difference(u.z, v.z);
+    (V3::new(x, y, z), V3::new(x_low, y_low, z_low))
+}
+
+/// The cross product of two vectors given as exact `high + low` sums,
+/// accurate to a few ulps per component: the compensated product of the
+/// high parts plus the first-order terms of the low parts (the low×low term
+/// is below the rounding of the result).
+#[inline(always)]
+pub fn cross_of_sums<L: Lane>(u: &(V3<L>, V3<L>), v: &(V3<L>, V3<L>)) -> V3<L> {
+    cross(&u.0, &v.0) + (u.1.cross(&v.0) + u.0.cross(&v.1))
+}

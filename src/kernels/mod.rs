@@ -14,23 +14,28 @@
 pub mod batch;
 mod compensated;
 mod dispatch;
+mod double_double;
 mod dyop;
 mod feature;
 pub mod lanes;
 mod point_segment;
 mod point_triangle;
+mod refine;
 mod segment_segment;
+mod separated;
 mod triangle_intersection;
 mod triangle_triangle;
 
 pub use compensated::difference_of_products;
 pub use dispatch::SimdLevel;
+pub use double_double::{height_over_plane, vector_difference, DoubleDouble};
 pub use dyop::{dynamic_origin_point, dyop_distance};
 pub use feature::Feature;
 pub use point_segment::{
     heron_height, point_segment_distance, point_segment_distance_with, stable_heron_height, PointEdgeFormula,
 };
 pub use point_triangle::{point_face_interior, point_triangle, FacePlane, PointTriangle};
+pub use refine::{REFINE_BELOW_EXTENT, REFINE_TIE_BAND_ULPS};
 pub use segment_segment::{segment_segment, segment_segment_lanes, Edge, SegmentSegment};
 pub use triangle_intersection::triangles_intersect;
 pub use triangle_triangle::{triangle_distance, triangle_distance_with, TriangleDistance};

@@ -6,9 +6,12 @@
 //! `t ≥ 1` it is `|p - b|`, and for a zero-length segment it is `|p - a|`.
 //! Only the interior (foot of the perpendicular inside the segment) differs:
 //!
-//! - [`PointEdgeFormula::Vector`]: `|AP × AB| / |AB|` with an FMA-compensated
-//!   cross product ([`super::compensated`]). Relative error near 1e-16 even
-//!   for a point 1e-12 from a unit edge.
+//! - [`PointEdgeFormula::Vector`]: `|AP × AB| / |AB|` with the differences
+//!   `AP`, `AB` kept exact (Knuth's TwoSum: rounded value plus error) and an
+//!   FMA-compensated cross product of them ([`super::compensated`]). Relative
+//!   error of a few ulps even for a point 1e-12 from a unit edge: the
+//!   compensation alone is not enough, because rounding `p - a` already
+//!   moves the point by an ulp of its coordinates.
 //! - [`PointEdgeFormula::PlainVector`]: the same formula with a plain cross
 //!   product, as the seed paper computes it. Loses digits when the point is
 //!   close to the edge relative to the edge's length (measured relative error
@@ -35,7 +38,8 @@ use crate::math::{Point, Real};
 /// How the perpendicular distance from a point to an edge is computed.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
 pub enum PointEdgeFormula {
-    /// `|AP × AB| / |AB|` with an FMA-compensated cross product (default).
+    /// `|AP × AB| / |AB|` with exact differences and an FMA-compensated
+    /// cross product (default; accurate to a few ulps, relative).
     #[default]
     Vector,
     /// `|AP × AB| / |AB|` with a plain cross product (the seed paper's).
@@ -106,26 +110,43 @@ pub(crate) fn point_segment_distance_kernel(
     let bp = p - b;
     let length_squared = ab.norm_squared();
     let projection = ap.dot(&ab);
-    let to_a = ap.norm();
-    let to_b = bp.norm();
-    let length = length_squared.sqrt();
-    let interior = match formula {
+    let (to_a_squared, to_b_squared) = (ap.norm_squared(), bp.norm_squared());
+    // Regions: "vertex a" (also the zero-length segment), "vertex b", or
+    // "edge interior", where the formulas differ.
+    let at_a = (projection <= 0.0) | (length_squared <= 0.0);
+    let at_b = projection >= length_squared;
+    let endpoint_squared = if at_a { to_a_squared } else { to_b_squared };
+    let interior = !(at_a | at_b);
+    match formula {
+        // Squared values selected first, then one square root: the roots
+        // and divisions are what a batch pays for.
         PointEdgeFormula::Vector => {
-            compensated::cross(&V3::from(&ap), &V3::from(&ab)).norm_squared().sqrt() / length
+            let (p, a, b) = (V3::from(p), V3::from(a), V3::from(b));
+            let ap_exact = compensated::exact_difference(&p, &a);
+            let ab_exact = compensated::exact_difference(&b, &a);
+            let height_squared =
+                compensated::cross_of_sums(&ap_exact, &ab_exact).norm_squared() / length_squared;
+            (if interior { height_squared } else { endpoint_squared }).sqrt()
         }
-        PointEdgeFormula::PlainVector => ap.cross(&ab).norm() / length,
-        PointEdgeFormula::Heron => heron_height(length, to_a, to_b),
-        PointEdgeFormula::StableHeron => stable_heron_height(length, to_a, to_b),
-    };
-    if (projection <= 0.0) | (length_squared <= 0.0) {
-        // Region "vertex a" (also the zero-length segment).
-        to_a
-    } else if projection >= length_squared {
-        // Region "vertex b".
-        to_b
-    } else {
-        // Region "edge interior": the formulas differ only here.
-        interior
+        PointEdgeFormula::PlainVector => {
+            let height_squared = ap.cross(&ab).norm_squared() / length_squared;
+            (if interior { height_squared } else { endpoint_squared }).sqrt()
+        }
+        PointEdgeFormula::Heron | PointEdgeFormula::StableHeron => {
+            let (length, to_a, to_b) = (length_squared.sqrt(), to_a_squared.sqrt(), to_b_squared.sqrt());
+            let height = if formula == PointEdgeFormula::Heron {
+                heron_height(length, to_a, to_b)
+            } else {
+                stable_heron_height(length, to_a, to_b)
+            };
+            if interior {
+                height
+            } else if at_a {
+                to_a
+            } else {
+                to_b
+            }
+        }
     }
 }
 
