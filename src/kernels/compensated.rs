@@ -42,14 +42,20 @@ pub fn cross<L: Lane>(u: &V3<L>, v: &V3<L>) -> V3<L> {
     )
 }
 
-/// `x - y` exactly, as the unevaluated sum `high + low` (Knuth's TwoSum on
-/// `x + (-y)`): `high` is the rounded difference, `low` its rounding error.
+/// `a + b` exactly, as the unevaluated sum `(sum, error)` (Knuth's TwoSum):
+/// `sum` is the rounded sum, `error` its rounding error.
+#[inline(always)]
+pub fn two_sum<L: Lane>(a: L, b: L) -> (L, L) {
+    let sum = a + b;
+    let a_part = sum - b;
+    let b_part = sum - a_part;
+    (sum, (a - a_part) + (b - b_part))
+}
+
+/// `x - y` exactly, as `(rounded difference, rounding error)`.
 #[inline(always)]
 pub fn two_difference<L: Lane>(x: L, y: L) -> (L, L) {
-    let high = x - y;
-    let x_part = high + y;
-    let y_part = high - x_part;
-    (high, (x - x_part) - (y + y_part))
+    two_sum(x, -y)
 }
 
 /// `u - v` exactly, componentwise, as `(high, low)` vectors.

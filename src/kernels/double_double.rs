@@ -11,9 +11,10 @@
 //! then correct to a few ulps whenever the determinant exceeds about
 //! `ε·|u||v||w|` (for unit-size inputs, any height above 1e-16 or so).
 
-use super::compensated::two_difference;
+use super::compensated::{two_difference, two_sum};
 use super::lanes::V3;
 use crate::math::Real;
+use std::ops::{Add, Mul, Sub};
 
 /// `high + low`, with `|low| ≤ ulp(high) / 2`.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -31,36 +32,33 @@ impl DoubleDouble {
         let (high, low) = two_difference(x, y);
         DoubleDouble { high, low }
     }
+}
 
-    /// `self + other`.
+impl Add for DoubleDouble {
+    type Output = DoubleDouble;
     #[inline]
-    pub fn add(self, other: DoubleDouble) -> DoubleDouble {
+    fn add(self, other: DoubleDouble) -> DoubleDouble {
         let (sum, error) = two_sum(self.high, other.high);
         renormalise(sum, error + (self.low + other.low))
     }
+}
 
-    /// `self - other`.
+impl Sub for DoubleDouble {
+    type Output = DoubleDouble;
     #[inline]
-    pub fn sub(self, other: DoubleDouble) -> DoubleDouble {
-        self.add(DoubleDouble { high: -other.high, low: -other.low })
+    fn sub(self, other: DoubleDouble) -> DoubleDouble {
+        self + DoubleDouble { high: -other.high, low: -other.low }
     }
+}
 
-    /// `self · other`.
+impl Mul for DoubleDouble {
+    type Output = DoubleDouble;
     #[inline]
-    pub fn mul(self, other: DoubleDouble) -> DoubleDouble {
+    fn mul(self, other: DoubleDouble) -> DoubleDouble {
         let product = self.high * other.high;
         let error = self.high.mul_add(other.high, -product);
         renormalise(product, error + (self.high * other.low + self.low * other.high))
     }
-}
-
-/// Knuth's TwoSum: `a + b = sum + error` exactly.
-#[inline]
-fn two_sum(a: Real, b: Real) -> (Real, Real) {
-    let sum = a + b;
-    let a_part = sum - b;
-    let b_part = sum - a_part;
-    (sum, (a - a_part) + (b - b_part))
 }
 
 /// Dekker's FastTwoSum for `|a| ≥ |b|`, as a double-double.
@@ -88,9 +86,9 @@ pub fn height_over_plane(
     v: &[DoubleDouble; 3],
     w: &[DoubleDouble; 3],
 ) -> Option<Real> {
-    let component = |i: usize, j: usize| u[i].mul(v[j]).sub(u[j].mul(v[i]));
+    let component = |i: usize, j: usize| u[i] * v[j] - u[j] * v[i];
     let normal = [component(1, 2), component(2, 0), component(0, 1)];
-    let determinant = normal[0].mul(w[0]).add(normal[1].mul(w[1])).add(normal[2].mul(w[2]));
+    let determinant = normal[0] * w[0] + normal[1] * w[1] + normal[2] * w[2];
     let length = normal.iter().map(|c| c.high * c.high).sum::<Real>().sqrt();
     (length > 0.0).then(|| (determinant.high + determinant.low).abs() / length)
 }
