@@ -7,7 +7,8 @@ fn main() {
     let b = TrianglesSoa::from_triangles(&pairs.iter().map(|p| p.1).collect::<Vec<_>>());
     let mut out = vec![0.0; pairs.len()];
     let mut sum = 0.0;
-    for _ in 0..300 {
+    let repeats: usize = std::env::var("REPEATS").ok().and_then(|r| r.parse().ok()).unwrap_or(300);
+    for _ in 0..repeats {
         triangle_distances(&a, &b, &mut out);
         sum += out.iter().sum::<f64>();
     }

@@ -81,18 +81,19 @@ impl SimdLevel {
 macro_rules! multiversioned {
     (
         $(#[$doc:meta])*
-        pub fn $name:ident / $name_with:ident ($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)? $body:block
+        $vis:vis fn $name:ident / $name_with:ident ($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)? $body:block
     ) => {
         $(#[$doc])*
         #[inline]
-        pub fn $name($($arg: $ty),*) $(-> $ret)? {
+        $vis fn $name($($arg: $ty),*) $(-> $ret)? {
             $name_with($crate::kernels::SimdLevel::detect(), $($arg),*)
         }
 
         #[doc = concat!("[`", stringify!($name), "`] at the given [`SimdLevel`](crate::kernels::SimdLevel) ")]
         /// (lowered to the best the CPU supports): for tests and benchmarks.
         /// Results are bit-identical at every level.
-        pub fn $name_with(level: $crate::kernels::SimdLevel, $($arg: $ty),*) $(-> $ret)? {
+        #[allow(dead_code)]
+        $vis fn $name_with(level: $crate::kernels::SimdLevel, $($arg: $ty),*) $(-> $ret)? {
             #[inline(always)]
             fn generic($($arg: $ty),*) $(-> $ret)? $body
             #[cfg(target_arch = "x86_64")]

@@ -27,7 +27,7 @@ pub struct DoubleDouble {
 
 impl DoubleDouble {
     /// The exact difference `x - y`.
-    #[inline]
+    #[inline(always)]
     pub fn difference(x: Real, y: Real) -> DoubleDouble {
         let (high, low) = two_difference(x, y);
         DoubleDouble { high, low }
@@ -36,7 +36,7 @@ impl DoubleDouble {
 
 impl Add for DoubleDouble {
     type Output = DoubleDouble;
-    #[inline]
+    #[inline(always)]
     fn add(self, other: DoubleDouble) -> DoubleDouble {
         let (sum, error) = two_sum(self.high, other.high);
         renormalise(sum, error + (self.low + other.low))
@@ -45,7 +45,7 @@ impl Add for DoubleDouble {
 
 impl Sub for DoubleDouble {
     type Output = DoubleDouble;
-    #[inline]
+    #[inline(always)]
     fn sub(self, other: DoubleDouble) -> DoubleDouble {
         self + DoubleDouble { high: -other.high, low: -other.low }
     }
@@ -53,7 +53,7 @@ impl Sub for DoubleDouble {
 
 impl Mul for DoubleDouble {
     type Output = DoubleDouble;
-    #[inline]
+    #[inline(always)]
     fn mul(self, other: DoubleDouble) -> DoubleDouble {
         let product = self.high * other.high;
         let error = self.high.mul_add(other.high, -product);
@@ -62,14 +62,14 @@ impl Mul for DoubleDouble {
 }
 
 /// Dekker's FastTwoSum for `|a| ≥ |b|`, as a double-double.
-#[inline]
+#[inline(always)]
 fn renormalise(a: Real, b: Real) -> DoubleDouble {
     let high = a + b;
     DoubleDouble { high, low: b - (high - a) }
 }
 
 /// The exact difference `u - v` of two points, componentwise.
-#[inline]
+#[inline(always)]
 pub fn vector_difference(u: &V3<Real>, v: &V3<Real>) -> [DoubleDouble; 3] {
     [
         DoubleDouble::difference(u.x, v.x),
@@ -81,15 +81,17 @@ pub fn vector_difference(u: &V3<Real>, v: &V3<Real>) -> [DoubleDouble; 3] {
 /// `|det(u, v, w)| / |u × v|`: the distance of `w` from the plane spanned by
 /// `u` and `v` (all three given exactly as double-doubles). `None` when
 /// `u × v` vanishes.
+#[inline(always)]
 pub fn height_over_plane(
     u: &[DoubleDouble; 3],
     v: &[DoubleDouble; 3],
     w: &[DoubleDouble; 3],
 ) -> Option<Real> {
-    let component = |i: usize, j: usize| u[i] * v[j] - u[j] * v[i];
-    let normal = [component(1, 2), component(2, 0), component(0, 1)];
+    let normal = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
     let determinant = normal[0] * w[0] + normal[1] * w[1] + normal[2] * w[2];
-    let length = normal.iter().map(|c| c.high * c.high).sum::<Real>().sqrt();
+    let length =
+        (normal[0].high * normal[0].high + normal[1].high * normal[1].high + normal[2].high * normal[2].high)
+            .sqrt();
     (length > 0.0).then(|| (determinant.high + determinant.low).abs() / length)
 }
 

@@ -14,6 +14,7 @@
 //! matter of rounding; then every candidate in the band is refined and the
 //! least is kept.
 
+use super::dispatch::multiversioned;
 use super::double_double::{height_over_plane, vector_difference};
 use super::lanes::V3;
 use super::point_segment::{point_segment_distance_kernel, PointEdgeFormula};
@@ -42,19 +43,32 @@ impl ClosestSeparated<Real> {
     }
 }
 
-/// The refined distance of triangles `a`, `b` (world coordinates), given
-/// their candidate pass.
-pub(crate) fn refined_distance(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
+multiversioned! {
+    /// The refined distance of triangles `a`, `b` (world coordinates), given
+    /// their candidate pass. Dispatched on its own: it is called out of line
+    /// from the vector loop, and must not fall back to library `fma` calls.
+    pub(crate) fn refined_distance / refined_distance_with(
+        a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>
+    ) -> Real {
+        refined_distance_kernel(a, b, closest)
+    }
+}
+
+#[inline(always)]
+fn refined_distance_kernel(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
     let plain = closest.distance_squared.sqrt();
     let band = plain + REFINE_TIE_BAND_ULPS * Real::EPSILON * closest.extent;
-    if closest.runner_up_squared > band * band {
+    let band_squared = band * band;
+    if closest.runner_up_squared > band_squared {
         return candidate_distance(a, b, closest.winner(), closest.s, closest.t).unwrap_or(plain);
     }
-    // A tie within rounding: refine every candidate in the band.
+    // A tie within rounding: recompute the candidates and refine every one
+    // in the band. (Carrying the runner-up's identity through the vector
+    // pass instead was measured slower: register pressure.)
     let origin = V3::from(&a[0]);
     let local_a = [V3::from(&a[0]) - origin, V3::from(&a[1]) - origin, V3::from(&a[2]) - origin];
     let local_b = [V3::from(&b[0]) - origin, V3::from(&b[1]) - origin, V3::from(&b[2]) - origin];
-    let mut least = LeastRefined { a, b, band_squared: band * band, least: Real::INFINITY };
+    let mut least = LeastRefined { a, b, band_squared, least: Real::INFINITY };
     visit_candidates(&local_a, &local_b, &mut least);
     least.least
 }
@@ -68,6 +82,7 @@ struct LeastRefined<'t> {
 }
 
 impl CandidateSink<Real> for LeastRefined<'_> {
+    #[inline(always)]
     fn consider(&mut self, squared: Real, candidate: Candidate, s: Real, t: Real, _: V3<Real>) {
         if squared <= self.band_squared {
             let plain = squared.sqrt();
@@ -78,38 +93,54 @@ impl CandidateSink<Real> for LeastRefined<'_> {
 }
 
 /// One candidate's distance to a few ulps. `None` for a degenerate face.
+#[inline(always)]
 fn candidate_distance(a: &Triangle, b: &Triangle, candidate: Candidate, s: Real, t: Real) -> Option<Real> {
-    let vertex_over_face = |p: &Point, face: &Triangle| {
-        let [f0, f1, f2] = face.each_ref().map(V3::from);
-        let (u, v) = (vector_difference(&f1, &f0), vector_difference(&f2, &f0));
-        height_over_plane(&u, &v, &vector_difference(&V3::from(p), &f0))
-    };
     let (i, j) = match candidate {
         Candidate::VertexOfBOverFaceOfA(vertex) => return vertex_over_face(&b[vertex], a),
         Candidate::VertexOfAOverFaceOfB(vertex) => return vertex_over_face(&a[vertex], b),
         Candidate::Edges(i, j) => (i, j),
     };
     let (p0, p1, q0, q1) = (&a[i], &a[(i + 1) % 3], &b[j], &b[(j + 1) % 3]);
-    let vertex_edge = |p: &Point, e0: &Point, e1: &Point| {
-        point_segment_distance_kernel(p, e0, e1, PointEdgeFormula::Vector)
-    };
-    let interior = |x: Real| x > 0.0 && x < 1.0;
-    let end = |x: Real, start: &Point, finish: &Point| if x <= 0.0 { *start } else { *finish };
-    Some(match (interior(s), interior(t)) {
+    Some(match (0.0 < s && s < 1.0, 0.0 < t && t < 1.0) {
         (true, true) => {
-            let [v0, v1, w0, w1] = [p0, p1, q0, q1].map(V3::from);
+            let [v0, v1, w0, w1] = [V3::from(p0), V3::from(p1), V3::from(q0), V3::from(q1)];
             let (d1, d2) = (vector_difference(&v1, &v0), vector_difference(&w1, &w0));
-            // Parallel edges span no plane: their distance is then the least
-            // of the four vertex–edge distances.
-            height_over_plane(&d1, &d2, &vector_difference(&v0, &w0)).unwrap_or_else(|| {
-                vertex_edge(p0, q0, q1)
+            match height_over_plane(&d1, &d2, &vector_difference(&v0, &w0)) {
+                Some(height) => height,
+                // Parallel edges span no plane: their distance is then the
+                // least of the four vertex–edge distances.
+                None => vertex_edge(p0, q0, q1)
                     .min(vertex_edge(p1, q0, q1))
                     .min(vertex_edge(q0, p0, p1))
-                    .min(vertex_edge(q1, p0, p1))
-            })
+                    .min(vertex_edge(q1, p0, p1)),
+            }
         }
-        (false, true) => vertex_edge(&end(s, p0, p1), q0, q1),
-        (true, false) => vertex_edge(&end(t, q0, q1), p0, p1),
+        (false, true) => vertex_edge(end(s, p0, p1), q0, q1),
+        (true, false) => vertex_edge(end(t, q0, q1), p0, p1),
         (false, false) => (end(s, p0, p1) - end(t, q0, q1)).norm(),
     })
+}
+
+/// Height of `p` over the plane of `face`, from exact differences.
+#[inline(always)]
+fn vertex_over_face(p: &Point, face: &Triangle) -> Option<Real> {
+    let [f0, f1, f2] = [V3::from(&face[0]), V3::from(&face[1]), V3::from(&face[2])];
+    let (u, v) = (vector_difference(&f1, &f0), vector_difference(&f2, &f0));
+    height_over_plane(&u, &v, &vector_difference(&V3::from(p), &f0))
+}
+
+/// Distance from `p` to segment `[e0, e1]` by the exact vector formula.
+#[inline(always)]
+fn vertex_edge(p: &Point, e0: &Point, e1: &Point) -> Real {
+    point_segment_distance_kernel(p, e0, e1, PointEdgeFormula::Vector)
+}
+
+/// The end of `[start, finish]` at a clamped parameter (0 or 1).
+#[inline(always)]
+fn end<'p>(x: Real, start: &'p Point, finish: &'p Point) -> &'p Point {
+    if x <= 0.0 {
+        start
+    } else {
+        finish
+    }
 }
