@@ -1,6 +1,11 @@
 //! Pure distance kernels: no allocation, no I/O, never a panic, never NaN on
-//! finite input (coordinates below 1e150 in magnitude, so that squares stay
-//! finite).
+//! finite input.
+//!
+//! **Domain of the stated accuracy.** The error bounds hold for coordinates,
+//! sizes and distances between about 1e-45 and 1e45 in magnitude
+//! (`tests/scale_invariance.rs`): the kernels square and multiply lengths up
+//! to the fourth power. Beyond that an intermediate value may underflow to 0
+//! or overflow to infinity, and the answer may be 0 or infinite, but never NaN.
 //!
 //! - [`point_segment_distance`] with the three [`PointEdgeFormula`]s of the
 //!   seed paper and its critics (plus the plain cross product).

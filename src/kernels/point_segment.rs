@@ -27,8 +27,8 @@
 //!   they were computed from coordinates, so needles are still inaccurate
 //!   (bounded in the tests; see `tests/kernels_vs_exact.rs`).
 //!
-//! No formula returns NaN on finite input whose squared coordinates stay
-//! finite (|x| < 1e150).
+//! No formula returns NaN on finite input (see the kernels' domain in
+//! [`super`]).
 
 use super::compensated;
 use super::dispatch::multiversioned;
