@@ -12,8 +12,10 @@
 //! reference they are tested against, and [`samples`]: the seeded input
 //! classes shared by tests, benchmarks and the kernel report ([`report`]).
 
+pub mod ccd;
 pub mod exact;
 pub mod kernels;
 pub mod math;
+pub mod query_file;
 pub mod report;
 pub mod samples;

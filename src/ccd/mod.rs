@@ -1,0 +1,33 @@
+//! Continuous collision detection (CCD).
+//!
+//! ## What is CCD?
+//! Discrete collision detection looks at the world at the end of each step
+//! and misses whatever passed through something during it (tunnelling). CCD
+//! asks when, during the step, two moving things first touch.
+//!
+//! ## Linear-vertex queries
+//! [`vertex_face_time_of_impact`] and [`edge_edge_time_of_impact`] take
+//! primitives whose vertices each move in a straight line over the
+//! normalised step `t ∈ [0, 1]` (the standard benchmark model; the triangle
+//! may deform). They run conservative advancement along separating axes
+//! (`advance.rs`): every step is proven contact-free, so `None` always means
+//! no contact and a reported time is never late.
+//!
+//! ## Caveats
+//! - A reported time may be early by the time the primitives need to close
+//!   the contact distance (`minimum_separation` plus the relative
+//!   `distance_tolerance` of [`CcdOptions`]); two primitives that pass
+//!   within that distance without touching are reported as a contact (a
+//!   false positive, within the tolerance).
+//! - A query that runs out of iterations reports contact where it stopped
+//!   ([`CcdStatus::OutOfIterations`]): conservative, possibly a false
+//!   positive.
+
+mod advance;
+mod edge_edge;
+mod options;
+mod vertex_face;
+
+pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
+pub use options::{CcdOptions, CcdResult, CcdStatus};
+pub use vertex_face::{vertex_face_time_of_impact, vertex_face_time_of_impact_detailed};

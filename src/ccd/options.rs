@@ -1,0 +1,63 @@
+//! Options, statuses and detailed results of the CCD queries.
+
+use crate::math::Real;
+
+/// Tolerances and limits of a CCD query.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct CcdOptions {
+    /// Contact is reported once the distance is at most
+    /// `minimum_separation + distance_tolerance × S`, where `S` is the
+    /// diagonal of the query's bounding box over the whole step (so the
+    /// tolerance is **relative to the query's size**). The reported time is
+    /// then never later than the true first contact, and earlier by at most
+    /// the time the primitives take to close that distance.
+    /// Default: `1e-6`.
+    pub distance_tolerance: Real,
+    /// An absolute gap that counts as contact (for thickness or a safety
+    /// margin): contact is reported when the primitives come within this
+    /// distance (plus the tolerance). Default: `0.0` (touching).
+    pub minimum_separation: Real,
+    /// The most advancement steps before giving up; a query that runs out
+    /// reports contact at the time reached so far (conservative: never
+    /// late) with status [`CcdStatus::OutOfIterations`]. Default: `10_000`.
+    pub max_iterations: usize,
+}
+
+impl Default for CcdOptions {
+    fn default() -> Self {
+        CcdOptions { distance_tolerance: 1e-6, minimum_separation: 0.0, max_iterations: 10_000 }
+    }
+}
+
+/// How a CCD query ended.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum CcdStatus {
+    /// Separated over the whole step: no contact in `[0, 1]`.
+    Separated,
+    /// Came within the contact distance at the reported time.
+    Converged,
+    /// Within the contact distance already at `t = 0`.
+    InitiallyTouching,
+    /// Ran out of iterations; contact is reported (conservatively) at the
+    /// time reached.
+    OutOfIterations,
+    /// A filter over the whole step (bounding boxes or a fixed separating
+    /// axis) proved there is no contact, before any iteration.
+    Filtered,
+}
+
+/// The detailed result of a CCD query.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct CcdResult {
+    /// The time of first contact in `[0, 1]`, or `None` for no contact.
+    pub time_of_impact: Option<Real>,
+    /// How the iteration ended.
+    pub status: CcdStatus,
+    /// The distance at the reported time (at `t = 1` without contact).
+    pub distance: Real,
+    /// The contact distance that was used: `minimum_separation +
+    /// distance_tolerance × S`.
+    pub contact_distance: Real,
+    /// Advancement steps taken.
+    pub iterations: usize,
+}
