@@ -53,28 +53,15 @@ impl<const NA: usize, const NB: usize> LinearPair<NA, NB> {
 
     /// The diagonal of the bounding box of all vertices at both ends.
     pub fn size(&self) -> Real {
-        let all = self.a_t0.iter().chain(&self.a_t1).chain(&self.b_t0).chain(&self.b_t1);
-        let (mut lo, mut hi) = (Vector::repeat(Real::INFINITY), Vector::repeat(Real::NEG_INFINITY));
-        for p in all {
-            lo = lo.inf(&p.coords);
-            hi = hi.sup(&p.coords);
-        }
+        let (lo, hi) = bounds(self.a_t0.iter().chain(&self.a_t1).chain(&self.b_t0).chain(&self.b_t1));
         (hi - lo).norm()
     }
 
     /// Whether the swept bounding boxes of `A` and `B`, grown by `margin`,
     /// are disjoint (then there is no contact in the step).
     pub fn swept_boxes_disjoint(&self, margin: Real) -> bool {
-        let bounds = |p0: &[Point], p1: &[Point]| {
-            let (mut lo, mut hi) = (Vector::repeat(Real::INFINITY), Vector::repeat(Real::NEG_INFINITY));
-            for p in p0.iter().chain(p1) {
-                lo = lo.inf(&p.coords);
-                hi = hi.sup(&p.coords);
-            }
-            (lo, hi)
-        };
-        let (a_lo, a_hi) = bounds(&self.a_t0, &self.a_t1);
-        let (b_lo, b_hi) = bounds(&self.b_t0, &self.b_t1);
+        let (a_lo, a_hi) = bounds(self.a_t0.iter().chain(&self.a_t1));
+        let (b_lo, b_hi) = bounds(self.b_t0.iter().chain(&self.b_t1));
         (0..3).any(|k| a_lo[k] > b_hi[k] + margin || b_lo[k] > a_hi[k] + margin)
     }
 
@@ -130,6 +117,13 @@ impl<const NA: usize, const NB: usize> LinearPair<NA, NB> {
         };
         apart(1.0) || apart(-1.0)
     }
+}
+
+/// The componentwise lower and upper bounds of `points`.
+fn bounds<'p>(points: impl Iterator<Item = &'p Point>) -> (Vector, Vector) {
+    points.fold((Vector::repeat(Real::INFINITY), Vector::repeat(Real::NEG_INFINITY)), |(lo, hi), p| {
+        (lo.inf(&p.coords), hi.sup(&p.coords))
+    })
 }
 
 /// Runs conservative advancement. `closest(a, b)` returns the distance and
