@@ -9,8 +9,10 @@
 //! This release holds the foundation: the distance [`kernels`] (exact
 //! triangle–triangle, point–segment by vector and Heron formulas, the seed
 //! paper's DyOP kernel, and batched SIMD versions), the [`exact`] rational
-//! reference they are tested against, and [`samples`]: the seeded input
-//! classes shared by tests, benchmarks and the kernel report ([`report`]).
+//! reference they are tested against, [`samples`] (the seeded input classes
+//! shared by tests, benchmarks and the kernel [`report`]), the linear-vertex
+//! CCD queries in [`ccd`], and [`query_file`], the reader and runner for the
+//! public CCD benchmark format.
 
 pub mod ccd;
 pub mod exact;
