@@ -10,9 +10,16 @@ use nearmiss::ccd::{CcdOptions, CcdStatus};
 use nearmiss::query_file::{query_files, run_file, QueryFile, QueryKind};
 use std::path::{Path, PathBuf};
 
+/// The sample: `NEARMISS_CCD_DATA` if set, else `shared/` beside the checkout.
 fn data() -> PathBuf {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/ccd-sample-queries");
-    assert!(path.is_dir(), "the CCD sample is expected at {} (shared/ beside the checkout)", path.display());
+    let path = std::env::var_os("NEARMISS_CCD_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/ccd-sample-queries"));
+    assert!(
+        path.is_dir(),
+        "the CCD sample is expected at {} (shared/ beside the checkout, or set NEARMISS_CCD_DATA)",
+        path.display()
+    );
     path
 }
 
