@@ -231,10 +231,9 @@ fn exact_f64(n: &str, d: &str) -> Result<Real, String> {
         if d > 0 && d.count_ones() == 1 {
             let exponent = d.trailing_zeros() as i32;
             let value = (n as Real) * (2.0 as Real).powi(-exponent);
-            // Exact iff scaling back recovers n (and no underflow).
-            if value.is_finite() && (value * (2.0 as Real).powi(exponent)) as i128 == n && value != 0.0
-                || n == 0
-            {
+            // Exact iff scaling back recovers n (which also rules out underflow).
+            let recovered = (value * (2.0 as Real).powi(exponent)) as i128 == n;
+            if n == 0 || (value != 0.0 && value.is_finite() && recovered) {
                 return Ok(value);
             }
         }

@@ -1,5 +1,7 @@
 //! Which part of a triangle a closest point lies on.
 
+use crate::math::Real;
+
 /// A feature of a triangle `[v0, v1, v2]`. Edge `i` joins `v_i` and
 /// `v_{(i+1) mod 3}`.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
@@ -15,7 +17,7 @@ pub enum Feature {
 impl Feature {
     /// The feature of edge `edge` at parameter `s` (0 at its first vertex).
     #[inline]
-    pub fn on_edge(edge: u8, s: f64) -> Feature {
+    pub fn on_edge(edge: u8, s: Real) -> Feature {
         if s <= 0.0 {
             Feature::Vertex(edge)
         } else if s >= 1.0 {
