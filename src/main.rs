@@ -87,14 +87,26 @@ fn main() -> ExitCode {
 fn run_queries(paths: &[PathBuf], kind: Option<QueryKind>, options: &CcdOptions, repeats: usize) -> ExitCode {
     let mut files = Vec::new();
     for path in paths {
-        let loaded = query_files(path).and_then(|found| {
-            found.iter().map(|file| QueryFile::load(file, kind)).collect::<Result<Vec<_>, _>>()
-        });
-        match loaded {
-            Ok(mut loaded) => files.append(&mut loaded),
+        let found = match query_files(path) {
+            Ok(found) => found,
             Err(error) => {
                 eprintln!("error: {error}");
                 return ExitCode::from(2);
+            }
+        };
+        for file in found {
+            // Inside a folder, a file whose path does not tell its kind is
+            // skipped (with a warning); a file named on the command line is not.
+            if kind.is_none() && path.is_dir() && !QueryFile::kind_is_known(&file) {
+                eprintln!("warning: skipped {} (its path does not say edge-edge or vertex-face; name it with --kind)", file.display());
+                continue;
+            }
+            match QueryFile::load(&file, kind) {
+                Ok(loaded) => files.push(loaded),
+                Err(error) => {
+                    eprintln!("error: {error}");
+                    return ExitCode::from(2);
+                }
             }
         }
     }

@@ -121,6 +121,11 @@ pub enum QueryFileError {
 }
 
 impl QueryFile {
+    /// Whether the path alone tells the file's kind (see [`QueryFile::load`]).
+    pub fn kind_is_known(path: &Path) -> bool {
+        kind_from_path(path).is_some()
+    }
+
     /// Reads a query file; `kind` overrides the kind read from the path
     /// (an `edge-edge`/`vertex-face` folder, or an `ee`/`vf` name suffix).
     pub fn load(path: &Path, kind: Option<QueryKind>) -> Result<QueryFile, QueryFileError> {

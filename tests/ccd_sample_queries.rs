@@ -90,3 +90,18 @@ fn false_positives_are_within_the_contact_distance() {
         }
     }
 }
+
+#[test]
+fn the_cli_runs_the_whole_folder() {
+    // One fixture's path does not say its kind: skipped with a warning in a
+    // folder run; every other file is run, none with a false negative.
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_nearmiss"))
+        .args(["queries", "--repeats", "1"])
+        .arg(data())
+        .output()
+        .expect("runs");
+    assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(stdout.lines().filter(|l| l.contains(".csv |")).count(), 47);
+    assert!(String::from_utf8_lossy(&output.stderr).contains("warning: skipped"));
+}
