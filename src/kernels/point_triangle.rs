@@ -55,7 +55,8 @@ impl<L: Lane> FacePlane<L> {
 
 /// The squared distance from `p` to the interior of the face, or `+∞` when
 /// the projection of `p` falls outside the triangle or the triangle is
-/// degenerate (no face); and the projection of `p` on the plane.
+/// degenerate (no face); and the offset of `p` from its projection on the
+/// plane (`p - projection`, along the normal).
 #[inline(always)]
 pub fn point_face_interior<L: Lane>(p: &V3<L>, face: &FacePlane<L>) -> (L, V3<L>) {
     let zero = L::splat(0.0);
@@ -65,8 +66,7 @@ pub fn point_face_interior<L: Lane>(p: &V3<L>, face: &FacePlane<L>) -> (L, V3<L>
         & face.edge_offsets[2].le(face.edge_normals[2].dot(p))
         & zero.lt(face.normal_squared);
     let ratio = height * face.inverse_normal_squared;
-    let projection = *p - face.normal * ratio;
-    (L::select(inside, height * ratio, L::splat(Real::INFINITY)), projection)
+    (L::select(inside, height * ratio, L::splat(Real::INFINITY)), face.normal * ratio)
 }
 
 /// Closest point on a triangle to a point, with its feature.

@@ -19,7 +19,6 @@
 //! Written once for [`Lane`]s: selects, no branches, so it runs on one pair
 //! or eight at a time with the same result.
 
-use super::compensated;
 use super::lanes::{Lane, V3};
 use crate::math::{Point, Real};
 
@@ -92,9 +91,13 @@ pub fn segment_segment_lanes<L: Lane>(first: &Edge<L>, second: &Edge<L>) -> Segm
     let c = d1.dot(&r);
     let f = d2.dot(&r);
 
-    let n = compensated::cross(&d1, &d2);
+    // Plain cross products: an error in s moves the distance only at second
+    // order (at an interior minimum) or by rounding (at a clamped end), and
+    // the clamping sequence is right from any starting s when the segments
+    // are parallel. Small distances are refined exactly elsewhere.
+    let n = d1.cross(&d2);
     let n_squared = n.norm_squared();
-    let s_free = n.dot(&compensated::cross(&d2, &r)) / n_squared;
+    let s_free = n.dot(&d2.cross(&r)) / n_squared;
     // Parallel or degenerate segments: any s attains the minimum; take 0.
     let s_first = L::select(zero.lt(n_squared), s_free.clamp_unit(), zero);
     let t_free = b.mul_add(s_first, f) * second.inverse_length_squared;

@@ -66,10 +66,12 @@ pub(crate) fn visit_candidates<L: Lane, S: CandidateSink<L>>(a: &[V3<L>; 3], b: 
     let face_a = FacePlane::new(a);
     let face_b = FacePlane::new(b);
     for vertex in 0..3 {
-        let (squared, projection) = point_face_interior(&b[vertex], &face_a);
-        sink.consider(squared, Candidate::VertexOfBOverFaceOfA(vertex), zero, zero, b[vertex] - projection);
-        let (squared, projection) = point_face_interior(&a[vertex], &face_b);
-        sink.consider(squared, Candidate::VertexOfAOverFaceOfB(vertex), zero, zero, projection - a[vertex]);
+        // The separation runs from a to b: the vertex's offset from its
+        // projection, or its opposite.
+        let (squared, offset) = point_face_interior(&b[vertex], &face_a);
+        sink.consider(squared, Candidate::VertexOfBOverFaceOfA(vertex), zero, zero, offset);
+        let (squared, offset) = point_face_interior(&a[vertex], &face_b);
+        sink.consider(squared, Candidate::VertexOfAOverFaceOfB(vertex), zero, zero, -offset);
     }
     let edges_a = [Edge::new(&a[0], &a[1]), Edge::new(&a[1], &a[2]), Edge::new(&a[2], &a[0])];
     let edges_b = [Edge::new(&b[0], &b[1]), Edge::new(&b[1], &b[2]), Edge::new(&b[2], &b[0])];

@@ -96,12 +96,12 @@ pub(crate) fn triangle_distance_kernel(a: &Triangle, b: &Triangle) -> TriangleDi
     let to_world = |v: V3<Real>| (v + origin).to_point();
     let (point_a, point_b, feature_a, feature_b) = match closest.winner() {
         Candidate::VertexOfBOverFaceOfA(vertex) => {
-            let (_, projection) = point_face_interior(&local_b[vertex], &FacePlane::new(&local_a));
-            (to_world(projection), b[vertex], Feature::Face, Feature::Vertex(vertex as u8))
+            let (_, offset) = point_face_interior(&local_b[vertex], &FacePlane::new(&local_a));
+            (to_world(local_b[vertex] - offset), b[vertex], Feature::Face, Feature::Vertex(vertex as u8))
         }
         Candidate::VertexOfAOverFaceOfB(vertex) => {
-            let (_, projection) = point_face_interior(&local_a[vertex], &FacePlane::new(&local_b));
-            (a[vertex], to_world(projection), Feature::Vertex(vertex as u8), Feature::Face)
+            let (_, offset) = point_face_interior(&local_a[vertex], &FacePlane::new(&local_b));
+            (a[vertex], to_world(local_a[vertex] - offset), Feature::Vertex(vertex as u8), Feature::Face)
         }
         Candidate::Edges(i, j) => (
             point_on_segment(&a[i], &a[(i + 1) % 3], closest.s),
