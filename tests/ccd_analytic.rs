@@ -140,3 +140,21 @@ fn documented_defaults_are_the_real_ones() {
     let o = CcdOptions::default();
     assert_eq!((o.distance_tolerance, o.minimum_separation, o.max_iterations), (1e-6, 0.0, 10_000));
 }
+
+#[test]
+fn non_finite_input_is_reported_as_contact_at_zero_not_ignored() {
+    let face = [p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0)];
+    for bad in [Real::NAN, Real::INFINITY] {
+        let r = vertex_face_time_of_impact_detailed(
+            &p(0.2, bad, 1.0),
+            &face,
+            &p(0.2, 0.2, 2.0),
+            &face,
+            &CcdOptions::default(),
+        );
+        assert_eq!((r.time_of_impact, r.status), (Some(0.0), CcdStatus::NonFiniteInput));
+        let edge = [p(0.0, 0.0, 0.0), p(1.0, 0.0, bad)];
+        let r = edge_edge_time_of_impact_detailed(&edge, &edge, &edge, &edge, &CcdOptions::default());
+        assert_eq!((r.time_of_impact, r.status), (Some(0.0), CcdStatus::NonFiniteInput));
+    }
+}

@@ -134,6 +134,16 @@ pub(crate) fn advance<const NA: usize, const NB: usize>(
     axes: &[Vector],
     closest: impl Fn(&[Point; NA], &[Point; NB]) -> (Real, Point, Point),
 ) -> CcdResult {
+    let all = pair.a_t0.iter().chain(&pair.a_t1).chain(&pair.b_t0).chain(&pair.b_t1);
+    if !all.flat_map(|p| p.coords.iter()).all(|c| c.is_finite()) {
+        return CcdResult {
+            time_of_impact: Some(0.0),
+            status: CcdStatus::NonFiniteInput,
+            distance: Real::NAN,
+            contact_distance: Real::NAN,
+            iterations: 0,
+        };
+    }
     let tolerance = options.distance_tolerance * pair.size();
     let contact_distance = options.minimum_separation + tolerance;
     let target = options.minimum_separation + 0.5 * tolerance;

@@ -22,6 +22,8 @@
 //! - A query that runs out of iterations reports contact where it stopped
 //!   ([`CcdStatus::OutOfIterations`]): conservative, possibly a false
 //!   positive.
+//! - A NaN or infinite coordinate gives contact at `t = 0`
+//!   ([`CcdStatus::NonFiniteInput`]), never a silent "no contact".
 
 mod advance;
 mod edge_edge;

@@ -44,6 +44,10 @@ pub enum CcdStatus {
     /// A filter over the whole step (bounding boxes or a fixed separating
     /// axis) proved there is no contact, before any iteration.
     Filtered,
+    /// A coordinate was NaN or infinite: contact is reported at `t = 0`
+    /// (conservative: a CCD must not answer "no contact" to what it cannot
+    /// measure).
+    NonFiniteInput,
 }
 
 /// The detailed result of a CCD query.
