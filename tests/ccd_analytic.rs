@@ -158,3 +158,26 @@ fn non_finite_input_is_reported_as_contact_at_zero_not_ignored() {
         assert_eq!((r.time_of_impact, r.status), (Some(0.0), CcdStatus::NonFiniteInput));
     }
 }
+
+#[test]
+fn a_tiny_query_far_from_the_origin_stays_conservative() {
+    // A unit-1e-3 vertex-face query at 1e6 with a tolerance far below the
+    // coordinates' rounding: the tolerance is floored, and the time is never late.
+    use nearmiss::ccd::ROUNDING_FLOOR_ULPS;
+    let o = 1e6;
+    let face = [p(o, o, o), p(o + 1e-3, o, o), p(o, o + 1e-3, o)];
+    let options = CcdOptions { distance_tolerance: 1e-15, ..CcdOptions::default() };
+    let (top, bottom) = (o + 1e-3, o - 1e-3);
+    let r = vertex_face_time_of_impact_detailed(
+        &p(o + 2e-4, o + 2e-4, top),
+        &face,
+        &p(o + 2e-4, o + 2e-4, bottom),
+        &face,
+        &options,
+    );
+    assert!(r.contact_distance >= ROUNDING_FLOOR_ULPS * Real::EPSILON * top);
+    // The rounded end heights differ from o by exact amounts (Sterbenz), so
+    // the contact time is their ratio, to within one rounding of the division.
+    let exact = (top - o) / (top - bottom);
+    assert_time(r.time_of_impact.map(|t| t * (1.0 - Real::EPSILON)), exact, r.contact_distance, top - bottom);
+}

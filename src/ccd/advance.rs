@@ -119,6 +119,11 @@ impl<const NA: usize, const NB: usize> LinearPair<NA, NB> {
     }
 }
 
+/// The smallest tolerance, in ulps of the largest coordinate: positions at
+/// time `t` and the kernels' distances carry a few ulps of rounding, and half
+/// the tolerance must cover it. Default `64`.
+pub const ROUNDING_FLOOR_ULPS: Real = 64.0;
+
 /// The componentwise lower and upper bounds of `points`.
 fn bounds<'p>(points: impl Iterator<Item = &'p Point>) -> (Vector, Vector) {
     points.fold((Vector::repeat(Real::INFINITY), Vector::repeat(Real::NEG_INFINITY)), |(lo, hi), p| {
@@ -144,7 +149,18 @@ pub(crate) fn advance<const NA: usize, const NB: usize>(
             iterations: 0,
         };
     }
-    let tolerance = options.distance_tolerance * pair.size();
+    // The half-tolerance margin must exceed the rounding of positions and
+    // distances, a few ulps of the largest coordinate `M`: a tiny query far
+    // from the origin would otherwise lose it.
+    let largest = pair
+        .a_t0
+        .iter()
+        .chain(&pair.a_t1)
+        .chain(&pair.b_t0)
+        .chain(&pair.b_t1)
+        .fold(0.0, |m: Real, p| m.max(p.coords.amax()));
+    let tolerance =
+        (options.distance_tolerance * pair.size()).max(ROUNDING_FLOOR_ULPS * Real::EPSILON * largest);
     let contact_distance = options.minimum_separation + tolerance;
     let target = options.minimum_separation + 0.5 * tolerance;
     let no_contact = |status, distance, iterations| CcdResult {

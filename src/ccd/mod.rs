@@ -30,6 +30,7 @@ mod edge_edge;
 mod options;
 mod vertex_face;
 
+pub use advance::ROUNDING_FLOOR_ULPS;
 pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
 pub use options::{CcdOptions, CcdResult, CcdStatus};
 pub use vertex_face::{vertex_face_time_of_impact, vertex_face_time_of_impact_detailed};
