@@ -1,4 +1,4 @@
-//! Lists the queries of a benchmark file that are false negatives or late (debugging aid).
+//! Lists the queries of a benchmark file that are false negatives, late, or out of iterations (debugging aid).
 use nearmiss::ccd::CcdOptions;
 use nearmiss::query_file::QueryFile;
 use std::path::Path;
@@ -13,7 +13,8 @@ fn main() {
         let lower = file.exact_time_lower_bounds.as_ref().and_then(|b| b[i]);
         let fn_ = q.truth == Some(true) && r.time_of_impact.is_none();
         let late = matches!((r.time_of_impact, lower), (Some(t), Some(l)) if t > l);
-        if (fn_ || late) && shown < 6 {
+        let capped = r.status == nearmiss::ccd::CcdStatus::OutOfIterations;
+        if (fn_ || late || capped) && shown < 6 {
             shown += 1;
             println!("query {i}: {:?} exact lower {:?}\n  points {:?}", r, lower, q.points);
         }

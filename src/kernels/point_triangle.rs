@@ -88,13 +88,14 @@ pub struct PointTriangle {
 /// use nearmiss::math::Point;
 /// let t = [Point::new(0.0, 0.0, 0.0), Point::new(2.0, 0.0, 0.0), Point::new(0.0, 2.0, 0.0)];
 /// let c = point_triangle(&Point::new(0.5, 0.5, 3.0), &t);
-/// assert_eq!((c.distance, c.feature), (3.0, Feature::Face));
+/// assert_eq!((c.distance, c.feature, c.point), (3.0, Feature::Face, Point::new(0.5, 0.5, 0.0)));
 /// let c = point_triangle(&Point::new(-1.0, -1.0, 0.0), &t);
 /// assert_eq!(c.feature, Feature::Vertex(0));
 /// ```
 pub fn point_triangle(p: &Point, triangle: &Triangle) -> PointTriangle {
     let face = FacePlane::new(&triangle.each_ref().map(V3::from));
-    let (face_squared, projection) = point_face_interior(&V3::from(p), &face);
+    let (face_squared, offset) = point_face_interior(&V3::from(p), &face);
+    let projection = V3::from(p) - offset;
     let mut best =
         PointTriangle { point: projection.to_point(), feature: Feature::Face, distance: face_squared };
     for edge in 0..3u8 {
@@ -111,4 +112,28 @@ pub fn point_triangle(p: &Point, triangle: &Triangle) -> PointTriangle {
     }
     best.distance = best.distance.sqrt();
     best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exact;
+    use crate::samples::Rng;
+
+    #[test]
+    fn the_closest_point_is_on_the_triangle_and_realises_the_distance() {
+        // Against the exact reference: the point is on the triangle (exact
+        // distance to it ~ 0) and as far from p as the exact distance.
+        let mut rng = Rng::new(5);
+        for _ in 0..2000 {
+            let t = [0, 1, 2].map(|_| Point::from(rng.in_unit_ball()));
+            let p = Point::from(rng.in_unit_ball() * 2.0);
+            let c = point_triangle(&p, &t);
+            let on = exact::to_f64(&exact::point_triangle_distance_squared(&c.point, &t)).sqrt();
+            let expected = exact::to_f64(&exact::point_triangle_distance_squared(&p, &t)).sqrt();
+            assert!(on <= 1e-15, "{c:?} is {on:e} off the triangle");
+            assert!(((p - c.point).norm() - expected).abs() <= 1e-14, "{c:?} vs {expected:e}");
+            assert!((c.distance - expected).abs() <= 1e-14);
+        }
+    }
 }
