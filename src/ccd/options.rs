@@ -10,7 +10,10 @@ pub struct CcdOptions {
     /// diagonal of the query's bounding box over the whole step (so the
     /// tolerance is **relative to the query's size**). The reported time is
     /// then never later than the true first contact, and earlier by at most
-    /// the time the primitives take to close that distance.
+    /// the time the primitives take to close that distance. The tolerance
+    /// used is never below [`ROUNDING_FLOOR_ULPS`](super::ROUNDING_FLOOR_ULPS)
+    /// ulps of the largest coordinate: the conservative steps need that much
+    /// margin over rounding.
     /// Default: `1e-6`.
     pub distance_tolerance: Real,
     /// An absolute gap that counts as contact (for thickness or a safety
