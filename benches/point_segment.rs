@@ -15,9 +15,7 @@ const QUERIES: usize = 10_000;
 
 fn point_segment_kernels(c: &mut Criterion) {
     let queries = point_segment_queries(InputClass::NearlyTouching, QUERIES, 2024);
-    let column =
-        |k: usize| PointsSoa::from_points(&queries.iter().map(|q| [q.0, q.1, q.2][k]).collect::<Vec<_>>());
-    let (p, a, b) = (column(0), column(1), column(2));
+    let (p, a, b) = PointsSoa::from_queries(&queries);
     let mut out = vec![0.0; QUERIES];
 
     let mut group = c.benchmark_group("point_segment");

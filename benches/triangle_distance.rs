@@ -17,8 +17,7 @@ const PAIRS: usize = 10_000;
 
 fn triangle_kernels(c: &mut Criterion) {
     let pairs = nearly_touching_pairs(PAIRS, 1e-3, 1e-1, 2024);
-    let a = TrianglesSoa::from_triangles(&pairs.iter().map(|p| p.0).collect::<Vec<_>>());
-    let b = TrianglesSoa::from_triangles(&pairs.iter().map(|p| p.1).collect::<Vec<_>>());
+    let (a, b) = TrianglesSoa::from_pairs(&pairs);
     let mut out = vec![0.0; PAIRS];
 
     let mut group = c.benchmark_group("triangle_distance");

@@ -11,8 +11,7 @@ use nearmiss::samples::{point_segment_queries, triangle_pairs, InputClass};
 fn triangle_batches_are_bit_identical() {
     for class in InputClass::ALL {
         let pairs = triangle_pairs(class, 500, 13);
-        let a = TrianglesSoa::from_triangles(&pairs.iter().map(|p| p.0).collect::<Vec<_>>());
-        let b = TrianglesSoa::from_triangles(&pairs.iter().map(|p| p.1).collect::<Vec<_>>());
+        let (a, b) = TrianglesSoa::from_pairs(&pairs);
         let reference: Vec<f64> =
             pairs.iter().map(|(x, y)| triangle_distance_with(SimdLevel::Baseline, x, y).distance).collect();
         for level in SimdLevel::available() {
@@ -31,10 +30,7 @@ fn triangle_batches_are_bit_identical() {
 fn point_segment_batches_are_bit_identical() {
     for class in InputClass::ALL {
         let queries = point_segment_queries(class, 1000, 17);
-        let column = |k: usize| {
-            PointsSoa::from_points(&queries.iter().map(|q| [q.0, q.1, q.2][k]).collect::<Vec<_>>())
-        };
-        let (p, a, b) = (column(0), column(1), column(2));
+        let (p, a, b) = PointsSoa::from_queries(&queries);
         for formula in PointEdgeFormula::ALL {
             for level in SimdLevel::available() {
                 let mut out = vec![f64::NAN; queries.len()];
@@ -55,8 +51,7 @@ fn point_segment_batches_are_bit_identical() {
 #[test]
 fn short_outputs_and_empty_batches_are_fine() {
     let pairs = triangle_pairs(InputClass::WellConditioned, 3, 1);
-    let a = TrianglesSoa::from_triangles(&pairs.iter().map(|p| p.0).collect::<Vec<_>>());
-    let b = TrianglesSoa::from_triangles(&pairs.iter().map(|p| p.1).collect::<Vec<_>>());
+    let (a, b) = TrianglesSoa::from_pairs(&pairs);
     let mut out = [0.0; 2];
     triangle_distances_with(SimdLevel::detect(), &a, &b, &mut out);
     assert!(out.iter().all(|d| *d > 0.0));

@@ -11,8 +11,8 @@
 use super::dispatch::multiversioned;
 use super::lanes::{F64x, Lane, V3};
 use super::point_segment::{point_segment_distance_kernel, PointEdgeFormula};
-use super::refine::{refined_distance, REFINE_BELOW_EXTENT};
-use super::separated::closest_separated;
+use super::refine::refined_distance;
+use super::separated::{closest_separated, local_frame};
 use super::triangle_triangle::triangle_distance_kernel;
 use crate::math::{Point, Real, Triangle};
 
@@ -35,6 +35,14 @@ impl PointsSoa {
             y: points.iter().map(|p| p.y).collect(),
             z: points.iter().map(|p| p.z).collect(),
         }
+    }
+
+    /// Columns for the three points of each query `(p, a, b)`.
+    pub fn from_queries(queries: &[(Point, Point, Point)]) -> (PointsSoa, PointsSoa, PointsSoa) {
+        let column = |k: usize| {
+            PointsSoa::from_points(&queries.iter().map(|q| [q.0, q.1, q.2][k]).collect::<Vec<_>>())
+        };
+        (column(0), column(1), column(2))
     }
 
     /// Number of points (the shortest column).
@@ -66,6 +74,13 @@ impl TrianglesSoa {
     pub fn from_triangles(triangles: &[Triangle]) -> TrianglesSoa {
         let column = |k: usize| PointsSoa::from_points(&triangles.iter().map(|t| t[k]).collect::<Vec<_>>());
         TrianglesSoa { vertices: [column(0), column(1), column(2)] }
+    }
+
+    /// Columns for the first and the second triangle of each pair.
+    pub fn from_pairs(pairs: &[(Triangle, Triangle)]) -> (TrianglesSoa, TrianglesSoa) {
+        let firsts: Vec<Triangle> = pairs.iter().map(|p| p.0).collect();
+        let seconds: Vec<Triangle> = pairs.iter().map(|p| p.1).collect();
+        (TrianglesSoa::from_triangles(&firsts), TrianglesSoa::from_triangles(&seconds))
     }
 
     /// Number of triangles (the shortest column).
@@ -125,13 +140,10 @@ multiversioned! {
             let start = chunk * LANES;
             let ta = [load(&a.vertices[0], start), load(&a.vertices[1], start), load(&a.vertices[2], start)];
             let tb = [load(&b.vertices[0], start), load(&b.vertices[1], start), load(&b.vertices[2], start)];
-            let origin = ta[0];
-            let local_a = [ta[0] - origin, ta[1] - origin, ta[2] - origin];
-            let local_b = [tb[0] - origin, tb[1] - origin, tb[2] - origin];
+            let (local_a, local_b) = local_frame(&ta, &tb);
             let closest = closest_separated(&local_a, &local_b);
             let plain = closest.distance_squared.sqrt();
-            let threshold = F64x::splat(REFINE_BELOW_EXTENT) * closest.extent;
-            let refine = closest.distance_squared.lt(threshold * threshold);
+            let refine = closest.needs_refinement();
             for (k, o) in o.iter_mut().enumerate() {
                 *o = if closest.certified.0[k] == 0 {
                     -1.0

@@ -16,9 +16,12 @@
 
 use super::dispatch::multiversioned;
 use super::double_double::{height_over_plane, vector_difference};
+use super::lanes::Lane;
 use super::lanes::V3;
 use super::point_segment::{point_segment_distance_kernel, PointEdgeFormula};
-use super::separated::{visit_candidates, Candidate, CandidateSink, ClosestSeparated};
+use super::separated::{
+    local_frame, triangle_lanes, visit_candidates, Candidate, CandidateSink, ClosestSeparated,
+};
 use crate::math::{Point, Real, Triangle};
 
 /// Below this fraction of the pair's extent `S` (its largest coordinate
@@ -33,13 +36,13 @@ pub const REFINE_BELOW_EXTENT: Real = 1e-3;
 /// value (measured: at most 1.5); two of them, with room. Default `16`.
 pub const REFINE_TIE_BAND_ULPS: Real = 16.0;
 
-impl ClosestSeparated<Real> {
+impl<L: Lane> ClosestSeparated<L> {
     /// Whether the distance is small enough next to the pair's extent to be
-    /// refined.
-    #[inline]
-    pub fn needs_refinement(&self) -> bool {
-        let threshold = REFINE_BELOW_EXTENT * self.extent;
-        self.distance_squared < threshold * threshold
+    /// refined (per lane).
+    #[inline(always)]
+    pub fn needs_refinement(&self) -> L::Mask {
+        let threshold = L::splat(REFINE_BELOW_EXTENT) * self.extent;
+        self.distance_squared.lt(threshold * threshold)
     }
 }
 
@@ -65,9 +68,7 @@ fn refined_distance_kernel(a: &Triangle, b: &Triangle, closest: &ClosestSeparate
     // A tie within rounding: recompute the candidates and refine every one
     // in the band. (Carrying the runner-up's identity through the vector
     // pass instead was measured slower: register pressure.)
-    let origin = V3::from(&a[0]);
-    let local_a = [V3::from(&a[0]) - origin, V3::from(&a[1]) - origin, V3::from(&a[2]) - origin];
-    let local_b = [V3::from(&b[0]) - origin, V3::from(&b[1]) - origin, V3::from(&b[2]) - origin];
+    let (local_a, local_b) = local_frame(&triangle_lanes(a), &triangle_lanes(b));
     let mut least = LeastRefined { a, b, band_squared, least: Real::INFINITY };
     visit_candidates(&local_a, &local_b, &mut least);
     least.least

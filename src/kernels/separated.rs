@@ -14,7 +14,7 @@
 use super::lanes::{F64x, Lane, V3};
 use super::point_triangle::{point_face_interior, FacePlane};
 use super::segment_segment::{segment_segment_lanes, Edge};
-use crate::math::Real;
+use crate::math::{Real, Triangle};
 
 /// One of the 15 candidate pairs, decoded from its code (the order in
 /// which [`visit_candidates`] considers them).
@@ -137,6 +137,21 @@ impl<const N: usize> ClosestSeparated<F64x<N>> {
 /// coordinate, `3ε` from the dot product on `|v| ≤ √3 S`; two of them are
 /// compared. 16 covers `2 × 6.2` with room.
 pub(crate) const SEPARATION_MARGIN_ULPS: Real = 16.0;
+
+/// Triangles `a` and `b` relative to `a`'s first vertex, the frame every
+/// candidate is computed in: differences of nearby large coordinates are
+/// exact, so a pair far from the origin is as accurate as one at it.
+#[inline(always)]
+pub(crate) fn local_frame<L: Lane>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> ([V3<L>; 3], [V3<L>; 3]) {
+    let origin = a[0];
+    ([a[0] - origin, a[1] - origin, a[2] - origin], [b[0] - origin, b[1] - origin, b[2] - origin])
+}
+
+/// A triangle's vertices as one-lane vectors.
+#[inline(always)]
+pub(crate) fn triangle_lanes(t: &Triangle) -> [V3<Real>; 3] {
+    [V3::from(&t[0]), V3::from(&t[1]), V3::from(&t[2])]
+}
 
 /// The smallest of the 15 candidate squared distances between two
 /// triangles (local coordinates), which pair attains it, and whether the

@@ -34,7 +34,7 @@ use super::lanes::V3;
 use super::point_triangle::{point_face_interior, point_triangle, FacePlane};
 use super::refine::refined_distance;
 use super::segment_segment::point_on_segment;
-use super::separated::{closest_separated, Candidate};
+use super::separated::{closest_separated, local_frame, triangle_lanes, Candidate};
 use super::triangle_intersection::triangles_intersect;
 use crate::math::{Point, Real, Triangle};
 
@@ -79,8 +79,7 @@ multiversioned! {
 #[inline(always)]
 pub(crate) fn triangle_distance_kernel(a: &Triangle, b: &Triangle) -> TriangleDistance {
     let origin = V3::from(&a[0]);
-    let local_a = [V3::from(&a[0]) - origin, V3::from(&a[1]) - origin, V3::from(&a[2]) - origin];
-    let local_b = [V3::from(&b[0]) - origin, V3::from(&b[1]) - origin, V3::from(&b[2]) - origin];
+    let (local_a, local_b) = local_frame(&triangle_lanes(a), &triangle_lanes(b));
     let closest = closest_separated(&local_a, &local_b);
     if !closest.certified {
         if let Some(common) = triangles_intersect(a, b) {
