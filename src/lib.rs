@@ -18,6 +18,7 @@ pub mod ccd;
 pub mod exact;
 pub mod kernels;
 pub mod math;
+pub mod mesh;
 pub mod query_file;
 pub mod report;
 pub mod samples;

@@ -60,6 +60,20 @@ impl PointsSoa {
     pub fn get(&self, i: usize) -> Point {
         Point::new(self.x[i], self.y[i], self.z[i])
     }
+    /// Appends a point.
+    #[inline]
+    pub fn push(&mut self, p: &Point) {
+        self.x.push(p.x);
+        self.y.push(p.y);
+        self.z.push(p.z);
+    }
+
+    /// Removes every point, keeping the allocation.
+    pub fn clear(&mut self) {
+        self.x.clear();
+        self.y.clear();
+        self.z.clear();
+    }
 }
 
 /// Triangles in structure-of-arrays layout: one [`PointsSoa`] per vertex.
@@ -97,6 +111,18 @@ impl TrianglesSoa {
     #[inline(always)]
     pub fn get(&self, i: usize) -> Triangle {
         [self.vertices[0].get(i), self.vertices[1].get(i), self.vertices[2].get(i)]
+    }
+    /// Appends a triangle.
+    #[inline]
+    pub fn push(&mut self, t: &Triangle) {
+        for (column, p) in self.vertices.iter_mut().zip(t) {
+            column.push(p);
+        }
+    }
+
+    /// Removes every triangle, keeping the allocation.
+    pub fn clear(&mut self) {
+        self.vertices.iter_mut().for_each(PointsSoa::clear);
     }
 }
 

@@ -1,0 +1,20 @@
+//! Triangle-mesh assets: validated vertices and triangles, built once and
+//! shared by every body that uses them, each with its bounding volume
+//! hierarchy ([`MeshBvh`]) and, for closed meshes, its mass properties.
+//!
+//! A mesh is a surface (a triangle soup): two meshes are in contact when
+//! their surfaces touch. A mesh entirely inside another does not touch it.
+
+mod bvh;
+mod distance;
+mod mass;
+mod obj;
+mod primitives;
+mod trimesh;
+
+pub use bvh::{BvhNode, MeshBvh, BVH_LEAF_SIZE};
+pub use distance::{mesh_distance, DistanceKernel, MeshDistance, MeshDistanceScratch};
+pub use mass::MassProperties;
+pub use obj::{load_obj, parse_obj, ObjError};
+pub use primitives::{box_mesh, icosphere, needle, single_triangle, tetrahedron, MAX_ICOSPHERE_SUBDIVISIONS};
+pub use trimesh::{MeshError, TriMesh};

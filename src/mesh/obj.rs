@@ -1,0 +1,176 @@
+//! A Wavefront OBJ reader: `v` and `f` lines (polygons fan-triangulated;
+//! `i`, `i/t`, `i//n`, `i/t/n` and negative indices); every other statement
+//! is ignored. Errors name the file, line and column.
+
+use std::path::{Path, PathBuf};
+
+use super::trimesh::{MeshError, TriMesh};
+use crate::math::Point;
+
+/// Why an OBJ file could not be read as a mesh.
+#[derive(Debug, thiserror::Error)]
+pub enum ObjError {
+    /// The file could not be read.
+    #[error("{}: cannot read the OBJ file: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// A statement is malformed.
+    #[error("{}:{line}:{column}: {message}", path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong and what was expected.
+        message: String,
+    },
+    /// The statements parse but do not make a usable mesh.
+    #[error("{}: {source}", path.display())]
+    Mesh {
+        /// The file.
+        path: PathBuf,
+        /// Why the mesh is unusable.
+        source: MeshError,
+    },
+}
+
+/// Reads an OBJ file.
+pub fn load_obj(path: &Path) -> Result<TriMesh, ObjError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ObjError::Io { path: path.into(), source })?;
+    parse_obj(&text, path)
+}
+
+/// Parses OBJ text; `path` names the source in error messages.
+pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
+    let error = |line: usize, column: usize, message: String| ObjError::Parse {
+        path: path.into(),
+        line,
+        column,
+        message,
+    };
+    let mut vertices: Vec<Point> = Vec::new();
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    // Where each triangle came from, to report mesh errors at their line.
+    let mut origins: Vec<(usize, usize)> = Vec::new();
+    for (number, raw) in text.lines().enumerate() {
+        let line = number + 1;
+        let content = raw.split('#').next().unwrap_or("");
+        let mut words = tokens(content);
+        let Some((_, keyword)) = words.next() else { continue };
+        match keyword {
+            "v" => {
+                let mut coordinates = [0.0; 3];
+                for (k, coordinate) in coordinates.iter_mut().enumerate() {
+                    let Some((column, word)) = words.next() else {
+                        return Err(error(
+                            line,
+                            raw.len() + 1,
+                            format!("a vertex needs 3 coordinates, found {k}"),
+                        ));
+                    };
+                    *coordinate = match word.parse::<f64>() {
+                        Ok(value) if value.is_finite() => value,
+                        _ => {
+                            return Err(error(
+                                line,
+                                column,
+                                format!("expected a finite number, found `{word}`"),
+                            ))
+                        }
+                    };
+                }
+                // An optional fourth value (w) or vertex colours may follow.
+                vertices.push(Point::from(coordinates));
+            }
+            "f" => {
+                let mut corners = Vec::new();
+                for (column, word) in words.by_ref() {
+                    let index_text = word.split('/').next().unwrap_or("");
+                    let index = match index_text.parse::<i64>() {
+                        Ok(i) if i > 0 => i - 1,
+                        Ok(i) if i < 0 => vertices.len() as i64 + i,
+                        _ => {
+                            return Err(error(
+                                line,
+                                column,
+                                format!("expected a vertex index (1-based, or negative), found `{word}`"),
+                            ))
+                        }
+                    };
+                    if index < 0 || index > u32::MAX as i64 {
+                        return Err(error(line, column, format!("vertex index `{word}` is out of range")));
+                    }
+                    corners.push(index as u32);
+                }
+                if corners.len() < 3 {
+                    return Err(error(
+                        line,
+                        1,
+                        format!("a face needs at least 3 vertices, found {}", corners.len()),
+                    ));
+                }
+                for k in 1..corners.len() - 1 {
+                    triangles.push([corners[0], corners[k], corners[k + 1]]);
+                    origins.push((line, 1));
+                }
+            }
+            _ => {}
+        }
+    }
+    TriMesh::new(vertices, triangles).map_err(|source| match source {
+        MeshError::IndexOutOfRange { triangle, index, vertices } => {
+            let (line, column) = origins[triangle];
+            let message =
+                format!("the face refers to vertex {}, but the file defines {vertices} vertices", index + 1);
+            error(line, column, message)
+        }
+        MeshError::DegenerateTriangle { triangle } => {
+            let (line, column) = origins[triangle];
+            error(line, column, source.to_string())
+        }
+        MeshError::Empty => error(text.lines().count().max(1), 1, "the file has no faces (`f` lines)".into()),
+        MeshError::NonFinite { .. } => ObjError::Mesh { path: path.into(), source },
+    })
+}
+
+/// The whitespace-separated words of a line with their 1-based columns.
+fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
+    line.split_ascii_whitespace().map(move |word| (word.as_ptr() as usize - line.as_ptr() as usize + 1, word))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<TriMesh, ObjError> {
+        parse_obj(text, Path::new("test.obj"))
+    }
+
+    #[test]
+    fn reads_polygons_and_index_forms() {
+        let mesh = parse("# a quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1 -1//1\n")
+            .unwrap();
+        assert_eq!(mesh.triangles().len(), 2);
+        assert_eq!(mesh.vertices().len(), 4);
+    }
+
+    #[test]
+    fn errors_name_line_and_column() {
+        let message = parse("v 0 0 0\nv 1 0 zero\n").unwrap_err().to_string();
+        assert_eq!(message, "test.obj:2:7: expected a finite number, found `zero`");
+        let message = parse("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap_err().to_string();
+        assert!(message.starts_with("test.obj:4:1: triangle 0 is degenerate"), "{message}");
+        let message = parse("v 0 0 0\nf 1 2 9\n").unwrap_err().to_string();
+        assert_eq!(message, "test.obj:2:1: the face refers to vertex 2, but the file defines 1 vertices");
+        let message = parse("v 0 0 0\nf 1 0 2\n").unwrap_err().to_string();
+        assert_eq!(message, "test.obj:2:5: expected a vertex index (1-based, or negative), found `0`");
+        let message = parse("v 0 0 0\n").unwrap_err().to_string();
+        assert_eq!(message, "test.obj:1:1: the file has no faces (`f` lines)");
+    }
+}

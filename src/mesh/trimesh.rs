@@ -1,0 +1,172 @@
+//! The validated triangle mesh.
+
+use super::bvh::MeshBvh;
+use super::mass::MassProperties;
+use crate::math::{Point, Real, Triangle, Vector};
+
+/// What makes a list of vertices and triangles unusable as a mesh.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    /// No triangles at all.
+    #[error("the mesh has no triangles")]
+    Empty,
+    /// A triangle refers to a vertex that does not exist.
+    #[error("triangle {triangle} refers to vertex {index}, but there are only {vertices} vertices")]
+    IndexOutOfRange {
+        /// The triangle (0-based).
+        triangle: usize,
+        /// The bad vertex index (0-based).
+        index: usize,
+        /// How many vertices there are.
+        vertices: usize,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("vertex {vertex} has a coordinate that is not a finite number")]
+    NonFinite {
+        /// The vertex (0-based).
+        vertex: usize,
+    },
+    /// A triangle has no area (repeated or exactly collinear vertices).
+    #[error("triangle {triangle} is degenerate: its vertices are repeated or collinear (zero area)")]
+    DegenerateTriangle {
+        /// The triangle (0-based).
+        triangle: usize,
+    },
+}
+
+/// A triangle mesh with its bounding volume hierarchy.
+///
+/// Vertices are in the mesh's own frame; a body places the mesh with its
+/// pose and rotates it about the frame's origin. Triangles are stored in the
+/// order of the BVH's leaves.
+#[derive(Clone, Debug)]
+pub struct TriMesh {
+    vertices: Vec<Point>,
+    triangles: Vec<[u32; 3]>,
+    bvh: MeshBvh,
+    radius: Real,
+}
+
+impl TriMesh {
+    /// Validates the mesh and builds its BVH.
+    ///
+    /// Rejected: no triangles, an index out of range, a non-finite
+    /// coordinate, a triangle of exactly zero area (decided with exact
+    /// predicates). Needle and sliver triangles are accepted.
+    pub fn new(vertices: Vec<Point>, triangles: Vec<[u32; 3]>) -> Result<TriMesh, MeshError> {
+        if triangles.is_empty() {
+            return Err(MeshError::Empty);
+        }
+        if let Some(vertex) = vertices.iter().position(|v| !v.coords.iter().all(|c| c.is_finite())) {
+            return Err(MeshError::NonFinite { vertex });
+        }
+        for (triangle, indices) in triangles.iter().enumerate() {
+            for &index in indices {
+                if index as usize >= vertices.len() {
+                    return Err(MeshError::IndexOutOfRange {
+                        triangle,
+                        index: index as usize,
+                        vertices: vertices.len(),
+                    });
+                }
+            }
+            let [a, b, c] = indices.map(|i| vertices[i as usize]);
+            if has_zero_area(&a, &b, &c) {
+                return Err(MeshError::DegenerateTriangle { triangle });
+            }
+        }
+        let (bvh, triangles) = MeshBvh::build(&vertices, triangles);
+        let radius = vertices.iter().map(|v| v.coords.norm()).fold(0.0, Real::max);
+        Ok(TriMesh { vertices, triangles, bvh, radius })
+    }
+
+    /// The vertices, in the mesh's frame.
+    pub fn vertices(&self) -> &[Point] {
+        &self.vertices
+    }
+
+    /// The triangles as vertex indices, in BVH leaf order.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// Triangle `i` as points in the mesh's frame.
+    #[inline]
+    pub fn triangle(&self, i: usize) -> Triangle {
+        self.triangles[i].map(|v| self.vertices[v as usize])
+    }
+
+    /// The bounding volume hierarchy.
+    pub fn bvh(&self) -> &MeshBvh {
+        &self.bvh
+    }
+
+    /// The largest distance of a vertex from the frame's origin (the centre
+    /// of rotation): bounds the speed of any point of the rotating mesh.
+    pub fn radius(&self) -> Real {
+        self.radius
+    }
+
+    /// The smallest and largest corners of the mesh's bounding box.
+    pub fn bounds(&self) -> (Point, Point) {
+        let root = &self.bvh.nodes()[0];
+        (root.center - root.half_extents, root.center + root.half_extents)
+    }
+
+    /// Volume, centre of mass and inertia at unit density, if the mesh
+    /// encloses a positive volume (closed, outward-facing triangles).
+    pub fn mass_properties(&self) -> Option<MassProperties> {
+        MassProperties::of_surface(&self.vertices, &self.triangles)
+    }
+
+    /// The same mesh moved so that `origin` becomes the frame's origin.
+    pub fn recentered(&self, origin: &Point) -> TriMesh {
+        let shift: Vector = origin.coords;
+        let vertices = self.vertices.iter().map(|v| v - shift).collect();
+        // Moving the vertices keeps every triangle's area non-zero unless the
+        // subtraction rounds them onto a line; fall back to the original then.
+        TriMesh::new(vertices, self.triangles.clone()).unwrap_or_else(|_| self.clone())
+    }
+}
+
+/// Whether a triangle has exactly zero area: all three coordinate-plane
+/// projections are degenerate (exact orientation predicates).
+fn has_zero_area(a: &Point, b: &Point, c: &Point) -> bool {
+    let orient = |i: usize, j: usize| {
+        let p = |q: &Point| robust::Coord { x: q[i], y: q[j] };
+        robust::orient2d(p(a), p(b), p(c))
+    };
+    orient(0, 1) == 0.0 && orient(1, 2) == 0.0 && orient(2, 0) == 0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_triangle() -> Vec<Point> {
+        vec![Point::new(0.0, 0.0, 0.0), Point::new(1.0, 0.0, 0.0), Point::new(0.0, 1.0, 0.0)]
+    }
+
+    #[test]
+    fn rejects_bad_meshes_with_the_reason() {
+        assert_eq!(TriMesh::new(unit_triangle(), vec![]).unwrap_err(), MeshError::Empty);
+        assert_eq!(
+            TriMesh::new(unit_triangle(), vec![[0, 1, 3]]).unwrap_err(),
+            MeshError::IndexOutOfRange { triangle: 0, index: 3, vertices: 3 }
+        );
+        let mut nan = unit_triangle();
+        nan[2].y = Real::NAN;
+        assert_eq!(TriMesh::new(nan, vec![[0, 1, 2]]).unwrap_err(), MeshError::NonFinite { vertex: 2 });
+        let collinear = vec![Point::new(0.0, 0.0, 0.0), Point::new(1.0, 1.0, 1.0), Point::new(3.0, 3.0, 3.0)];
+        assert_eq!(
+            TriMesh::new(collinear, vec![[0, 1, 2]]).unwrap_err(),
+            MeshError::DegenerateTriangle { triangle: 0 }
+        );
+    }
+
+    #[test]
+    fn accepts_a_needle() {
+        let needle = vec![Point::new(0.0, 0.0, 0.0), Point::new(1.0, 0.0, 0.0), Point::new(0.5, 1e-12, 0.0)];
+        assert!(TriMesh::new(needle, vec![[0, 1, 2]]).is_ok());
+    }
+}
