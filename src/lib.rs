@@ -19,6 +19,7 @@ pub mod exact;
 pub mod kernels;
 pub mod math;
 pub mod mesh;
+pub mod motion;
 pub mod query_file;
 pub mod report;
 pub mod samples;

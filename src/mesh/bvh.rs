@@ -118,7 +118,6 @@ fn bounds(points: impl Iterator<Item = Point>) -> (Point, Point) {
 #[cfg(test)]
 mod tests {
     use super::super::primitives::icosphere;
-    use super::*;
 
     #[test]
     fn every_triangle_in_exactly_one_leaf_and_inside_its_bounds() {
