@@ -3,8 +3,11 @@
 use clap::{Parser, Subcommand, ValueEnum};
 use nearmiss::ccd::CcdOptions;
 use nearmiss::query_file::{query_files, run_file, QueryFile, QueryKind};
-use std::path::PathBuf;
+use nearmiss::scene::Scene;
+use nearmiss::stepper::{RunResult, Termination};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::{Duration, Instant};
 
 #[derive(Parser)]
 #[command(name = "nearmiss", version, about = "Continuous collision detection for triangle meshes")]
@@ -46,6 +49,30 @@ enum Command {
         #[arg(long, default_value_t = CcdOptions::default().max_iterations)]
         max_iterations: usize,
     },
+    /// Run a scene: writes `<out>/<scene name>/summary.json`, and
+    /// `trace.csv` when the scene asks for a trace. Exits 2 on a bad scene,
+    /// 1 if the integration diverged.
+    Run {
+        /// The scene file (RON).
+        scene: PathBuf,
+        /// The output folder.
+        #[arg(long, default_value = "output")]
+        out: PathBuf,
+    },
+    /// Validate a scene without running it. Exits 2 on a bad scene.
+    Check {
+        /// Scene files.
+        #[arg(required = true)]
+        scenes: Vec<PathBuf>,
+    },
+    /// Run every scene (files, or folders searched for `.ron`) that states
+    /// an expectation; one line per scene. Exits 1 if any fails, 2 if a
+    /// scene is bad.
+    Test {
+        /// Scene files or folders.
+        #[arg(required = true)]
+        paths: Vec<PathBuf>,
+    },
 }
 
 #[derive(Copy, Clone, ValueEnum)]
@@ -70,6 +97,9 @@ fn main() -> ExitCode {
             let rows = nearmiss::report::kernel_report(count, seed);
             print!("{}", nearmiss::report::kernel_report_markdown(&rows));
         }
+        Command::Run { scene, out } => return run_scene(&scene, &out),
+        Command::Check { scenes } => return check_scenes(&scenes),
+        Command::Test { paths } => return test_scenes(&paths),
         Command::Queries { paths, kind, repeats, tolerance, max_iterations } => {
             let kind = kind.map(|k| match k {
                 Kind::Ee => QueryKind::EdgeEdge,
@@ -141,6 +171,149 @@ fn run_queries(paths: &[PathBuf], kind: Option<QueryKind>, options: &CcdOptions,
         );
     }
     if failed {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// Loads a scene; prints the error and gives exit code 2 if it is bad.
+fn load_scene(path: &Path) -> Result<Scene, ExitCode> {
+    Scene::load(path).map_err(|error| {
+        eprintln!("error: {error}");
+        ExitCode::from(2)
+    })
+}
+
+/// Runs a scene with a progress bar on a terminal, shown once the run has
+/// taken a second.
+fn run_with_progress(scene: &Scene) -> RunResult {
+    let bar =
+        indicatif::ProgressBar::with_draw_target(Some(scene.steps), indicatif::ProgressDrawTarget::hidden());
+    let style = indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} steps, {eta} left")
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
+    bar.set_style(style.progress_chars("=> "));
+    bar.set_message(scene.name.clone());
+    let start = Instant::now();
+    let mut shown = false;
+    let result = nearmiss::stepper::run_observed(scene, &mut |done| {
+        if !shown && start.elapsed() > Duration::from_secs(1) {
+            shown = true;
+            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        }
+        if shown && done % 64 == 0 {
+            bar.set_position(done);
+        }
+    });
+    bar.finish_and_clear();
+    result
+}
+
+fn run_scene(path: &Path, out: &Path) -> ExitCode {
+    let scene = match load_scene(path) {
+        Ok(scene) => scene,
+        Err(code) => return code,
+    };
+    let result = run_with_progress(&scene);
+    let written = match nearmiss::output::write_outputs(out, &result, scene.trace.is_some()) {
+        Ok(written) => written,
+        Err(error) => {
+            eprintln!("error: cannot write to {}: {error}", out.join(&scene.name).display());
+            return ExitCode::from(2);
+        }
+    };
+    println!(
+        "scene {}: {} steps of dt = {} to t = {:.9}, {:.3} s",
+        scene.name, result.steps, scene.dt, result.end_time, result.wall_time_s
+    );
+    match &result.first_contact {
+        Some(c) => println!(
+            "first contact: {} / {} at t = {:.15e}, distance {:.3e} ({:?}); {} contact(s)",
+            result.bodies[c.body_a],
+            result.bodies[c.body_b],
+            c.time,
+            c.distance,
+            c.status,
+            result.contacts.len()
+        ),
+        None => println!("no contact"),
+    }
+    for file in &written {
+        println!("wrote {}", file.display());
+    }
+    if let Termination::Diverged { .. } = result.termination {
+        eprintln!("error: {}", nearmiss::output::termination_text(&result));
+        return ExitCode::from(1);
+    }
+    ExitCode::SUCCESS
+}
+
+fn check_scenes(paths: &[PathBuf]) -> ExitCode {
+    let mut bad = false;
+    for path in paths {
+        match load_scene(path) {
+            Ok(scene) => println!(
+                "ok {}: scene `{}`, {} bodies, {} steps of dt = {}",
+                path.display(),
+                scene.name,
+                scene.bodies.len(),
+                scene.steps,
+                scene.dt
+            ),
+            Err(_) => bad = true,
+        }
+    }
+    if bad {
+        ExitCode::from(2)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+fn test_scenes(paths: &[PathBuf]) -> ExitCode {
+    let mut files = Vec::new();
+    for path in paths {
+        match nearmiss::regression::scene_files(path) {
+            Ok(found) => files.extend(found),
+            Err(error) => {
+                eprintln!("error: {}: {error}", path.display());
+                return ExitCode::from(2);
+            }
+        }
+    }
+    let (mut passed, mut failed, mut bad, mut skipped) = (0, 0, 0, 0);
+    for file in &files {
+        let scene = match load_scene(file) {
+            Ok(scene) => scene,
+            Err(_) => {
+                bad += 1;
+                continue;
+            }
+        };
+        if scene.expect.is_none() {
+            skipped += 1;
+            continue;
+        }
+        let result = run_with_progress(&scene);
+        let Some(verdict) = nearmiss::regression::verdict(&scene, &result) else { continue };
+        let error = verdict.error.map_or(String::new(), |e| format!(", error {e:+.3e}"));
+        println!(
+            "{} {}: expected {}; obtained {}{error}",
+            if verdict.passed { "pass" } else { "FAIL" },
+            file.display(),
+            verdict.expected,
+            verdict.obtained
+        );
+        if verdict.passed {
+            passed += 1;
+        } else {
+            failed += 1;
+        }
+    }
+    println!("{passed} passed, {failed} failed, {bad} bad, {skipped} without expectation");
+    if bad > 0 {
+        ExitCode::from(2)
+    } else if failed > 0 {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS

@@ -13,6 +13,12 @@
 //! (`advance.rs`): every step is proven contact-free, so `None` always means
 //! no contact and a reported time is never late.
 //!
+//! ## Rigid mesh pairs
+//! [`mesh_time_of_impact`] takes two triangle meshes, each moving with
+//! constant linear and angular velocity over a step, and advances by the
+//! distance over a bound on the closing speed (`mesh_pair.rs`), with the
+//! mesh distance from a branch and bound over both BVHs.
+//!
 //! ## Caveats
 //! - A reported time may be early by the time the primitives need to close
 //!   the contact distance (`minimum_separation` plus the relative
@@ -27,10 +33,12 @@
 
 mod advance;
 mod edge_edge;
+mod mesh_pair;
 mod options;
 mod vertex_face;
 
 pub use advance::ROUNDING_FLOOR_ULPS;
 pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
+pub use mesh_pair::{mesh_time_of_impact, MeshCcdResult, MovingMesh};
 pub use options::{CcdOptions, CcdResult, CcdStatus};
 pub use vertex_face::{vertex_face_time_of_impact, vertex_face_time_of_impact_detailed};

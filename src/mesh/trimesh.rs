@@ -119,6 +119,12 @@ impl TriMesh {
         MassProperties::of_surface(&self.vertices, &self.triangles)
     }
 
+    /// The mesh scaled uniformly about its origin (an error if the scaling
+    /// overflows or collapses a triangle).
+    pub fn scaled(&self, factor: Real) -> Result<TriMesh, MeshError> {
+        TriMesh::new(self.vertices.iter().map(|v| v * factor).collect(), self.triangles.clone())
+    }
+
     /// The same mesh moved so that `origin` becomes the frame's origin.
     pub fn recentered(&self, origin: &Point) -> TriMesh {
         let shift: Vector = origin.coords;

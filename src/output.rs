@@ -1,0 +1,191 @@
+//! What `nearmiss run` writes: `summary.json` and, when the scene asks for
+//! a trace, `trace.csv`, in `<out>/<scene name>/`. Each file is written to a
+//! temporary name in the same folder and renamed into place, so a reader
+//! never sees a half-written file.
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::kernels::Feature;
+use crate::math::{Point, Real};
+use crate::stepper::{Contact, RunResult, Termination};
+use crate::trace::write_trace_csv;
+
+/// The `summary.json` document (DESIGN.md's fields, and more).
+#[derive(Serialize)]
+pub struct Summary<'a> {
+    /// The scene's name.
+    pub scene: &'a str,
+    /// Steps taken.
+    pub steps: u64,
+    /// The time reached.
+    pub end_time: Real,
+    /// Wall-clock time of the run (not deterministic).
+    pub wall_time_s: Real,
+    /// Why the run ended: `completed`, `first_contact`, or `diverged: ...`.
+    pub termination: String,
+    /// The earliest contact or `null`.
+    pub first_contact: Option<ContactJson<'a>>,
+    /// Every contact in time order.
+    pub contacts: Vec<ContactJson<'a>>,
+    /// Work counters (deterministic).
+    pub work: WorkJson,
+    /// Seconds per stage (not deterministic).
+    pub stage_wall_time_s: StagesJson,
+}
+
+/// A contact in `summary.json`.
+#[derive(Serialize)]
+pub struct ContactJson<'a> {
+    /// Time of first contact.
+    pub time: Real,
+    /// First body's name.
+    pub body_a: &'a str,
+    /// Second body's name.
+    pub body_b: &'a str,
+    /// Distance at `time`.
+    pub distance: Real,
+    /// Closest point on `body_a`.
+    pub point_a: [Real; 3],
+    /// Closest point on `body_b`.
+    pub point_b: [Real; 3],
+    /// Triangle of `body_a`.
+    pub triangle_a: usize,
+    /// Triangle of `body_b`.
+    pub triangle_b: usize,
+    /// Feature of `triangle_a` (`vertex 0`, `edge 2`, `face`).
+    pub feature_a: String,
+    /// Feature of `triangle_b`.
+    pub feature_b: String,
+    /// How the CCD iteration ended.
+    pub status: String,
+    /// The contact distance used.
+    pub contact_distance: Real,
+}
+
+/// Work counters in `summary.json`.
+#[derive(Serialize)]
+pub struct WorkJson {
+    /// Mesh distance queries.
+    pub distance_queries: usize,
+    /// Triangle pairs evaluated.
+    pub triangle_pairs: usize,
+    /// Pair-steps skipped without a mesh query.
+    pub pairs_culled: usize,
+    /// Steps whose implicit gyroscopic solve did not converge.
+    pub gyroscopic_unconverged: usize,
+}
+
+/// Stage times in `summary.json`.
+#[derive(Serialize)]
+pub struct StagesJson {
+    /// Integration.
+    pub integrate: Real,
+    /// CCD.
+    pub ccd: Real,
+    /// Trace.
+    pub trace: Real,
+}
+
+fn point(p: &Point) -> [Real; 3] {
+    [p.x, p.y, p.z]
+}
+
+fn feature(f: Feature) -> String {
+    match f {
+        Feature::Vertex(i) => format!("vertex {i}"),
+        Feature::Edge(i) => format!("edge {i}"),
+        Feature::Face => "face".into(),
+    }
+}
+
+/// The termination as a short text.
+pub fn termination_text(result: &RunResult) -> String {
+    match &result.termination {
+        Termination::Completed => "completed".into(),
+        Termination::FirstContact => "first_contact".into(),
+        Termination::Diverged { step, reason, .. } => format!("diverged at step {step}: {reason}"),
+    }
+}
+
+impl<'a> Summary<'a> {
+    /// The summary of a run.
+    pub fn of(result: &'a RunResult) -> Summary<'a> {
+        let contact = |c: &Contact| ContactJson {
+            time: c.time,
+            body_a: &result.bodies[c.body_a],
+            body_b: &result.bodies[c.body_b],
+            distance: c.distance,
+            point_a: point(&c.point_a),
+            point_b: point(&c.point_b),
+            triangle_a: c.triangle_a,
+            triangle_b: c.triangle_b,
+            feature_a: feature(c.feature_a),
+            feature_b: feature(c.feature_b),
+            status: format!("{:?}", c.status),
+            contact_distance: c.contact_distance,
+        };
+        let counters = &result.counters;
+        Summary {
+            scene: &result.scene,
+            steps: result.steps,
+            end_time: result.end_time,
+            wall_time_s: result.wall_time_s,
+            termination: termination_text(result),
+            first_contact: result.first_contact.as_ref().map(contact),
+            contacts: result.contacts.iter().map(contact).collect(),
+            work: WorkJson {
+                distance_queries: counters.distance_queries,
+                triangle_pairs: counters.triangle_pairs,
+                pairs_culled: counters.pairs_culled,
+                gyroscopic_unconverged: counters.gyroscopic_unconverged,
+            },
+            stage_wall_time_s: StagesJson {
+                integrate: counters.integrate_s,
+                ccd: counters.ccd_s,
+                trace: counters.trace_s,
+            },
+        }
+    }
+
+    /// Pretty JSON text.
+    pub fn to_json(&self) -> String {
+        // Serializing plain structs of numbers and strings cannot fail;
+        // non-finite numbers become `null`.
+        serde_json::to_string_pretty(self).unwrap_or_default() + "\n"
+    }
+}
+
+/// Writes the run's files into `<out>/<scene>/` and returns their paths.
+pub fn write_outputs(out: &Path, result: &RunResult, trace: bool) -> std::io::Result<Vec<PathBuf>> {
+    let folder = out.join(&result.scene);
+    fs::create_dir_all(&folder)?;
+    let mut written = Vec::new();
+    let summary = Summary::of(result).to_json();
+    written.push(write_atomically(&folder.join("summary.json"), summary.as_bytes())?);
+    if trace {
+        let mut csv = Vec::new();
+        write_trace_csv(&result.trace, &result.bodies, &mut csv)?;
+        written.push(write_atomically(&folder.join("trace.csv"), &csv)?);
+    }
+    Ok(written)
+}
+
+/// Writes `bytes` to a temporary file beside `path`, then renames it.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<PathBuf> {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let temporary = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut file = fs::File::create(&temporary)?;
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        fs::rename(&temporary, path)
+    })();
+    if result.is_err() {
+        let _ = fs::remove_file(&temporary);
+    }
+    result.map(|_| path.to_path_buf())
+}

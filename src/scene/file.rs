@@ -1,0 +1,307 @@
+//! The RON schema of a scene file, as written by users. Every struct denies
+//! unknown fields, so a misspelt field is an error rather than a silent
+//! default. [`super::Scene`] is the validated form.
+
+use serde::Deserialize;
+
+use crate::motion::{Gyroscopic, Integrator};
+
+/// Three numbers `(x, y, z)`.
+pub type Triple = [f64; 3];
+
+/// A scene file: `Scene(name: ..., dt: ..., bodies: [...], ...)`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Scene")]
+pub struct SceneFile {
+    /// The scene's name: the output folder is `<out>/<name>/`.
+    pub name: String,
+    /// The fixed step (time units; usually seconds).
+    pub dt: f64,
+    /// How long to run (give this or `steps`). The run covers at least this
+    /// time: `ceil(duration / dt)` steps.
+    #[serde(default)]
+    pub duration: Option<f64>,
+    /// How many steps to run (give this or `duration`).
+    #[serde(default)]
+    pub steps: Option<u64>,
+    /// The integrator of bodies with forces. Default: `SymplecticEuler`.
+    #[serde(default)]
+    pub integrator: Integrator,
+    /// The rotation update of `SymplecticEuler`. Default: `Implicit`.
+    #[serde(default)]
+    pub gyroscopic: Gyroscopic,
+    /// CCD settings.
+    #[serde(default)]
+    pub ccd: CcdSettings,
+    /// What happens at a contact. Default: `Stop`.
+    #[serde(default)]
+    pub on_contact: OnContact,
+    /// The distance trace; none by default.
+    #[serde(default)]
+    pub trace: Option<TraceSettings>,
+    /// Uniform gravitational acceleration on every body that is neither
+    /// fixed nor kinematic.
+    #[serde(default)]
+    pub gravity: Option<Triple>,
+    /// Springs from body points to world anchors.
+    #[serde(default)]
+    pub springs: Vec<SpringSettings>,
+    /// The bodies.
+    pub bodies: Vec<BodySettings>,
+    /// What `nearmiss test` checks.
+    #[serde(default)]
+    pub expect: Option<ExpectSettings>,
+}
+
+/// CCD settings of a scene.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CcdSettings {
+    /// The proximity kernel. Default: `Exact`.
+    pub kernel: KernelSettings,
+    /// Contact is declared within `minimum_separation + distance_tolerance ×
+    /// (r_a + r_b)`, `r` being each mesh's radius about its centre of mass.
+    /// Relative to the pair's size. Default: `1e-6`.
+    pub distance_tolerance: f64,
+    /// An absolute gap that counts as contact. Default: `0`.
+    pub minimum_separation: f64,
+    /// The most advancement steps per pair and step. Default: `10000`.
+    pub max_iterations: usize,
+}
+
+impl Default for CcdSettings {
+    fn default() -> Self {
+        let options = crate::ccd::CcdOptions::default();
+        CcdSettings {
+            kernel: KernelSettings::Exact,
+            distance_tolerance: options.distance_tolerance,
+            minimum_separation: options.minimum_separation,
+            max_iterations: options.max_iterations,
+        }
+    }
+}
+
+/// The triangle distance kernel of the CCD.
+#[derive(Copy, Clone, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(deny_unknown_fields)]
+pub enum KernelSettings {
+    /// The exact kernel (conservative CCD).
+    #[default]
+    Exact,
+    /// The seed paper's DyOP kernel: may over-estimate, so the CCD may be late.
+    Dyop {
+        /// `Vector` (default), `PlainVector`, `Heron` or `StableHeron`.
+        #[serde(default)]
+        formula: FormulaSettings,
+    },
+}
+
+/// A point–edge distance formula of the DyOP kernel.
+#[derive(Copy, Clone, Debug, Default, Deserialize, PartialEq, Eq)]
+pub enum FormulaSettings {
+    /// Cross product, compensated.
+    #[default]
+    Vector,
+    /// Cross product, plain (the seed's).
+    PlainVector,
+    /// Heron's formula (the seed's).
+    Heron,
+    /// Kahan's stable Heron.
+    StableHeron,
+}
+
+/// What the run does at a contact.
+#[derive(Copy, Clone, Debug, Default, Deserialize, PartialEq, Eq)]
+pub enum OnContact {
+    /// Stop at the first contact. The default.
+    #[default]
+    Stop,
+    /// Record every contact and keep moving (bodies pass through each
+    /// other: there is no collision response). A pair in contact is
+    /// re-armed once its distance at a step's end exceeds twice the contact
+    /// distance.
+    Record,
+}
+
+/// Which pairs are traced, how often.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TraceSettings {
+    /// `All` pairs (not both fixed), or `Only([("a", "b"), ...])`.
+    #[serde(default)]
+    pub pairs: TracePairs,
+    /// Record every this many steps (and at the first and last step).
+    /// Default: 1.
+    #[serde(default = "one")]
+    pub every: u64,
+}
+
+fn one() -> u64 {
+    1
+}
+
+/// The traced pairs.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub enum TracePairs {
+    /// Every pair of bodies that are not both fixed.
+    #[default]
+    All,
+    /// These pairs, by body name.
+    Only(Vec<(String, String)>),
+}
+
+/// A spring from a body point to a world anchor.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSettings {
+    /// The body's name.
+    pub body: String,
+    /// The attachment point in the body's mesh frame. Default: the origin.
+    #[serde(default)]
+    pub point: Triple,
+    /// The world anchor.
+    pub anchor: Triple,
+    /// Stiffness (force per length).
+    pub stiffness: f64,
+    /// Damping (force per speed). Default: 0.
+    #[serde(default)]
+    pub damping: f64,
+    /// Rest length. Default: 0.
+    #[serde(default)]
+    pub rest_length: f64,
+}
+
+/// A body.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySettings {
+    /// A unique name.
+    pub name: String,
+    /// The mesh.
+    pub mesh: MeshSettings,
+    /// A uniform scale applied to the mesh. Default: 1.
+    #[serde(default = "unit_scale")]
+    pub scale: f64,
+    /// Where the mesh's origin is placed. Default: the world origin.
+    #[serde(default)]
+    pub position: Triple,
+    /// The mesh's orientation. Default: none.
+    #[serde(default)]
+    pub orientation: OrientationSettings,
+    /// Velocity of the centre of mass. Default: 0.
+    #[serde(default)]
+    pub velocity: Triple,
+    /// Angular velocity, world frame, radians per time unit. Default: 0.
+    #[serde(default)]
+    pub angular_velocity: Triple,
+    /// Mass (needed by bodies with springs).
+    #[serde(default)]
+    pub mass: Option<f64>,
+    /// Principal moments of inertia about the centre of mass, along the
+    /// mesh's axes.
+    #[serde(default)]
+    pub inertia: Option<Triple>,
+    /// Density: mass, centre of mass and inertia from the (closed) mesh;
+    /// excludes `mass` and `inertia`.
+    #[serde(default)]
+    pub density: Option<f64>,
+    /// Never moves. Default: false.
+    #[serde(default)]
+    pub fixed: bool,
+    /// Keeps its velocities whatever acts on it. Default: false.
+    #[serde(default)]
+    pub kinematic: bool,
+}
+
+fn unit_scale() -> f64 {
+    1.0
+}
+
+/// A mesh: a primitive (centred on its origin) or an OBJ file.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub enum MeshSettings {
+    /// A box.
+    Box {
+        /// Half extents along x, y, z.
+        half_extents: Triple,
+    },
+    /// A subdivided icosahedron.
+    Icosphere {
+        /// The radius of its vertices.
+        radius: f64,
+        /// Subdivisions (0 to 7); 20 × 4^subdivisions triangles.
+        #[serde(default)]
+        subdivisions: u32,
+    },
+    /// A regular tetrahedron.
+    Tetrahedron {
+        /// The distance of its vertices from the centre.
+        circumradius: f64,
+    },
+    /// One triangle, vertices in the body's frame.
+    Triangle {
+        /// First vertex.
+        a: Triple,
+        /// Second vertex.
+        b: Triple,
+        /// Third vertex.
+        c: Triple,
+    },
+    /// A needle (sliver) triangle.
+    Needle {
+        /// Base length.
+        length: f64,
+        /// Height of the apex over the base.
+        width: f64,
+    },
+    /// An OBJ file, its path relative to the scene file.
+    Obj {
+        /// The path.
+        path: String,
+    },
+}
+
+/// An orientation.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum OrientationSettings {
+    /// No rotation.
+    #[default]
+    Identity,
+    /// A rotation about an axis (need not be unit), in degrees.
+    AxisAngle {
+        /// The axis.
+        axis: Triple,
+        /// The angle in degrees.
+        degrees: f64,
+    },
+    /// A quaternion; normalised on reading.
+    Quaternion {
+        /// Scalar part.
+        w: f64,
+        /// i.
+        x: f64,
+        /// j.
+        y: f64,
+        /// k.
+        z: f64,
+    },
+}
+
+/// What the run is expected to do.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ExpectSettings {
+    /// The first contact, between these bodies, at this time.
+    Contact {
+        /// The expected time of first contact.
+        time: f64,
+        /// The allowed |obtained − expected|.
+        tolerance: f64,
+        /// The two bodies, in either order.
+        bodies: (String, String),
+    },
+    /// No contact during the run.
+    NoContact,
+}

@@ -1,0 +1,161 @@
+//! Scenes: the RON file format ([`file`]), its validation, and the
+//! validated [`Scene`] that the [`stepper`](crate::stepper) runs.
+//!
+//! Loading resolves everything a run needs and checks it: numbers finite
+//! and in range, names unique and resolved, meshes built (OBJ paths
+//! relative to the scene file) and shared between bodies that use the same
+//! mesh. Errors name the file and the line and column (syntax, unknown
+//! fields, wrong types) or the field (values).
+//!
+//! ```
+//! let scene = nearmiss::scene::Scene::from_ron_str(r#"
+//!     Scene(
+//!         name: "approach",
+//!         dt: 0.01,
+//!         duration: 1.0,
+//!         bodies: [
+//!             (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), velocity: (1.0, 0.0, 0.0)),
+//!             (name: "b", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (2.0, 0.0, 0.0), fixed: true),
+//!         ],
+//!         expect: Contact(time: 1.0, tolerance: 1e-6, bodies: ("a", "b")),
+//!     )
+//! "#).unwrap();
+//! assert_eq!(scene.steps, 100);
+//! ```
+
+mod build;
+mod error;
+pub mod file;
+
+use std::path::Path;
+use std::sync::Arc;
+
+use nalgebra::Matrix3;
+
+pub use error::SceneError;
+pub use file::OnContact;
+
+use crate::ccd::CcdOptions;
+use crate::math::{Pose, Real, Vector};
+use crate::mesh::{DistanceKernel, TriMesh};
+use crate::motion::{Dynamics, Gyroscopic, Integrator};
+
+/// A validated scene, ready to run.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The scene's name.
+    pub name: String,
+    /// Where it was read from (for messages).
+    pub source: String,
+    /// The fixed step.
+    pub dt: Real,
+    /// The number of steps.
+    pub steps: u64,
+    /// The integrator of bodies with forces.
+    pub integrator: Integrator,
+    /// The rotation update of semi-implicit Euler.
+    pub gyroscopic: Gyroscopic,
+    /// CCD tolerances and limits (tolerance relative to each pair's size).
+    pub ccd: CcdOptions,
+    /// The CCD's distance kernel.
+    pub kernel: DistanceKernel,
+    /// What happens at a contact.
+    pub on_contact: OnContact,
+    /// The distance trace, if asked for.
+    pub trace: Option<TraceSpec>,
+    /// The bodies.
+    pub bodies: Vec<Body>,
+    /// The expectation `nearmiss test` checks.
+    pub expect: Option<Expectation>,
+}
+
+/// A body, resolved.
+#[derive(Clone, Debug)]
+pub struct Body {
+    /// Its unique name.
+    pub name: String,
+    /// Its mesh, vertices relative to the centre of mass (the centre of
+    /// rotation), shared with bodies that use the same mesh.
+    pub mesh: Arc<TriMesh>,
+    /// The pose at time 0 (translation: the centre of mass).
+    pub pose: Pose,
+    /// Velocity of the centre of mass at time 0.
+    pub velocity: Vector,
+    /// Angular velocity (world frame) at time 0.
+    pub angular_velocity: Vector,
+    /// Mass, if given or derived from a density.
+    pub mass: Option<Real>,
+    /// Inertia about the centre of mass, body frame, if given or derived.
+    pub inertia: Option<Matrix3<Real>>,
+    /// How the body moves.
+    pub motion: BodyMotion,
+}
+
+/// How a body moves.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BodyMotion {
+    /// Never moves.
+    Fixed,
+    /// Constant velocities, moved exactly (nothing acts on it, or it is kinematic).
+    Free,
+    /// Integrated under these loads.
+    Integrated(Dynamics),
+}
+
+/// The distance trace of a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TraceSpec {
+    /// Traced pairs as body indices `(i, j)`, `i < j`.
+    pub pairs: Vec<(usize, usize)>,
+    /// Record every this many steps (and the first and last).
+    pub every: u64,
+}
+
+/// What a run is expected to do.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Expectation {
+    /// The first contact is between these bodies at `time ± tolerance`.
+    Contact {
+        /// Expected time.
+        time: Real,
+        /// Allowed deviation.
+        tolerance: Real,
+        /// The two bodies (indices).
+        bodies: (usize, usize),
+    },
+    /// Nothing touches.
+    NoContact,
+}
+
+impl Scene {
+    /// Parses and validates a scene; OBJ paths are relative to the current
+    /// directory.
+    pub fn from_ron_str(text: &str) -> Result<Scene, SceneError> {
+        build::build(text, "<string>", Path::new("."))
+    }
+
+    /// Reads, parses and validates a scene file; OBJ paths are relative to
+    /// the file's folder.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| SceneError::Io { path: path.display().to_string(), source })?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        build::build(&text, &path.display().to_string(), base)
+    }
+
+    /// The index of the body with this name.
+    pub fn body_index(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+
+    /// Every pair of bodies that can touch (not both fixed), `i < j`.
+    pub fn movable_pairs(&self) -> Vec<(usize, usize)> {
+        let n = self.bodies.len();
+        let fixed = |i: usize| self.bodies[i].motion == BodyMotion::Fixed;
+        (0..n)
+            .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+            .filter(|&(i, j)| !(fixed(i) && fixed(j)))
+            .collect()
+    }
+}

@@ -1,0 +1,374 @@
+//! The time-stepper: for each fixed step, integrate the bodies, find
+//! contacts by conservative advancement over every pair that can touch,
+//! record events and traces.
+//!
+//! It assembles only what a scene uses: fixed bodies are never integrated
+//! and a pair of fixed bodies never queried; free bodies (nothing acting on
+//! them) move exactly; a far pair is skipped by the bound carried from the
+//! previous step without any mesh query; no distance is computed for a
+//! trace the scene did not ask for.
+//!
+//! Pairs are all pairs of bodies not both fixed, each culled first by its
+//! bounding spheres and carried distance bound (the broad-phase tree is
+//! not built yet: a scene of many bodies pays for the pairs).
+
+use std::time::Instant;
+
+use crate::ccd::{mesh_time_of_impact, CcdStatus, MovingMesh};
+use crate::kernels::Feature;
+use crate::math::{Point, Real};
+use crate::mesh::{mesh_distance, MeshDistanceScratch};
+use crate::motion::{integrate, RigidState, StepMotion};
+use crate::scene::{BodyMotion, OnContact, Scene};
+use crate::trace::TraceRecord;
+
+/// A contact event.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Contact {
+    /// The time of first contact (never later than the true one).
+    pub time: Real,
+    /// The first body (index into the scene's bodies; the lower index).
+    pub body_a: usize,
+    /// The second body.
+    pub body_b: usize,
+    /// The distance at `time` (at most the contact distance).
+    pub distance: Real,
+    /// The closest point of `body_a`, world frame.
+    pub point_a: Point,
+    /// The closest point of `body_b`, world frame.
+    pub point_b: Point,
+    /// The triangle of `body_a` (in its mesh's triangle order).
+    pub triangle_a: usize,
+    /// The triangle of `body_b`.
+    pub triangle_b: usize,
+    /// The feature of `triangle_a` that `point_a` lies on.
+    pub feature_a: Feature,
+    /// The feature of `triangle_b` that `point_b` lies on.
+    pub feature_b: Feature,
+    /// How the CCD iteration ended.
+    pub status: CcdStatus,
+    /// The contact distance of the pair (`minimum_separation + tolerance`).
+    pub contact_distance: Real,
+}
+
+/// Why a run ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Termination {
+    /// All steps ran.
+    Completed,
+    /// Stopped at the first contact (`on_contact: Stop`).
+    FirstContact,
+    /// A body's state stopped being usable: not finite, or turning too far
+    /// in one step for the in-step motion to be defined.
+    Diverged {
+        /// The body.
+        body: usize,
+        /// The step at which it happened (0-based).
+        step: u64,
+        /// What happened.
+        reason: String,
+    },
+}
+
+/// Work and time per stage.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Counters {
+    /// Mesh distance queries (CCD and trace).
+    pub distance_queries: usize,
+    /// Triangle pairs evaluated.
+    pub triangle_pairs: usize,
+    /// Pair-steps skipped without a mesh query (spheres or carried bound).
+    pub pairs_culled: usize,
+    /// Steps where the implicit gyroscopic solve did not converge.
+    pub gyroscopic_unconverged: usize,
+    /// Seconds spent integrating.
+    pub integrate_s: Real,
+    /// Seconds spent in CCD.
+    pub ccd_s: Real,
+    /// Seconds spent tracing.
+    pub trace_s: Real,
+}
+
+/// The outcome of a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunResult {
+    /// The scene's name.
+    pub scene: String,
+    /// The body names (for the indices in contacts and traces).
+    pub bodies: Vec<String>,
+    /// Steps taken (the last one possibly cut short by a contact).
+    pub steps: u64,
+    /// The time reached.
+    pub end_time: Real,
+    /// Wall-clock time of the run, in seconds.
+    pub wall_time_s: Real,
+    /// The earliest contact, if any.
+    pub first_contact: Option<Contact>,
+    /// Every contact in time order (only the first with `on_contact: Stop`).
+    pub contacts: Vec<Contact>,
+    /// The distance trace (empty unless the scene asks for one).
+    pub trace: Vec<TraceRecord>,
+    /// Why the run ended.
+    pub termination: Termination,
+    /// Work and time per stage.
+    pub counters: Counters,
+}
+
+/// Runs a scene.
+pub fn run(scene: &Scene) -> RunResult {
+    run_observed(scene, &mut |_| {})
+}
+
+/// Runs a scene, calling `observer` with the number of steps done after
+/// each step (for progress display).
+pub fn run_observed(scene: &Scene, observer: &mut dyn FnMut(u64)) -> RunResult {
+    let start = Instant::now();
+    let mut stepper = Stepper::new(scene);
+    stepper.record_trace(0, 0.0, &mut |b| StepMotion::fixed(scene.bodies[b].pose));
+    let mut termination = Termination::Completed;
+    let mut steps = 0;
+    for step in 0..scene.steps {
+        let t0 = step as Real * scene.dt;
+        steps = step + 1;
+        if let Err(diverged) = stepper.integrate(step, t0) {
+            termination = diverged;
+            break;
+        }
+        if stepper.collide(t0) && scene.on_contact == OnContact::Stop {
+            termination = Termination::FirstContact;
+            break;
+        }
+        stepper.end_step(step, t0);
+        observer(steps);
+    }
+    let end_time = match (&termination, &stepper.contacts.first()) {
+        (Termination::FirstContact, Some(contact)) => contact.time,
+        _ => steps as Real * scene.dt,
+    };
+    if termination == Termination::FirstContact {
+        let step_start = (steps - 1) as Real * scene.dt;
+        let motions = stepper.motions.clone();
+        stepper.record_trace(steps, end_time, &mut |b| StepMotion {
+            pose_t0: motions[b].pose_at(end_time - step_start),
+            ..motions[b]
+        });
+    }
+    let mut contacts = stepper.contacts;
+    contacts.sort_by(|a, b| a.time.total_cmp(&b.time).then((a.body_a, a.body_b).cmp(&(b.body_a, b.body_b))));
+    RunResult {
+        scene: scene.name.clone(),
+        bodies: scene.bodies.iter().map(|b| b.name.clone()).collect(),
+        steps,
+        end_time,
+        wall_time_s: start.elapsed().as_secs_f64(),
+        first_contact: contacts.first().cloned(),
+        contacts,
+        trace: stepper.trace,
+        termination,
+        counters: stepper.counters,
+    }
+}
+
+/// What the CCD keeps per pair between steps.
+#[derive(Clone, Debug)]
+struct PairState {
+    a: usize,
+    b: usize,
+    /// A lower bound on the distance at the start of the next step.
+    lower_bound: Option<Real>,
+    /// The last closest triangle pair.
+    hint: Option<(usize, usize)>,
+    /// In contact (`on_contact: Record`): not re-reported until it separates.
+    touching: Option<Real>,
+}
+
+/// The run's state and scratch buffers.
+struct Stepper<'s> {
+    scene: &'s Scene,
+    /// Integrated bodies' states (others: `None`).
+    states: Vec<Option<RigidState>>,
+    /// Each body's motion over the current step.
+    motions: Vec<StepMotion>,
+    pairs: Vec<PairState>,
+    scratch: MeshDistanceScratch,
+    contacts: Vec<Contact>,
+    trace: Vec<TraceRecord>,
+    counters: Counters,
+}
+
+impl<'s> Stepper<'s> {
+    fn new(scene: &'s Scene) -> Stepper<'s> {
+        let states = scene
+            .bodies
+            .iter()
+            .map(|body| match body.motion {
+                BodyMotion::Integrated(_) => Some(RigidState {
+                    position: Point::from(body.pose.translation.vector),
+                    orientation: body.pose.rotation,
+                    velocity: body.velocity,
+                    angular_velocity: body.angular_velocity,
+                }),
+                _ => None,
+            })
+            .collect();
+        let pairs = scene
+            .movable_pairs()
+            .into_iter()
+            .map(|(a, b)| PairState { a, b, lower_bound: None, hint: None, touching: None })
+            .collect();
+        Stepper {
+            scene,
+            states,
+            motions: scene.bodies.iter().map(|b| StepMotion::fixed(b.pose)).collect(),
+            pairs,
+            scratch: MeshDistanceScratch::default(),
+            contacts: Vec::new(),
+            trace: Vec::new(),
+            counters: Counters::default(),
+        }
+    }
+
+    /// Stage 1: each body's motion over the step starting at `t0`.
+    fn integrate(&mut self, step: u64, t0: Real) -> Result<(), Termination> {
+        let clock = Instant::now();
+        let scene = self.scene;
+        for (i, body) in scene.bodies.iter().enumerate() {
+            self.motions[i] = match &body.motion {
+                BodyMotion::Fixed => StepMotion::fixed(body.pose),
+                BodyMotion::Free => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
+                BodyMotion::Integrated(dynamics) => {
+                    let Some(state) = self.states[i] else { continue };
+                    let (next, converged) =
+                        integrate(&state, dynamics, scene.integrator, scene.gyroscopic, scene.dt);
+                    self.counters.gyroscopic_unconverged += usize::from(!converged);
+                    let diverged = |reason: String| Termination::Diverged { body: i, step, reason };
+                    if !next.is_finite() {
+                        return Err(diverged(format!("the state of `{}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator", body.name)));
+                    }
+                    let motion = StepMotion::between(&state.pose(), &next.pose(), scene.dt);
+                    let turn = motion.angular_velocity.norm() * scene.dt;
+                    if turn >= std::f64::consts::FRAC_PI_2 {
+                        return Err(diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", body.name)));
+                    }
+                    self.states[i] = Some(next);
+                    motion
+                }
+            };
+        }
+        self.counters.integrate_s += clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Stage 2: CCD over every pair for the step starting at `t0`. Returns
+    /// whether a new contact was found.
+    fn collide(&mut self, t0: Real) -> bool {
+        let clock = Instant::now();
+        let scene = self.scene;
+        let mut found = false;
+        for pair in &mut self.pairs {
+            if pair.touching.is_some() {
+                continue;
+            }
+            let moving = |i: usize| MovingMesh { mesh: &scene.bodies[i].mesh, motion: &self.motions[i] };
+            let result = mesh_time_of_impact(
+                moving(pair.a),
+                moving(pair.b),
+                scene.dt,
+                &scene.ccd,
+                scene.kernel,
+                pair.lower_bound,
+                pair.hint,
+                &mut self.scratch,
+            );
+            self.counters.distance_queries += result.distance_queries;
+            self.counters.triangle_pairs += result.triangle_pairs;
+            self.counters.pairs_culled += usize::from(result.distance_queries == 0);
+            pair.hint = result.hint;
+            pair.lower_bound = Some(result.end_lower_bound);
+            let (Some(time), Some(closest)) = (result.time_of_impact, result.closest) else { continue };
+            found = true;
+            pair.touching = Some(result.contact_distance);
+            pair.lower_bound = None;
+            self.contacts.push(Contact {
+                time: t0 + time,
+                body_a: pair.a,
+                body_b: pair.b,
+                distance: closest.distance,
+                point_a: closest.point_a,
+                point_b: closest.point_b,
+                triangle_a: closest.triangle_a,
+                triangle_b: closest.triangle_b,
+                feature_a: closest.feature_a,
+                feature_b: closest.feature_b,
+                status: result.status,
+                contact_distance: result.contact_distance,
+            });
+        }
+        if found && scene.on_contact == OnContact::Stop {
+            // Keep only the earliest contact (ties: the first pair).
+            let first = self.contacts.iter().cloned().min_by(|a, b| a.time.total_cmp(&b.time));
+            self.contacts = first.into_iter().collect();
+        }
+        self.counters.ccd_s += clock.elapsed().as_secs_f64();
+        found
+    }
+
+    /// Stage 3: re-arm pairs that separated, and sample the trace.
+    fn end_step(&mut self, step: u64, t0: Real) {
+        let scene = self.scene;
+        let dt = scene.dt;
+        let motions = &self.motions;
+        let end = |b: usize| StepMotion { pose_t0: motions[b].pose_at(dt), ..motions[b] };
+        for pair in &mut self.pairs {
+            let Some(contact_distance) = pair.touching else { continue };
+            let (pa, pb) = (end(pair.a), end(pair.b));
+            let d = mesh_distance(
+                &scene.bodies[pair.a].mesh,
+                &pa.pose_t0,
+                &scene.bodies[pair.b].mesh,
+                &pb.pose_t0,
+                scene.kernel,
+                pair.hint,
+                0.0,
+                &mut self.scratch,
+            );
+            self.counters.distance_queries += 1;
+            if d.distance > 2.0 * contact_distance {
+                pair.touching = None;
+                pair.lower_bound = Some(d.distance);
+            }
+        }
+        let Some(trace) = &scene.trace else { return };
+        let done = step + 1;
+        if done % trace.every == 0 || done == scene.steps {
+            let motions = self.motions.clone();
+            self.record_trace(done, t0 + dt, &mut |b| StepMotion {
+                pose_t0: motions[b].pose_at(dt),
+                ..motions[b]
+            });
+        }
+    }
+
+    /// Appends one trace sample per traced pair, bodies posed by `pose_of`.
+    fn record_trace(&mut self, step: u64, time: Real, pose_of: &mut dyn FnMut(usize) -> StepMotion) {
+        let Some(trace) = &self.scene.trace else { return };
+        let clock = Instant::now();
+        let scene = self.scene;
+        for &(a, b) in &trace.pairs {
+            let (pa, pb) = (pose_of(a).pose_t0, pose_of(b).pose_t0);
+            let d = mesh_distance(
+                &scene.bodies[a].mesh,
+                &pa,
+                &scene.bodies[b].mesh,
+                &pb,
+                scene.kernel,
+                None,
+                0.0,
+                &mut self.scratch,
+            );
+            self.counters.distance_queries += 1;
+            self.trace.push(TraceRecord { step, time, pair: (a, b), distance: d.distance });
+        }
+        self.counters.trace_s += clock.elapsed().as_secs_f64();
+    }
+}
