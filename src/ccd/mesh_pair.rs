@@ -32,6 +32,7 @@
 //! without any mesh query.
 
 use super::advance::ROUNDING_FLOOR_ULPS;
+use super::mesh_step::{directional_step, PairMotion};
 use super::options::{CcdOptions, CcdStatus};
 use crate::math::Real;
 use crate::mesh::{mesh_distance, DistanceKernel, MeshDistance, MeshDistanceScratch, TriMesh};
@@ -68,6 +69,8 @@ pub struct MeshCcdResult {
     pub distance_queries: usize,
     /// Triangle pairs evaluated over all queries.
     pub triangle_pairs: usize,
+    /// Directional step searches made (`mesh_step.rs`).
+    pub directional_steps: usize,
 }
 
 /// The first time in `[0, duration]` at which two moving meshes come within
@@ -108,6 +111,7 @@ pub fn mesh_time_of_impact(
         hint,
         distance_queries: 0,
         triangle_pairs: 0,
+        directional_steps: 0,
     };
 
     // The bounding spheres: their centres move linearly, so the smallest
@@ -126,6 +130,12 @@ pub fn mesh_time_of_impact(
         return result;
     }
 
+    let motion = PairMotion {
+        relative_velocity: b.motion.velocity - a.motion.velocity,
+        angular_velocity_a: a.motion.angular_velocity,
+        angular_velocity_b: b.motion.angular_velocity,
+    };
+    let mut stack = Vec::new();
     let mut s = 0.0;
     let mut hint = hint;
     for iteration in 0..options.max_iterations.max(1) {
@@ -154,7 +164,25 @@ pub fn mesh_time_of_impact(
             };
             return result;
         }
-        let next = if speed > 0.0 { s + (d - target) / speed } else { Real::INFINITY };
+        let mut step = if speed > 0.0 { (d - target) / speed } else { Real::INFINITY };
+        if s + step < duration {
+            // The global bound stops short of the step's end: the
+            // per-triangle-pair directional bound may reach further.
+            let horizon = duration - s;
+            let directional = directional_step(
+                a.mesh,
+                &a.motion.pose_at(s),
+                b.mesh,
+                &b.motion.pose_at(s),
+                &motion,
+                target,
+                horizon,
+                &mut stack,
+            );
+            result.directional_steps += 1;
+            step = step.max(directional);
+        }
+        let next = s + step;
         if next >= duration {
             result.status = CcdStatus::Separated;
             result.end_lower_bound = d - speed * (duration - s);

@@ -34,6 +34,7 @@
 mod advance;
 mod edge_edge;
 mod mesh_pair;
+mod mesh_step;
 mod options;
 mod vertex_face;
 

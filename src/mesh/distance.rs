@@ -211,7 +211,7 @@ fn flush(scratch: &mut MeshDistanceScratch, kernel: DistanceKernel, search: &mut
 /// replaced by the axis-aligned box around its rotated box) and the
 /// sphere–sphere distance.
 #[inline]
-fn node_lower_bound(
+pub(crate) fn node_lower_bound(
     na: &super::BvhNode,
     nb: &super::BvhNode,
     pos_ab: &Pose,

@@ -6,7 +6,7 @@
 //! their surfaces touch. A mesh entirely inside another does not touch it.
 
 mod bvh;
-mod distance;
+pub(crate) mod distance;
 mod mass;
 mod obj;
 mod primitives;

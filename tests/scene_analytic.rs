@@ -1,0 +1,231 @@
+//! Time of first contact of whole scenes against analytic values, at
+//! distance tolerance 1e-9: never later than the true time, and earlier by
+//! at most the contact distance over the closing speed.
+
+use nearmiss::scene::Scene;
+use nearmiss::stepper::{run, Contact, RunResult};
+
+fn run_ron(text: &str) -> RunResult {
+    let scene = Scene::from_ron_str(text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    run(&scene)
+}
+
+/// Asserts the conservative guarantee and the accuracy bound for a contact
+/// expected at `expected` with normal closing speed `closing_speed`.
+fn assert_contact(result: &RunResult, bodies: (&str, &str), expected: f64, closing_speed: f64) -> Contact {
+    let contact =
+        result.first_contact.clone().unwrap_or_else(|| panic!("no contact, expected t = {expected}"));
+    let names = (result.bodies[contact.body_a].as_str(), result.bodies[contact.body_b].as_str());
+    assert_eq!(names, bodies);
+    // Never late (4 ulps: the expected value is itself a rounded number).
+    assert!(contact.time <= expected * (1.0 + 4.0 * f64::EPSILON), "late: {} > {expected}", contact.time);
+    // Early by at most the contact distance over the closing speed.
+    let early = expected - contact.time;
+    let bound = contact.contact_distance / closing_speed;
+    assert!(early <= bound * (1.0 + 1e-6) + 4.0 * f64::EPSILON * expected, "early by {early:e} > {bound:e}");
+    assert!(contact.distance <= contact.contact_distance);
+    contact
+}
+
+fn boxes(dt: f64, extra: &str) -> String {
+    format!(
+        r#"Scene(name: "t", dt: {dt}, duration: 1.0, ccd: (distance_tolerance: 1e-9), bodies: [
+            (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), fixed: true),
+            (name: "b", mesh: Box(half_extents: (0.3, 0.2, 0.4)), {extra}),
+        ])"#
+    )
+}
+
+#[test]
+fn pure_translation_hits_at_gap_over_speed_whatever_the_step() {
+    // Gap 2 - 0.5 - 0.3 = 1.2 at speed 3: t = 0.4.
+    for dt in [0.5, 0.1, 0.013, 1e-3] {
+        let result = run_ron(&boxes(dt, "position: (2.0, 0.1, 0.05), velocity: (-3.0, 0.0, 0.0)"));
+        assert_contact(&result, ("a", "b"), 0.4, 3.0);
+    }
+}
+
+#[test]
+fn both_bodies_moving() {
+    // Gap 1 between the faces; closing speed 0.75 + 1.25 = 2: t = 0.5.
+    let result = run_ron(
+        r#"Scene(name: "t", dt: 0.01, duration: 1.0, ccd: (distance_tolerance: 1e-9), bodies: [
+            (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), velocity: (0.0, 0.75, 0.0)),
+            (name: "b", mesh: Tetrahedron(circumradius: 0.5), position: (0.3, 1.5 + 0.5 / 1.7320508075688772 * 1.0, 0.1),
+             orientation: AxisAngle(axis: (1.0, 0.0, -1.0), degrees: 0.0), velocity: (0.0, -1.25, 0.0)),
+        ])"#
+        .replace("1.5 + 0.5 / 1.7320508075688772 * 1.0", "1.7886751345948129")
+        .as_str(),
+    );
+    // The tetrahedron's vertices are at ±0.5/√3 per axis: its lowest y is
+    // 1.7886751345948129 - 0.28867513459481287 = 1.5, the box's top 0.5.
+    assert_contact(&result, ("a", "b"), 0.5, 2.0);
+}
+
+#[test]
+fn rotation_about_a_fixed_axis_until_an_edge_hits_a_vertex() {
+    // A triangle with one edge on the radial line from the z axis spins at
+    // ω = 5; the probe's vertex P is at radius 0.6, angle 1 rad, z = 0; its
+    // other vertices are below z = 0, where the spinning triangle never
+    // goes, and further round, so P is the probe's point nearest the arm.
+    // The edge reaches P when the angle is 1: t = 1 / 5; the distance closes
+    // at ω r = 3.
+    let (c, s) = (0.6 * 1f64.cos(), 0.6 * 1f64.sin());
+    let (tangent, radial) = ([-(1f64.sin()), 1f64.cos()], [1f64.cos(), 1f64.sin()]);
+    let b = [c + 0.1 * tangent[0], s + 0.1 * tangent[1]];
+    let text = format!(
+        r#"Scene(name: "t", dt: 0.01, duration: 1.0, ccd: (distance_tolerance: 1e-9), bodies: [
+            (name: "arm", mesh: Triangle(a: (0.0, 0.0, 0.0), b: (1.0, 0.0, 0.0), c: (0.0, 0.0, 0.5)),
+             angular_velocity: (0.0, 0.0, 5.0)),
+            (name: "probe", mesh: Triangle(a: ({c:?}, {s:?}, 0.0), b: ({:?}, {:?}, -0.3), c: ({:?}, {:?}, -0.3)), fixed: true),
+        ])"#,
+        b[0],
+        b[1],
+        b[0] + 0.1 * radial[0],
+        b[1] + 0.1 * radial[1]
+    );
+    let contact = assert_contact(&run_ron(&text), ("arm", "probe"), 0.2, 5.0 * 0.6);
+    // Within the contact distance of the analytic contact point P.
+    let p = nearmiss::math::Point::new(c, s, 0.0);
+    assert!((contact.point_b - p).norm() <= 1e-8, "{contact:?}");
+}
+
+#[test]
+fn screw_motion_flag_meets_a_vertex() {
+    // A planar flag in the half plane y = 0, x > 0 (radius 0.2..1, z from -1
+    // up to the line z = -1 + 2.5 (x - 0.2)) screws about z: ω = 5, moving up
+    // at 1. Vertex P of the probe is at radius 0.6, angle 1 rad, z = -0.3;
+    // its other vertices are further round. The flag's plane reaches angle 1
+    // at t = 0.2, when P sits at z = -0.5 in the flag's frame, inside it
+    // (the flag spans z in [-1, 0] at radius 0.6): t = 0.2.
+    let at = |r: f64, angle: f64, z: f64| format!("({:?}, {:?}, {z:?})", r * angle.cos(), r * angle.sin());
+    let text = format!(
+        r#"Scene(name: "t", dt: 0.01, duration: 1.0, ccd: (distance_tolerance: 1e-9), bodies: [
+            (name: "flag", mesh: Triangle(a: (0.2, 0.0, -1.0), b: (1.0, 0.0, -1.0), c: (1.0, 0.0, 1.0)),
+             velocity: (0.0, 0.0, 1.0), angular_velocity: (0.0, 0.0, 5.0)),
+            (name: "probe", mesh: Triangle(a: {}, b: {}, c: {}), fixed: true),
+        ])"#,
+        at(0.6, 1.0, -0.3),
+        at(1.5, 1.2, -0.3),
+        at(1.5, 1.4, 0.0)
+    );
+    let contact = assert_contact(&run_ron(&text), ("flag", "probe"), 0.2, 5.0 * 0.6);
+    assert!(matches!(contact.feature_b, nearmiss::kernels::Feature::Vertex(0)));
+}
+
+#[test]
+fn spinning_box_screwing_onto_a_plate_lands_at_gap_over_speed() {
+    // Spin about the direction of travel does not move the bottom face: t = 0.7 / 2.
+    let result = run_ron(
+        r#"Scene(name: "t", dt: 0.05, duration: 1.0, ccd: (distance_tolerance: 1e-9), bodies: [
+            (name: "plate", mesh: Box(half_extents: (3.0, 3.0, 0.1)), fixed: true),
+            (name: "nut", mesh: Box(half_extents: (0.4, 0.25, 0.2)), position: (0.5, -0.2, 1.0),
+             velocity: (0.0, 0.0, -2.0), angular_velocity: (0.0, 0.0, 40.0)),
+        ])"#,
+    );
+    assert_contact(&result, ("plate", "nut"), 0.35, 2.0);
+}
+
+#[test]
+fn grazing_pass_does_not_touch_and_comes_as_close_as_expected() {
+    // b's bottom face passes 1e-6 over a's top face: no contact (the contact
+    // distance is about 1.7e-9), closest approach exactly 1e-6.
+    let gap = 1e-6;
+    let text = format!(
+        r#"Scene(name: "t", dt: 0.01, duration: 3.0, ccd: (distance_tolerance: 1e-9), trace: (pairs: All), bodies: [
+            (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), fixed: true),
+            (name: "b", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (-3.0, 0.2, {:?}), velocity: (2.0, 0.0, 0.0)),
+        ])"#,
+        1.0 + gap
+    );
+    let result = run_ron(&text);
+    assert!(result.first_contact.is_none(), "{:?}", result.first_contact);
+    let closest = result.trace.iter().map(|r| r.distance).fold(f64::INFINITY, f64::min);
+    assert!((closest - gap).abs() <= 1e-15, "closest {closest:e}");
+}
+
+#[test]
+fn thin_fast_body_does_not_tunnel() {
+    // 1000 units/s, dt = 0.01: 10 units per step through a 1 mm plate. The
+    // discrete samples at the step ends never see an overlap.
+    let result = run_ron(
+        r#"Scene(name: "t", dt: 0.01, duration: 0.05, ccd: (distance_tolerance: 1e-9), trace: (pairs: All), bodies: [
+            (name: "plate", mesh: Box(half_extents: (1.0, 1.0, 0.0005)), fixed: true),
+            (name: "bullet", mesh: Icosphere(radius: 0.01, subdivisions: 2), position: (0.0, 0.0, 25.0),
+             velocity: (0.0, 0.0, -1000.0)),
+        ])"#,
+    );
+    assert!(result.trace.iter().filter(|r| r.step > 0 && r.time < 0.024).all(|r| r.distance > 1.0));
+    assert_contact(&result, ("plate", "bullet"), 24.9895 / 1000.0, 1000.0);
+}
+
+#[test]
+fn meshes_of_very_different_sizes() {
+    // A grain (icosphere of radius 1e-3, a vertex exactly at its -x tip)
+    // against a wall 20 units wide: tip at 5 - 1e-3, wall face at 1.
+    let result = run_ron(
+        r#"Scene(name: "t", dt: 0.01, duration: 2.0, ccd: (distance_tolerance: 1e-9), bodies: [
+            (name: "wall", mesh: Box(half_extents: (1.0, 10.0, 10.0)), fixed: true),
+            (name: "grain", mesh: Icosphere(radius: 1e-3, subdivisions: 3), position: (5.0, 3.0, -2.0),
+             velocity: (-4.0, 0.0, 0.0), angular_velocity: (30.0, 0.0, 0.0)),
+        ])"#,
+    );
+    assert_contact(&result, ("wall", "grain"), (4.0 - 1e-3) / 4.0, 4.0);
+}
+
+#[test]
+fn tumbling_icospheres_meet_between_their_inscribed_and_circumscribed_spheres() {
+    // With spins about arbitrary axes the contact time has no closed form,
+    // but the surface lies between the inscribed sphere (radius r_in, the
+    // nearest face plane) and the circumscribed one (R): the centres close at
+    // speed 2, so t lies in [(4 - 2R) / 2, (4 - 2 r_in) / 2].
+    let mesh = nearmiss::mesh::icosphere(1.0, 2).unwrap();
+    let r_in = (0..mesh.triangles().len())
+        .map(|i| {
+            let [a, b, c] = mesh.triangle(i);
+            let n = (b - a).cross(&(c - a)).normalize();
+            n.dot(&a.coords).abs()
+        })
+        .fold(f64::INFINITY, f64::min);
+    let mut rng = nearmiss::samples::Rng::new(3);
+    for _ in 0..10 {
+        let mut w = || {
+            format!("({:?}, {:?}, {:?})", rng.range(-9.0, 9.0), rng.range(-9.0, 9.0), rng.range(-9.0, 9.0))
+        };
+        let text = format!(
+            r#"Scene(name: "t", dt: 0.01, duration: 2.0, ccd: (distance_tolerance: 1e-9), bodies: [
+                (name: "a", mesh: Icosphere(radius: 1.0, subdivisions: 2), position: (-2.0, 0.0, 0.0),
+                 velocity: (1.0, 0.0, 0.0), angular_velocity: {}),
+                (name: "b", mesh: Icosphere(radius: 1.0, subdivisions: 2), position: (2.0, 0.0, 0.0),
+                 velocity: (-1.0, 0.0, 0.0), angular_velocity: {}),
+            ])"#,
+            w(),
+            w()
+        );
+        let contact = run_ron(&text).first_contact.expect("the spheres must meet");
+        assert!(contact.time >= 1.0 - contact.contact_distance / 2.0 - 1e-12, "{}", contact.time);
+        assert!(contact.time <= 2.0 - r_in, "{} later than {}", contact.time, 2.0 - r_in);
+    }
+}
+
+#[test]
+fn record_mode_reports_each_plate_once() {
+    // A cube (half 0.1) flies through two thin plates (top faces at z = 0
+    // and z = -1, 2 mm thick) at speed 10 from bottom z = 0.5:
+    // contacts at 0.05 and 0.15 - 0.002 / 10 ... the second plate's top face
+    // is at -1 + 0.001: t = (0.5 + 1 - 0.001) / 10 = 0.1499.
+    let result = run_ron(
+        r#"Scene(name: "t", dt: 0.001, duration: 0.3, on_contact: Record, ccd: (distance_tolerance: 1e-9), bodies: [
+            (name: "upper", mesh: Box(half_extents: (1.0, 1.0, 0.001)), position: (0.0, 0.0, -0.001), fixed: true),
+            (name: "lower", mesh: Box(half_extents: (1.0, 1.0, 0.001)), position: (0.0, 0.0, -1.0), fixed: true),
+            (name: "cube", mesh: Box(half_extents: (0.1, 0.1, 0.1)), position: (0.0, 0.0, 0.6), velocity: (0.0, 0.0, -10.0)),
+        ])"#,
+    );
+    assert_eq!(result.contacts.len(), 2, "{:?}", result.contacts);
+    let upper = Contact { ..result.contacts[0].clone() };
+    assert_eq!(result.bodies[upper.body_a], "upper");
+    assert!(upper.time <= 0.05 && 0.05 - upper.time <= 1e-9);
+    let lower = &result.contacts[1];
+    assert_eq!(result.bodies[lower.body_a], "lower");
+    assert!(lower.time <= 0.1499 * (1.0 + 1e-15) && 0.1499 - lower.time <= 1e-9, "{}", lower.time);
+}
