@@ -10,3 +10,27 @@ fn documented_defaults_are_the_real_ones() {
     assert_eq!(REFINE_BELOW_EXTENT, 1e-3);
     assert_eq!(REFINE_TIE_BAND_ULPS, 16.0);
 }
+
+#[test]
+fn scene_defaults_are_the_documented_ones() {
+    use nearmiss::scene::{OnContact, Scene};
+    let scene = Scene::from_ron_str(
+        r#"Scene(name: "d", dt: 0.1, steps: 1, trace: (), bodies: [(name: "a", mesh: Tetrahedron(circumradius: 1.0))])"#,
+    )
+    .unwrap();
+    // scene/file.rs: integrator "Default: `SymplecticEuler`", gyroscopic "Default: `Implicit`",
+    // on_contact "Default: `Stop`", ccd kernel "Default: `Exact`", distance_tolerance
+    // "Default: `1e-6`", minimum_separation "Default: `0`", max_iterations "Default: `10000`",
+    // trace every "Default: 1", scale "Default: 1".
+    assert_eq!(scene.integrator, nearmiss::motion::Integrator::SymplecticEuler);
+    assert_eq!(scene.gyroscopic, nearmiss::motion::Gyroscopic::Implicit);
+    assert_eq!(scene.on_contact, OnContact::Stop);
+    assert_eq!(scene.kernel, nearmiss::mesh::DistanceKernel::Exact);
+    assert_eq!(scene.ccd.distance_tolerance, 1e-6);
+    assert_eq!(scene.ccd.minimum_separation, 0.0);
+    assert_eq!(scene.ccd.max_iterations, 10_000);
+    assert_eq!(scene.trace.as_ref().unwrap().every, 1);
+    assert_eq!(scene.bodies[0].mesh.radius(), 1.0);
+    // motion/gyroscopic.rs: at most 20 Newton iterations.
+    assert_eq!(nearmiss::motion::GYROSCOPIC_MAX_ITERATIONS, 20);
+}

@@ -39,7 +39,7 @@ impl MassProperties {
                 det * (a * a.transpose() + b * b.transpose() + c * c.transpose() + sum * sum.transpose());
         }
         let volume = volume6 / 6.0;
-        if !(volume > 0.0) {
+        if volume.is_nan() || volume <= 0.0 {
             return None;
         }
         let center = first / (24.0 * volume);

@@ -60,8 +60,9 @@ pub fn implicit_gyroscopic_step(
             };
         };
         next -= update;
-        if !(update.norm() > tolerance) {
-            let converged = update.norm().is_finite();
+        let size = update.norm();
+        if size <= tolerance || !size.is_finite() {
+            let converged = size.is_finite();
             return GyroscopicSolve {
                 angular_velocity: next,
                 midpoint: (omega + next) / 2.0,

@@ -319,7 +319,7 @@ impl Builder<'_> {
                     built
                 } else {
                     built.scaled(scale).or_else(|e| {
-                        self.invalid(&field("scale"), format!("the scaled mesh is unusable: {e}"))
+                        self.invalid(field("scale"), format!("the scaled mesh is unusable: {e}"))
                     })?
                 };
                 let shape = Arc::new(scaled);
