@@ -6,13 +6,23 @@
 //! kernels finds the time of first contact without stepping past it; distances
 //! over time are recorded and plotted.
 //!
-//! This release holds the foundation: the distance [`kernels`] (exact
-//! triangle–triangle, point–segment by vector and Heron formulas, the seed
-//! paper's DyOP kernel, and batched SIMD versions), the [`exact`] rational
-//! reference they are tested against, [`samples`] (the seeded input classes
-//! shared by tests, benchmarks and the kernel [`report`]), the linear-vertex
-//! CCD queries in [`ccd`], and [`query_file`], the reader and runner for the
-//! public CCD benchmark format.
+//! The pipeline: a [`scene`] (RON) is validated into bodies with shared
+//! [`mesh`] assets (BVH built once) and motion state; the [`stepper`]
+//! advances them step by step ([`motion`]: exact free motion, or
+//! semi-implicit Euler / explicit Euler / RK4 with an implicit gyroscopic
+//! step), runs conservative advancement ([`ccd::mesh_time_of_impact`]) on
+//! every pair that can touch, with the exact triangle [`kernels`] as the
+//! proximity query, and records contacts and distance traces ([`trace`]),
+//! written by [`output`]; [`regression`] checks a run against the scene's
+//! expectation.
+//!
+//! Underneath: the distance [`kernels`] (exact triangle–triangle,
+//! point–segment by vector and Heron formulas, the seed paper's DyOP
+//! kernel, batched SIMD versions), the [`exact`] rational reference they
+//! are tested against, [`samples`] (seeded input classes shared by tests,
+//! benchmarks and the kernel [`report`]), the linear-vertex CCD queries in
+//! [`ccd`], and [`query_file`], the reader and runner for the public CCD
+//! benchmark format.
 
 pub mod ccd;
 pub mod exact;
