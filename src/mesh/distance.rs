@@ -40,6 +40,10 @@ pub enum DistanceKernel {
 }
 
 /// The distance between two meshes and where it is attained.
+///
+/// With [`DistanceKernel::Dyop`], `distance` is DyOP's value for the
+/// winning triangle pair, while the points and features come from the exact
+/// kernel on that pair (DyOP gives no points).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct MeshDistance {
     /// The distance (0 when the surfaces touch or cross).
