@@ -34,3 +34,12 @@ fn scene_defaults_are_the_documented_ones() {
     // motion/gyroscopic.rs: at most 20 Newton iterations.
     assert_eq!(nearmiss::motion::GYROSCOPIC_MAX_ITERATIONS, 20);
 }
+
+#[test]
+fn the_format_example_in_scenes_readme_loads() {
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/README.md")).unwrap();
+    let start = readme.find("```ron\n").expect("a ron block") + "```ron\n".len();
+    let end = start + readme[start..].find("```").unwrap();
+    let scene = nearmiss::scene::Scene::from_ron_str(&readme[start..end]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.bodies.len(), 2);
+}
