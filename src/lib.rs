@@ -31,6 +31,8 @@ pub mod math;
 pub mod mesh;
 pub mod motion;
 pub mod output;
+#[cfg(feature = "plot")]
+pub mod plot;
 pub mod query_file;
 pub mod regression;
 pub mod report;

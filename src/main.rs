@@ -215,7 +215,7 @@ fn run_scene(path: &Path, out: &Path) -> ExitCode {
         Err(code) => return code,
     };
     let result = run_with_progress(&scene);
-    let written = match nearmiss::output::write_outputs(out, &result, scene.trace.is_some()) {
+    let written = match nearmiss::output::write_outputs(out, &result, &scene) {
         Ok(written) => written,
         Err(error) => {
             eprintln!("error: cannot write to {}: {error}", out.join(&scene.name).display());

@@ -11,6 +11,7 @@ use serde::Serialize;
 
 use crate::kernels::Feature;
 use crate::math::{Point, Real};
+use crate::scene::Scene;
 use crate::stepper::{Contact, RunResult, Termination};
 use crate::trace::write_trace_csv;
 
@@ -159,8 +160,10 @@ impl<'a> Summary<'a> {
     }
 }
 
-/// Writes the run's files into `<out>/<scene>/` and returns their paths.
-pub fn write_outputs(out: &Path, result: &RunResult, trace: bool) -> std::io::Result<Vec<PathBuf>> {
+/// Writes the run's files into `<out>/<scene>/` and returns their paths:
+/// `summary.json`, and as the scene asks `trace.csv` and `distance.png`.
+pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::Result<Vec<PathBuf>> {
+    let trace = scene.trace.is_some();
     let folder = out.join(&result.scene);
     fs::create_dir_all(&folder)?;
     let mut written = Vec::new();
@@ -171,7 +174,54 @@ pub fn write_outputs(out: &Path, result: &RunResult, trace: bool) -> std::io::Re
         write_trace_csv(&result.trace, &result.bodies, &mut csv)?;
         written.push(write_atomically(&folder.join("trace.csv"), &csv)?);
     }
+    #[cfg(feature = "plot")]
+    if let Some(plot) = &scene.plot {
+        let path = folder.join("distance.png");
+        crate::plot::render(&distance_chart(result, plot.log_y), &path).map_err(std::io::Error::other)?;
+        written.push(path);
+    }
     Ok(written)
+}
+
+/// The distance-over-time chart of a run's trace: one line per traced pair,
+/// contacts marked.
+#[cfg(feature = "plot")]
+pub fn distance_chart(result: &RunResult, log_y: bool) -> crate::plot::Chart {
+    use crate::plot::{Chart, Series};
+    let mut pairs: Vec<(usize, usize)> = result.trace.iter().map(|r| r.pair).collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let series = pairs
+        .iter()
+        .map(|&pair| Series {
+            label: format!("{} – {}", result.bodies[pair.0], result.bodies[pair.1]),
+            points: result.trace.iter().filter(|r| r.pair == pair).map(|r| (r.time, r.distance)).collect(),
+            line: true,
+            point_labels: Vec::new(),
+        })
+        .collect();
+    let marks = result
+        .contacts
+        .iter()
+        .map(|c| {
+            (
+                c.time,
+                format!(
+                    "contact {} / {}: t = {:.6}",
+                    result.bodies[c.body_a], result.bodies[c.body_b], c.time
+                ),
+            )
+        })
+        .collect();
+    Chart {
+        title: format!("{}: distance between traced pairs", result.scene),
+        x_label: "time (scene time units)".into(),
+        y_label: format!("distance (scene length units{})", if log_y { ", log scale" } else { "" }),
+        log_x: false,
+        log_y,
+        series,
+        marks,
+    }
 }
 
 /// Writes `bytes` to a temporary file beside `path`, then renames it.

@@ -262,6 +262,14 @@ impl Builder<'_> {
             }
         };
 
+        let plot = match &file.plot {
+            None => None,
+            Some(_) if trace.is_none() => {
+                return self.invalid("plot", "the plot draws the distance trace: add `trace: (pairs: All)`")
+            }
+            Some(plot) => Some(super::PlotSpec { log_y: plot.log_y }),
+        };
+
         let expect = match &file.expect {
             None => None,
             Some(ExpectSettings::NoContact) => Some(Expectation::NoContact),
@@ -289,6 +297,7 @@ impl Builder<'_> {
             kernel,
             on_contact: file.on_contact,
             trace,
+            plot,
             bodies,
             expect,
         })

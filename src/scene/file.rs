@@ -39,6 +39,9 @@ pub struct SceneFile {
     /// The distance trace; none by default.
     #[serde(default)]
     pub trace: Option<TraceSettings>,
+    /// A distance plot of the trace (`distance.png`); needs `trace`.
+    #[serde(default)]
+    pub plot: Option<PlotSettings>,
     /// Uniform gravitational acceleration on every body that is neither
     /// fixed nor kinematic.
     #[serde(default)]
@@ -148,6 +151,15 @@ pub enum TracePairs {
     All,
     /// These pairs, by body name.
     Only(Vec<(String, String)>),
+}
+
+/// The distance plot.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlotSettings {
+    /// Logarithmic distance axis (zero distances are left out). Default: false.
+    #[serde(default)]
+    pub log_y: bool,
 }
 
 /// A spring from a body point to a world anchor.

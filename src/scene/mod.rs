@@ -34,6 +34,7 @@ use nalgebra::Matrix3;
 
 pub use error::SceneError;
 pub use file::OnContact;
+pub use file::PlotSettings;
 
 use crate::ccd::CcdOptions;
 use crate::math::{Pose, Real, Vector};
@@ -63,6 +64,8 @@ pub struct Scene {
     pub on_contact: OnContact,
     /// The distance trace, if asked for.
     pub trace: Option<TraceSpec>,
+    /// The distance plot, if asked for (drawn from the trace).
+    pub plot: Option<PlotSpec>,
     /// The bodies.
     pub bodies: Vec<Body>,
     /// The expectation `nearmiss test` checks.
@@ -109,6 +112,13 @@ pub struct TraceSpec {
     pub pairs: Vec<(usize, usize)>,
     /// Record every this many steps (and the first and last).
     pub every: u64,
+}
+
+/// The distance plot of a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlotSpec {
+    /// Logarithmic distance axis.
+    pub log_y: bool,
 }
 
 /// What a run is expected to do.
