@@ -27,6 +27,9 @@ enum Command {
         /// Seed of the input generators.
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// Output folder: the chart goes to `<out>/kernels/error_vs_time.png`.
+        #[arg(long, default_value = "output")]
+        out: PathBuf,
     },
     /// Run CCD benchmark query files (files or folders): per file the
     /// queries, positives, false negatives, false positives, time per query,
@@ -93,9 +96,31 @@ fn main() -> ExitCode {
         }
     };
     match cli.command {
-        Command::Kernels { count, seed } => {
+        Command::Kernels { count, seed, out } => {
             let rows = nearmiss::report::kernel_report(count, seed);
             print!("{}", nearmiss::report::kernel_report_markdown(&rows));
+            #[cfg(feature = "plot")]
+            {
+                let folder = out.join("kernels");
+                for (point_segment, name) in
+                    [(false, "triangle_error_vs_time.png"), (true, "point_segment_error_vs_time.png")]
+                {
+                    let path = folder.join(name);
+                    let chart = nearmiss::report::kernel_chart(&rows, point_segment);
+                    let written = std::fs::create_dir_all(&folder)
+                        .map_err(|e| e.to_string())
+                        .and_then(|_| nearmiss::plot::render(&chart, &path).map_err(|e| e.to_string()));
+                    match written {
+                        Ok(()) => eprintln!("wrote {}", path.display()),
+                        Err(error) => {
+                            eprintln!("error: {error}");
+                            return ExitCode::from(2);
+                        }
+                    }
+                }
+            }
+            #[cfg(not(feature = "plot"))]
+            let _ = out;
         }
         Command::Run { scene, out } => return run_scene(&scene, &out),
         Command::Check { scenes } => return check_scenes(&scenes),

@@ -228,3 +228,50 @@ pub fn parry_point_segment_distance(p: &Point, a: &Point, b: &Point) -> Real {
     let segment = parry3d_f64::shape::Segment::new(to_parry(a), to_parry(b));
     segment.distance_to_local_point(to_parry(p), true)
 }
+
+/// Errors below this are drawn at this value on the log axis of the kernel
+/// chart (half an ulp of 1: the reference's own resolution in f64).
+#[cfg(feature = "plot")]
+pub const CHART_ERROR_FLOOR: Real = Real::EPSILON / 2.0;
+
+/// The kernel report as a chart: maximum relative error against time per
+/// query, log–log, one series per kernel, each point labelled with its
+/// input class. `point_segment` picks the point–segment formulas, otherwise
+/// the triangle–triangle kernels.
+#[cfg(feature = "plot")]
+pub fn kernel_chart(rows: &[KernelRow], point_segment: bool) -> crate::plot::Chart {
+    use crate::plot::{Chart, Series};
+    let rows: Vec<&KernelRow> =
+        rows.iter().filter(|r| r.kernel.starts_with("point_segment/") == point_segment).collect();
+    let mut kernels: Vec<&str> = rows.iter().map(|r| r.kernel.as_str()).collect();
+    kernels.dedup();
+    kernels.sort_unstable();
+    kernels.dedup();
+    let series = kernels
+        .iter()
+        .map(|&kernel| {
+            let mine: Vec<&&KernelRow> = rows.iter().filter(|r| r.kernel == kernel).collect();
+            Series {
+                label: kernel.to_string(),
+                points: mine
+                    .iter()
+                    .map(|r| (r.nanoseconds, r.errors.max_relative.max(CHART_ERROR_FLOOR)))
+                    .collect(),
+                line: false,
+                point_labels: mine.iter().map(|r| r.class.to_string()).collect(),
+            }
+        })
+        .collect();
+    Chart {
+        title: format!(
+            "{} kernels: max relative error vs time per query",
+            if point_segment { "Point–segment" } else { "Triangle–triangle" }
+        ),
+        x_label: "time per query (ns, rough timed loop, log scale)".into(),
+        y_label: format!("max relative error vs exact (log; < {CHART_ERROR_FLOOR:.1e} drawn at it)"),
+        log_x: true,
+        log_y: true,
+        series,
+        marks: Vec::new(),
+    }
+}

@@ -1,0 +1,8 @@
+//! Reports: the kernel report (error against the exact reference beside
+//! time per query), sweeps of a scene over time steps, kernels and
+//! integrators (error against run time), the stability suite, and the seed
+//! paper's experiments.
+
+mod kernels;
+
+pub use kernels::*;
