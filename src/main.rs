@@ -62,6 +62,29 @@ enum Command {
         #[arg(long, default_value = "output")]
         out: PathBuf,
     },
+    /// Run a scene over time steps, kernels and integrators: per setting the
+    /// time of first contact, its error against the reference (analytic, or
+    /// the finest exact run), the kernel's error against the exact distance
+    /// along the trace, and the wall time. Writes `<out>/<scene>/sweep.csv`
+    /// and `error_vs_runtime.png`.
+    Sweep {
+        /// The scene file.
+        scene: PathBuf,
+        /// Time steps, comma-separated.
+        #[arg(long, value_delimiter = ',', required = true)]
+        dt: Vec<f64>,
+        /// Kernels, comma-separated: exact, dyop-vector, dyop-plain-vector,
+        /// dyop-heron, dyop-stable-heron.
+        #[arg(long, value_delimiter = ',', required = true)]
+        kernel: Vec<String>,
+        /// Integrators, comma-separated: symplectic-euler, explicit-euler,
+        /// rk4 (default: the scene's).
+        #[arg(long, value_delimiter = ',')]
+        integrator: Vec<String>,
+        /// The output folder.
+        #[arg(long, default_value = "output")]
+        out: PathBuf,
+    },
     /// Validate a scene without running it. Exits 2 on a bad scene.
     Check {
         /// Scene files.
@@ -124,6 +147,9 @@ fn main() -> ExitCode {
         }
         Command::Run { scene, out } => return run_scene(&scene, &out),
         Command::Check { scenes } => return check_scenes(&scenes),
+        Command::Sweep { scene, dt, kernel, integrator, out } => {
+            return sweep_scene(&scene, &dt, &kernel, &integrator, &out)
+        }
         Command::Test { paths } => return test_scenes(&paths),
         Command::Queries { paths, kind, repeats, tolerance, max_iterations } => {
             let kind = kind.map(|k| match k {
@@ -343,4 +369,96 @@ fn test_scenes(paths: &[PathBuf]) -> ExitCode {
     } else {
         ExitCode::SUCCESS
     }
+}
+
+fn sweep_scene(path: &Path, dts: &[f64], kernels: &[String], integrators: &[String], out: &Path) -> ExitCode {
+    use nearmiss::report::{parse_integrator, parse_kernel};
+    let scene = match load_scene(path) {
+        Ok(scene) => scene,
+        Err(code) => return code,
+    };
+    if let Some(bad) = dts.iter().find(|dt| !(dt.is_finite() && **dt > 0.0)) {
+        eprintln!("error: --dt: every step must be a positive number, found {bad}");
+        return ExitCode::from(2);
+    }
+    let mut parsed_kernels = Vec::new();
+    for name in kernels {
+        match parse_kernel(name) {
+            Some(k) => parsed_kernels.push(k),
+            None => {
+                eprintln!("error: --kernel: unknown kernel `{name}` (exact, dyop-vector, dyop-plain-vector, dyop-heron, dyop-stable-heron)");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    let mut parsed_integrators = Vec::new();
+    for name in integrators {
+        match parse_integrator(name) {
+            Some(i) => parsed_integrators.push(i),
+            None => {
+                eprintln!("error: --integrator: unknown integrator `{name}` (symplectic-euler, explicit-euler, rk4)");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    if parsed_integrators.is_empty() {
+        parsed_integrators.push(scene.integrator);
+    }
+    let total = (dts.len() * parsed_kernels.len() * parsed_integrators.len() + 1) as u64;
+    let bar = indicatif::ProgressBar::new(total);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} runs, {eta} left")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    let report =
+        nearmiss::report::sweep(&scene, dts, &parsed_kernels, &parsed_integrators, &mut |done, _| {
+            bar.set_position(done as u64)
+        });
+    bar.finish_and_clear();
+    println!(
+        "sweep of {}: reference {} ({})",
+        report.scene,
+        report.reference.map_or("none".into(), |r| format!("{r:.15e}")),
+        report.reference_source
+    );
+    println!("| dt | kernel | integrator | steps | time of contact | error | kernel max rel. error | wall time (s) | ended |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for r in &report.rows {
+        println!(
+            "| {} | {} | {} | {} | {} | {} | {:.1e} | {:.2e} | {} |",
+            r.setting.dt,
+            nearmiss::report::kernel_name(r.setting.kernel),
+            nearmiss::report::integrator_name(r.setting.integrator),
+            r.steps,
+            r.time.map_or("none".into(), |t| format!("{t:.12e}")),
+            r.error.map_or("-".into(), |e| format!("{e:+.3e}")),
+            r.kernel_error,
+            r.wall_time_s,
+            r.termination
+        );
+    }
+    let folder = out.join(&scene.name);
+    let written = std::fs::create_dir_all(&folder).and_then(|_| {
+        nearmiss::output::write_atomically(
+            &folder.join("sweep.csv"),
+            nearmiss::report::sweep_csv(&report).as_bytes(),
+        )
+    });
+    match written {
+        Ok(path) => println!("wrote {}", path.display()),
+        Err(error) => {
+            eprintln!("error: cannot write to {}: {error}", folder.display());
+            return ExitCode::from(2);
+        }
+    }
+    #[cfg(feature = "plot")]
+    {
+        let path = folder.join("error_vs_runtime.png");
+        match nearmiss::plot::render(&nearmiss::report::sweep_chart(&report), &path) {
+            Ok(()) => println!("wrote {}", path.display()),
+            Err(error) => eprintln!("warning: no chart: {error}"),
+        }
+    }
+    ExitCode::SUCCESS
 }

@@ -17,7 +17,7 @@ use std::time::Instant;
 use crate::ccd::{mesh_time_of_impact, CcdStatus, MovingMesh};
 use crate::kernels::Feature;
 use crate::math::{Point, Real};
-use crate::mesh::{mesh_distance, MeshDistanceScratch};
+use crate::mesh::{mesh_distance, DistanceKernel, MeshDistanceScratch};
 use crate::motion::{integrate, RigidState, StepMotion};
 use crate::scene::{BodyMotion, OnContact, Scene};
 use crate::trace::TraceRecord;
@@ -356,18 +356,26 @@ impl<'s> Stepper<'s> {
         let scene = self.scene;
         for &(a, b) in &trace.pairs {
             let (pa, pb) = (pose_of(a).pose_t0, pose_of(b).pose_t0);
-            let d = mesh_distance(
-                &scene.bodies[a].mesh,
-                &pa,
-                &scene.bodies[b].mesh,
-                &pb,
-                scene.kernel,
-                None,
-                0.0,
-                &mut self.scratch,
-            );
+            let (mesh_a, mesh_b) = (&scene.bodies[a].mesh, &scene.bodies[b].mesh);
+            let d = mesh_distance(mesh_a, &pa, mesh_b, &pb, scene.kernel, None, 0.0, &mut self.scratch);
             self.counters.distance_queries += 1;
-            self.trace.push(TraceRecord { step, time, pair: (a, b), distance: d.distance });
+            let reference = trace.reference.then(|| {
+                let exact = mesh_distance(
+                    mesh_a,
+                    &pa,
+                    mesh_b,
+                    &pb,
+                    DistanceKernel::Exact,
+                    None,
+                    0.0,
+                    &mut self.scratch,
+                );
+                // The closest pair as the kernels see it: b in a's frame.
+                let pos_ab = pa.inv_mul(&pb);
+                let tb = mesh_b.triangle(exact.triangle_b).map(|p| pos_ab * p);
+                crate::exact::triangle_distance_f64(&mesh_a.triangle(exact.triangle_a), &tb)
+            });
+            self.trace.push(TraceRecord { step, time, pair: (a, b), distance: d.distance, reference });
         }
         self.counters.trace_s += clock.elapsed().as_secs_f64();
     }

@@ -13,8 +13,11 @@ pub struct TraceRecord {
     pub time: Real,
     /// The pair (body indices).
     pub pair: (usize, usize),
-    /// The distance between the two meshes.
+    /// The distance between the two meshes (by the scene's kernel).
     pub distance: Real,
+    /// The exact distance (rational arithmetic on the closest triangle
+    /// pair, rounded), when the trace asks for it.
+    pub reference: Option<Real>,
 }
 
 /// Writes `step,time,body_a,body_b,distance` lines with a header; numbers

@@ -4,5 +4,7 @@
 //! paper's experiments.
 
 mod kernels;
+mod sweep;
 
 pub use kernels::*;
+pub use sweep::*;

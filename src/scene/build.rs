@@ -95,11 +95,11 @@ impl Builder<'_> {
             (None, Some(steps)) => steps,
             (Some(duration), None) => {
                 let duration = self.positive("duration", duration)?;
-                let steps = (duration / dt * (1.0 - 4.0 * Real::EPSILON)).ceil();
-                if steps > 1e12 {
-                    return self.invalid("duration", format!("{steps} steps of dt = {dt}: too many"));
+                if duration / dt > 1e12 {
+                    return self
+                        .invalid("duration", format!("{} steps of dt = {dt}: too many", duration / dt));
                 }
-                steps.max(1.0) as u64
+                super::steps_for(duration, dt)
             }
         };
 
@@ -258,7 +258,7 @@ impl Builder<'_> {
                         pairs
                     }
                 };
-                Some(TraceSpec { pairs, every: trace.every })
+                Some(TraceSpec { pairs, every: trace.every, reference: false })
             }
         };
 
@@ -291,6 +291,7 @@ impl Builder<'_> {
             source: self.source.to_string(),
             dt,
             steps,
+            duration: file.duration.unwrap_or(steps as Real * dt),
             integrator: file.integrator,
             gyroscopic: file.gyroscopic,
             ccd,

@@ -52,6 +52,8 @@ pub struct Scene {
     pub dt: Real,
     /// The number of steps.
     pub steps: u64,
+    /// The time the scene asks to cover (`duration`, or `steps × dt`).
+    pub duration: Real,
     /// The integrator of bodies with forces.
     pub integrator: Integrator,
     /// The rotation update of semi-implicit Euler.
@@ -112,6 +114,10 @@ pub struct TraceSpec {
     pub pairs: Vec<(usize, usize)>,
     /// Record every this many steps (and the first and last).
     pub every: u64,
+    /// Also compute the exact reference distance of each sample (rational
+    /// arithmetic on the closest triangle pair): set by reports that
+    /// measure the kernel's error, never by scene files.
+    pub reference: bool,
 }
 
 /// The distance plot of a scene.
@@ -137,6 +143,11 @@ pub enum Expectation {
     NoContact,
 }
 
+/// The steps of `dt` that cover `duration` (at least one).
+pub(crate) fn steps_for(duration: Real, dt: Real) -> u64 {
+    ((duration / dt) * (1.0 - 4.0 * Real::EPSILON)).ceil().max(1.0) as u64
+}
+
 impl Scene {
     /// Parses and validates a scene; OBJ paths are relative to the current
     /// directory.
@@ -152,6 +163,17 @@ impl Scene {
             .map_err(|source| SceneError::Io { path: path.display().to_string(), source })?;
         let base = path.parent().unwrap_or(Path::new("."));
         build::build(&text, &path.display().to_string(), base)
+    }
+
+    /// The same scene with another step, kernel and integrator (the number
+    /// of steps recomputed to cover the same duration).
+    pub fn with_settings(&self, dt: Real, kernel: DistanceKernel, integrator: Integrator) -> Scene {
+        let mut scene = self.clone();
+        scene.dt = dt;
+        scene.steps = steps_for(self.duration, dt);
+        scene.kernel = kernel;
+        scene.integrator = integrator;
+        scene
     }
 
     /// The index of the body with this name.
