@@ -85,6 +85,21 @@ enum Command {
         #[arg(long, default_value = "output")]
         out: PathBuf,
     },
+    /// The seed paper's experiments: six calibration placements, ten
+    /// rotated ones, 90 type-against-type tests timed per formula, and the
+    /// verdict on its claim that Heron is about 5% faster. Prints Markdown
+    /// and writes `<out>/paper/paper.md`.
+    Paper {
+        /// Repeats of the 90 timed tests.
+        #[arg(long, default_value_t = 2000)]
+        repeats: usize,
+        /// Seed of the rotated placements.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// The output folder.
+        #[arg(long, default_value = "output")]
+        out: PathBuf,
+    },
     /// Validate a scene without running it. Exits 2 on a bad scene.
     Check {
         /// Scene files.
@@ -147,6 +162,24 @@ fn main() -> ExitCode {
         }
         Command::Run { scene, out } => return run_scene(&scene, &out),
         Command::Check { scenes } => return check_scenes(&scenes),
+        Command::Paper { repeats, seed, out } => {
+            use nearmiss::report::{
+                calibration_placements, paper_report_markdown, paper_rows, paper_timing, rotated_placements,
+            };
+            let text = paper_report_markdown(
+                &paper_rows(&calibration_placements()),
+                &paper_rows(&rotated_placements(seed)),
+                &paper_timing(repeats.max(1)),
+            );
+            print!("{text}");
+            let folder = out.join("paper");
+            let written = std::fs::create_dir_all(&folder)
+                .and_then(|_| nearmiss::output::write_atomically(&folder.join("paper.md"), text.as_bytes()));
+            if let Err(error) = written {
+                eprintln!("error: cannot write to {}: {error}", folder.display());
+                return ExitCode::from(2);
+            }
+        }
         Command::Sweep { scene, dt, kernel, integrator, out } => {
             return sweep_scene(&scene, &dt, &kernel, &integrator, &out)
         }

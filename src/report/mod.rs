@@ -4,7 +4,9 @@
 //! paper's experiments.
 
 mod kernels;
+mod paper;
 mod sweep;
 
 pub use kernels::*;
+pub use paper::*;
 pub use sweep::*;
