@@ -17,7 +17,7 @@ use std::time::Instant;
 use crate::ccd::{mesh_time_of_impact, CcdStatus, MovingMesh};
 use crate::kernels::Feature;
 use crate::math::{Point, Real};
-use crate::mesh::{mesh_distance, DistanceKernel, MeshDistanceScratch};
+use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistanceScratch};
 use crate::motion::{integrate, RigidState, StepMotion};
 use crate::scene::{BodyMotion, OnContact, Scene};
 use crate::trace::TraceRecord;
@@ -124,7 +124,7 @@ pub fn run(scene: &Scene) -> RunResult {
 pub fn run_observed(scene: &Scene, observer: &mut dyn FnMut(u64)) -> RunResult {
     let start = Instant::now();
     let mut stepper = Stepper::new(scene);
-    stepper.record_trace(0, 0.0, &mut |b| StepMotion::fixed(scene.bodies[b].pose));
+    stepper.record_trace(0, 0.0, 0.0);
     let mut termination = Termination::Completed;
     let mut steps = 0;
     for step in 0..scene.steps {
@@ -147,11 +147,7 @@ pub fn run_observed(scene: &Scene, observer: &mut dyn FnMut(u64)) -> RunResult {
     };
     if termination == Termination::FirstContact {
         let step_start = (steps - 1) as Real * scene.dt;
-        let motions = stepper.motions.clone();
-        stepper.record_trace(steps, end_time, &mut |b| StepMotion {
-            pose_t0: motions[b].pose_at(end_time - step_start),
-            ..motions[b]
-        });
+        stepper.record_trace(steps, end_time, end_time - step_start);
     }
     let mut contacts = stepper.contacts;
     contacts.sort_by(|a, b| a.time.total_cmp(&b.time).then((a.body_a, a.body_b).cmp(&(b.body_a, b.body_b))));
@@ -317,16 +313,14 @@ impl<'s> Stepper<'s> {
     fn end_step(&mut self, step: u64, t0: Real) {
         let scene = self.scene;
         let dt = scene.dt;
-        let motions = &self.motions;
-        let end = |b: usize| StepMotion { pose_t0: motions[b].pose_at(dt), ..motions[b] };
         for pair in &mut self.pairs {
             let Some(contact_distance) = pair.touching else { continue };
-            let (pa, pb) = (end(pair.a), end(pair.b));
-            let d = mesh_distance(
-                &scene.bodies[pair.a].mesh,
-                &pa.pose_t0,
-                &scene.bodies[pair.b].mesh,
-                &pb.pose_t0,
+            let pos_ab = StepMotion::relative_pose(&self.motions[pair.a], &self.motions[pair.b], dt);
+            let (mesh_a, mesh_b) = (&scene.bodies[pair.a].mesh, &scene.bodies[pair.b].mesh);
+            let d = mesh_distance_relative(
+                mesh_a,
+                mesh_b,
+                &pos_ab,
                 scene.kernel,
                 pair.hint,
                 0.0,
@@ -341,37 +335,33 @@ impl<'s> Stepper<'s> {
         let Some(trace) = &scene.trace else { return };
         let done = step + 1;
         if done % trace.every == 0 || done == scene.steps {
-            let motions = self.motions.clone();
-            self.record_trace(done, t0 + dt, &mut |b| StepMotion {
-                pose_t0: motions[b].pose_at(dt),
-                ..motions[b]
-            });
+            self.record_trace(done, t0 + dt, dt);
         }
     }
 
-    /// Appends one trace sample per traced pair, bodies posed by `pose_of`.
-    fn record_trace(&mut self, step: u64, time: Real, pose_of: &mut dyn FnMut(usize) -> StepMotion) {
+    /// Appends one trace sample per traced pair, at time `s` into the
+    /// current step (`time` in all).
+    fn record_trace(&mut self, step: u64, time: Real, s: Real) {
         let Some(trace) = &self.scene.trace else { return };
         let clock = Instant::now();
         let scene = self.scene;
         for &(a, b) in &trace.pairs {
-            let (pa, pb) = (pose_of(a).pose_t0, pose_of(b).pose_t0);
+            let pos_ab = StepMotion::relative_pose(&self.motions[a], &self.motions[b], s);
             let (mesh_a, mesh_b) = (&scene.bodies[a].mesh, &scene.bodies[b].mesh);
-            let d = mesh_distance(mesh_a, &pa, mesh_b, &pb, scene.kernel, None, 0.0, &mut self.scratch);
+            let d =
+                mesh_distance_relative(mesh_a, mesh_b, &pos_ab, scene.kernel, None, 0.0, &mut self.scratch);
             self.counters.distance_queries += 1;
             let reference = trace.reference.then(|| {
-                let exact = mesh_distance(
+                let exact = mesh_distance_relative(
                     mesh_a,
-                    &pa,
                     mesh_b,
-                    &pb,
+                    &pos_ab,
                     DistanceKernel::Exact,
                     None,
                     0.0,
                     &mut self.scratch,
                 );
                 // The closest pair as the kernels see it: b in a's frame.
-                let pos_ab = pa.inv_mul(&pb);
                 let tb = mesh_b.triangle(exact.triangle_b).map(|p| pos_ab * p);
                 crate::exact::triangle_distance_f64(&mesh_a.triangle(exact.triangle_a), &tb)
             });

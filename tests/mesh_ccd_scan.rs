@@ -30,19 +30,16 @@ fn no_touching_before_the_reported_time_on_a_fine_scan() {
     let options = CcdOptions { distance_tolerance: 1e-9, ..CcdOptions::default() };
     let (mut contacts, mut separated) = (0, 0);
     for case in 0..40 {
-        let motion_a = StepMotion {
-            pose_t0: Pose::new(rng.in_unit_ball() * 0.3, rng.in_unit_ball() * 3.0),
-            velocity: Vector::new(1.5, 0.0, 0.0) + rng.in_unit_ball() * 0.5,
-            angular_velocity: rng.in_unit_ball() * 12.0,
-        };
-        let motion_b = StepMotion {
-            pose_t0: Pose::new(
-                Vector::new(2.2, 0.0, 0.0) + rng.in_unit_ball() * 0.6,
-                rng.in_unit_ball() * 3.0,
-            ),
-            velocity: rng.in_unit_ball() * 0.5,
-            angular_velocity: rng.in_unit_ball() * 12.0,
-        };
+        let motion_a = StepMotion::new(
+            Pose::new(rng.in_unit_ball() * 0.3, rng.in_unit_ball() * 3.0),
+            Vector::new(1.5, 0.0, 0.0) + rng.in_unit_ball() * 0.5,
+            rng.in_unit_ball() * 12.0,
+        );
+        let motion_b = StepMotion::new(
+            Pose::new(Vector::new(2.2, 0.0, 0.0) + rng.in_unit_ball() * 0.6, rng.in_unit_ball() * 3.0),
+            rng.in_unit_ball() * 0.5,
+            rng.in_unit_ball() * 12.0,
+        );
         let result = mesh_time_of_impact(
             MovingMesh { mesh: &a, motion: &motion_a },
             MovingMesh { mesh: &b, motion: &motion_b },

@@ -12,7 +12,7 @@
 //!
 //! From a time `s` where the distance is `d`, the meshes therefore stay more
 //! than `target` apart until `s + (d − target) / L`: the advancement step.
-//! The distance comes from [`mesh_distance`] (the exact kernel unless the
+//! The distance comes from [`mesh_distance_relative`] (the exact kernel unless the
 //! scene asks for DyOP). The loop stops when the distance is at most the
 //! contact distance `minimum_separation + tolerance` (contact, never late:
 //! every step was proven contact-free), or when the next step would leave
@@ -32,10 +32,17 @@
 //! without any mesh query.
 
 use super::advance::ROUNDING_FLOOR_ULPS;
+
+/// The ulps of an integrated body's coordinates by which its path may jump
+/// between one step's end and the next step's start (the step's velocity
+/// is `(x1 − x0) / dt`, and `x0 + v dt` rounds back to `x1` only to a few
+/// ulps); the tolerance never drops below them.
+pub const INTEGRATED_JUMP_ULPS: Real = 8.0;
 use super::mesh_step::{directional_step, PairMotion};
 use super::options::{CcdOptions, CcdStatus};
+use crate::math::Pose;
 use crate::math::Real;
-use crate::mesh::{mesh_distance, DistanceKernel, MeshDistance, MeshDistanceScratch, TriMesh};
+use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistance, MeshDistanceScratch, TriMesh};
 use crate::motion::StepMotion;
 
 /// One body of a mesh CCD query: its mesh (vertices relative to the centre
@@ -94,12 +101,23 @@ pub fn mesh_time_of_impact(
     let speed = (a.motion.velocity - b.motion.velocity).norm()
         + a.motion.angular_velocity.norm() * ra
         + b.motion.angular_velocity.norm() * rb;
-    let reach = |m: &MovingMesh<'_>, r: Real| {
-        m.motion.pose_t0.translation.vector.amax() + m.motion.velocity.amax() * duration + r
-    };
-    let largest = reach(&a, ra).max(reach(&b, rb));
-    let tolerance =
-        (options.distance_tolerance * (ra + rb)).max(ROUNDING_FLOOR_ULPS * Real::EPSILON * largest);
+    // Rounding: distances are computed in a's frame from the difference of
+    // the reference positions, so they round relative to the pair's own
+    // scale; an integrated body's path can also jump by a few ulps of its
+    // coordinates between steps.
+    let relative_size = StepMotion::center_offset(a.motion, b.motion, 0.0).norm()
+        + (a.motion.velocity - b.motion.velocity).norm() * duration
+        + a.motion.travel(duration)
+        + b.motion.travel(duration)
+        + ra
+        + rb;
+    let jumps = [a.motion, b.motion]
+        .iter()
+        .filter(|m| m.integrated)
+        .map(|m| m.reference.translation.vector.amax() + m.velocity.amax() * duration)
+        .sum::<Real>();
+    let floor = Real::EPSILON * (ROUNDING_FLOOR_ULPS * relative_size + INTEGRATED_JUMP_ULPS * jumps);
+    let tolerance = (options.distance_tolerance * (ra + rb)).max(floor);
     let contact_distance = options.minimum_separation + tolerance;
     let target = options.minimum_separation + 0.5 * tolerance;
     let mut result = MeshCcdResult {
@@ -116,8 +134,8 @@ pub fn mesh_time_of_impact(
 
     // The bounding spheres: their centres move linearly, so the smallest
     // distance between them over the step is exact.
-    let spheres_at = |s: Real| (b.motion.center_at(s) - a.motion.center_at(s)).norm() - ra - rb;
-    let offset = b.motion.center_at(0.0) - a.motion.center_at(0.0);
+    let spheres_at = |s: Real| StepMotion::center_offset(a.motion, b.motion, s).norm() - ra - rb;
+    let offset = StepMotion::center_offset(a.motion, b.motion, 0.0);
     let relative = b.motion.velocity - a.motion.velocity;
     let closest_approach = if relative.norm_squared() > 0.0 {
         (-offset.dot(&relative) / relative.norm_squared()).clamp(0.0, duration)
@@ -139,22 +157,16 @@ pub fn mesh_time_of_impact(
     let mut s = 0.0;
     let mut hint = hint;
     for iteration in 0..options.max_iterations.max(1) {
-        let closest = mesh_distance(
-            a.mesh,
-            &a.motion.pose_at(s),
-            b.mesh,
-            &b.motion.pose_at(s),
-            kernel,
-            hint,
-            contact_distance,
-            scratch,
-        );
+        let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
+        let mut closest =
+            mesh_distance_relative(a.mesh, b.mesh, &pos_ab, kernel, hint, contact_distance, scratch);
         result.distance_queries += 1;
         result.triangle_pairs += closest.triangle_pairs;
         hint = Some((closest.triangle_a, closest.triangle_b));
         result.hint = hint;
         let d = closest.distance;
         if d <= contact_distance {
+            to_world(&mut closest, &a.motion.pose_at(s));
             result.time_of_impact = Some(s);
             result.closest = Some(closest);
             result.status = if iteration == 0 && lower_bound.is_none() {
@@ -171,9 +183,9 @@ pub fn mesh_time_of_impact(
             let horizon = duration - s;
             let directional = directional_step(
                 a.mesh,
-                &a.motion.pose_at(s),
                 b.mesh,
-                &b.motion.pose_at(s),
+                &pos_ab,
+                &a.motion.rotation_at(s),
                 &motion,
                 target,
                 horizon,
@@ -192,12 +204,19 @@ pub fn mesh_time_of_impact(
     }
     // Out of iterations: every step so far was safe, so contact is reported
     // (conservatively) at the time reached.
-    let closest =
-        mesh_distance(a.mesh, &a.motion.pose_at(s), b.mesh, &b.motion.pose_at(s), kernel, hint, 0.0, scratch);
+    let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
+    let mut closest = mesh_distance_relative(a.mesh, b.mesh, &pos_ab, kernel, hint, 0.0, scratch);
+    to_world(&mut closest, &a.motion.pose_at(s));
     result.distance_queries += 1;
     result.triangle_pairs += closest.triangle_pairs;
     result.time_of_impact = Some(s);
     result.closest = Some(closest);
     result.status = CcdStatus::OutOfIterations;
     result
+}
+
+/// Moves a distance query's points from `a`'s frame to the world.
+fn to_world(closest: &mut MeshDistance, pose_a: &Pose) {
+    closest.point_a = pose_a * closest.point_a;
+    closest.point_b = pose_a * closest.point_b;
 }

@@ -29,6 +29,8 @@
 //! cannot limit the step below `(lower bound − target) / L_node`, with the
 //! node's own radius about the centre of mass in `L_node`.
 
+use nalgebra::UnitQuaternion;
+
 use crate::kernels::triangle_distance;
 use crate::math::{Pose, Real, Triangle, Vector};
 use crate::mesh::distance::node_lower_bound;
@@ -55,21 +57,21 @@ impl PairMotion {
     }
 }
 
-/// A time `≤ horizon` before which no triangle pair of `a` (at `pose_a`) and
-/// `b` (at `pose_b`) can come within `target`, given that every pair is
-/// farther than `target` now.
+/// A time `≤ horizon` before which no triangle pair of `a` and `b` (posed
+/// in `a`'s frame by `pos_ab`; `a` turned by `rotation_a` in the world) can
+/// come within `target`, given that every pair is farther than `target` now.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn directional_step(
     a: &TriMesh,
-    pose_a: &Pose,
     b: &TriMesh,
-    pose_b: &Pose,
+    pos_ab: &Pose,
+    rotation_a: &UnitQuaternion<Real>,
     motion: &PairMotion,
     target: Real,
     horizon: Real,
     stack: &mut Vec<(u32, u32, Real)>,
 ) -> Real {
-    let pos_ab = pose_a.inv_mul(pose_b);
+    let pos_ab = *pos_ab;
     let rotation = pos_ab.rotation.to_rotation_matrix().into_inner();
     let abs_rotation = rotation.abs();
     let nodes_a = a.bvh().nodes();
@@ -104,7 +106,7 @@ pub(crate) fn directional_step(
                 for ta in na.first..na.first + na.count {
                     let local_a = a.triangle(ta as usize);
                     let ra = local_a.iter().map(|p| p.coords.norm()).fold(0.0, Real::max);
-                    best = best.min(pair_step(&local_a, ra, &moved, rb, pose_a, motion, target));
+                    best = best.min(pair_step(&local_a, ra, &moved, rb, rotation_a, motion, target));
                 }
             }
             continue;
@@ -130,7 +132,7 @@ fn pair_step(
     ra: Real,
     tb: &Triangle,
     rb: Real,
-    pose_a: &Pose,
+    rotation_a: &UnitQuaternion<Real>,
     motion: &PairMotion,
     target: Real,
 ) -> Real {
@@ -149,7 +151,7 @@ fn pair_step(
     if gap <= target {
         return global;
     }
-    let n_world = pose_a.rotation * n;
+    let n_world = rotation_a * n;
     let speed = n_world.dot(&motion.relative_velocity).abs()
         + n_world.cross(&motion.angular_velocity_a).norm() * ra
         + n_world.cross(&motion.angular_velocity_b).norm() * rb;

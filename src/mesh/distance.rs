@@ -92,7 +92,24 @@ pub fn mesh_distance(
     enough: Real,
     scratch: &mut MeshDistanceScratch,
 ) -> MeshDistance {
-    let pos_ab = pose_a.inv_mul(pose_b);
+    let mut found = mesh_distance_relative(a, b, &pose_a.inv_mul(pose_b), kernel, hint, enough, scratch);
+    found.point_a = pose_a * found.point_a;
+    found.point_b = pose_a * found.point_b;
+    found
+}
+
+/// [`mesh_distance`] with `b` given in the frame of `a` (`pos_ab`, parry's
+/// `pos12`); the points are returned in `a`'s frame.
+pub fn mesh_distance_relative(
+    a: &TriMesh,
+    b: &TriMesh,
+    pos_ab: &Pose,
+    kernel: DistanceKernel,
+    hint: Option<(usize, usize)>,
+    enough: Real,
+    scratch: &mut MeshDistanceScratch,
+) -> MeshDistance {
+    let pos_ab = *pos_ab;
     let rotation = pos_ab.rotation.to_rotation_matrix().into_inner();
     let abs_rotation = rotation.abs();
     let slack =
@@ -157,8 +174,8 @@ pub fn mesh_distance(
     let closest = triangle_distance(&a.triangle(i), &triangle_b(j));
     MeshDistance {
         distance: search.best,
-        point_a: pose_a * closest.point_a,
-        point_b: pose_a * closest.point_b,
+        point_a: closest.point_a,
+        point_b: closest.point_b,
         triangle_a: i,
         triangle_b: j,
         feature_a: closest.feature_a,

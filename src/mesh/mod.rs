@@ -13,7 +13,9 @@ mod primitives;
 mod trimesh;
 
 pub use bvh::{BvhNode, MeshBvh, BVH_LEAF_SIZE};
-pub use distance::{mesh_distance, DistanceKernel, MeshDistance, MeshDistanceScratch};
+pub use distance::{
+    mesh_distance, mesh_distance_relative, DistanceKernel, MeshDistance, MeshDistanceScratch,
+};
 pub use mass::MassProperties;
 pub use obj::{load_obj, parse_obj, ObjError};
 pub use primitives::{box_mesh, icosphere, needle, single_triangle, tetrahedron, MAX_ICOSPHERE_SUBDIVISIONS};

@@ -5,32 +5,51 @@ use nalgebra::{Translation3, UnitQuaternion};
 use crate::math::{Point, Pose, Real, Vector};
 
 /// Constant linear velocity and constant angular velocity (world frame)
-/// about the centre of mass, from `pose_t0` at the step's start.
+/// about the centre of mass.
+///
+/// The pose at time `s` after the step's start is
+/// `x = x_ref + v (elapsed + s)`, `q = exp(ω (elapsed + s)) q_ref`: a free
+/// body keeps its pose at time 0 as the reference and the time since then
+/// as `elapsed`, so its path is one straight line and one exponential over
+/// the whole run (no rounding jumps between steps), and two such bodies'
+/// relative position is computed from the difference of their reference
+/// positions ([`StepMotion::relative_pose`]): accurate relative to their
+/// distance, not to their distance from the origin. An integrated body's
+/// reference is its pose at the step's start.
 ///
 /// The pose's translation is the centre of mass; mesh vertices are stored
 /// relative to it.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct StepMotion {
-    /// The pose at the start of the step.
-    pub pose_t0: Pose,
+    /// The reference pose.
+    pub reference: Pose,
+    /// Time from the reference pose to the step's start.
+    pub elapsed: Real,
     /// The linear velocity of the centre of mass.
     pub velocity: Vector,
     /// The angular velocity, world frame (radians per unit time).
     pub angular_velocity: Vector,
+    /// Whether the step's end may differ from the next step's start by the
+    /// rounding of the integrator's state (a few ulps of the coordinates):
+    /// true for integrated bodies.
+    pub integrated: bool,
 }
 
 impl StepMotion {
     /// A body at rest at `pose`.
     pub fn fixed(pose: Pose) -> StepMotion {
-        StepMotion { pose_t0: pose, velocity: Vector::zeros(), angular_velocity: Vector::zeros() }
+        StepMotion::new(pose, Vector::zeros(), Vector::zeros())
+    }
+
+    /// A body at `pose` at the step's start, moving with these velocities.
+    pub fn new(pose: Pose, velocity: Vector, angular_velocity: Vector) -> StepMotion {
+        StepMotion { reference: pose, elapsed: 0.0, velocity, angular_velocity, integrated: false }
     }
 
     /// The step of a free body (no forces, constant velocities) that starts
-    /// at `time`, computed from its pose at time 0, not from the previous
-    /// step, so rounding does not accumulate over steps.
+    /// at `time`, referred to its pose at time 0.
     pub fn free(pose_at_zero: &Pose, velocity: Vector, angular_velocity: Vector, time: Real) -> StepMotion {
-        let motion = StepMotion { pose_t0: *pose_at_zero, velocity, angular_velocity };
-        StepMotion { pose_t0: motion.pose_at(time), velocity, angular_velocity }
+        StepMotion { reference: *pose_at_zero, elapsed: time, velocity, angular_velocity, integrated: false }
     }
 
     /// The motion that takes `pose_t0` to `pose_t1` in time `dt` with constant
@@ -38,21 +57,68 @@ impl StepMotion {
     pub fn between(pose_t0: &Pose, pose_t1: &Pose, dt: Real) -> StepMotion {
         let velocity = (pose_t1.translation.vector - pose_t0.translation.vector) / dt;
         let turn = pose_t1.rotation * pose_t0.rotation.inverse();
-        StepMotion { pose_t0: *pose_t0, velocity, angular_velocity: turn.scaled_axis() / dt }
+        StepMotion {
+            reference: *pose_t0,
+            elapsed: 0.0,
+            velocity,
+            angular_velocity: turn.scaled_axis() / dt,
+            integrated: true,
+        }
+    }
+
+    /// The rotation at time `s` after the step's start.
+    #[inline]
+    pub fn rotation_at(&self, s: Real) -> UnitQuaternion<Real> {
+        UnitQuaternion::from_scaled_axis(self.angular_velocity * (self.elapsed + s)) * self.reference.rotation
     }
 
     /// The pose at time `s` after the step's start.
     #[inline]
     pub fn pose_at(&self, s: Real) -> Pose {
-        let translation = Translation3::from(self.pose_t0.translation.vector + self.velocity * s);
-        let rotation = UnitQuaternion::from_scaled_axis(self.angular_velocity * s) * self.pose_t0.rotation;
-        Pose::from_parts(translation, rotation)
+        Pose::from_parts(Translation3::from(self.center_at(s).coords), self.rotation_at(s))
+    }
+
+    /// The pose at the step's start.
+    #[inline]
+    pub fn pose_t0(&self) -> Pose {
+        self.pose_at(0.0)
     }
 
     /// The centre of mass at time `s`.
     #[inline]
     pub fn center_at(&self, s: Real) -> Point {
-        Point::from(self.pose_t0.translation.vector + self.velocity * s)
+        Point::from(self.reference.translation.vector + self.velocity * (self.elapsed + s))
+    }
+
+    /// The pose of `b` in the frame of `a` at time `s` (parry's `pos12`),
+    /// from the difference of the reference positions: its rounding is
+    /// relative to the bodies' distance and displacements, not to their
+    /// distance from the origin.
+    #[inline]
+    pub fn relative_pose(a: &StepMotion, b: &StepMotion, s: Real) -> Pose {
+        let rotation_a = a.rotation_at(s);
+        let translation = rotation_a.inverse_transform_vector(&StepMotion::center_offset(a, b, s));
+        Pose::from_parts(Translation3::from(translation), rotation_a.inverse() * b.rotation_at(s))
+    }
+
+    /// `b`'s centre minus `a`'s at time `s` (world frame), from the
+    /// difference of the reference positions.
+    #[inline]
+    pub fn center_offset(a: &StepMotion, b: &StepMotion, s: Real) -> Vector {
+        let offset = b.reference.translation.vector - a.reference.translation.vector;
+        let travel = if a.elapsed == b.elapsed {
+            (b.velocity - a.velocity) * (a.elapsed + s)
+        } else {
+            b.velocity * (b.elapsed + s) - a.velocity * (a.elapsed + s)
+        };
+        offset + travel
+    }
+
+    /// The largest distance the centre travels from the reference, over the
+    /// step of length `duration` (the scale of the rounding of `travel`).
+    #[inline]
+    pub fn travel(&self, duration: Real) -> Real {
+        self.velocity.norm() * (self.elapsed + duration)
     }
 
     /// An upper bound on the speed of any point within `radius` of the
@@ -85,12 +151,29 @@ mod tests {
             &Pose::identity(),
             Vector::zeros(),
             Vector::z() * std::f64::consts::FRAC_PI_2,
-            0.0,
+            0.5,
         );
         assert_relative_eq!(
-            motion.pose_at(1.0) * Point::new(1.0, 0.0, 0.0),
+            motion.pose_at(0.5) * Point::new(1.0, 0.0, 0.0),
             Point::new(0.0, 1.0, 0.0),
             epsilon = 1e-15
         );
+    }
+
+    #[test]
+    fn relative_pose_is_accurate_far_from_the_origin() {
+        // Two bodies near 1e6: the relative pose is as accurate as at the origin.
+        let far = Vector::new(1e6, -1e6, 1e6);
+        let a = StepMotion::free(
+            &Pose::new(far, Vector::zeros()),
+            Vector::new(0.1, 0.0, 0.0),
+            Vector::zeros(),
+            3.0,
+        );
+        let b_pose = Pose::new(far + Vector::new(0.75, 0.0, 0.0), Vector::zeros());
+        let b = StepMotion::free(&b_pose, Vector::new(-0.1, 0.0, 0.0), Vector::zeros(), 3.0);
+        let relative = StepMotion::relative_pose(&a, &b, 0.25);
+        // 0.75 - 0.2 × 3.25 = 0.1 (to the rounding of numbers near 1, not near 1e6).
+        assert!((relative.translation.vector.x - 0.1).abs() <= 4.0 * f64::EPSILON);
     }
 }
