@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use nearmiss::ccd::CcdOptions;
+use nearmiss::math::Real;
 use nearmiss::query_file::{query_files, run_file, QueryFile, QueryKind};
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{RunResult, Termination};
@@ -100,6 +101,18 @@ enum Command {
         #[arg(long, default_value = "output")]
         out: PathBuf,
     },
+    /// The stability suite: the stiff spring at ω·dt from 0.1 to 3 per
+    /// integrator, the Dzhanibekov spin over 100,000 steps, and every scene
+    /// of the folder against its expectation. Writes
+    /// `<out>/stability/stability.md` and PNG charts.
+    Stability {
+        /// The folder of the suite's scenes.
+        #[arg(long, default_value = "scenes/stability")]
+        scenes: PathBuf,
+        /// The output folder.
+        #[arg(long, default_value = "output")]
+        out: PathBuf,
+    },
     /// Validate a scene without running it. Exits 2 on a bad scene.
     Check {
         /// Scene files.
@@ -162,6 +175,7 @@ fn main() -> ExitCode {
         }
         Command::Run { scene, out } => return run_scene(&scene, &out),
         Command::Check { scenes } => return check_scenes(&scenes),
+        Command::Stability { scenes, out } => return stability(&scenes, &out),
         Command::Paper { repeats, seed, out } => {
             use nearmiss::report::{
                 calibration_placements, paper_report_markdown, paper_rows, paper_timing, rotated_placements,
@@ -494,4 +508,71 @@ fn sweep_scene(path: &Path, dts: &[f64], kernels: &[String], integrators: &[Stri
         }
     }
     ExitCode::SUCCESS
+}
+
+fn stability(folder: &Path, out: &Path) -> ExitCode {
+    use nearmiss::motion::Integrator;
+    use nearmiss::report::{spin_drift, spring_omega, spring_sweep, stability_markdown};
+    let (spring, spin) = match (
+        load_scene(&folder.join("stiff_spring.ron")),
+        load_scene(&folder.join("dzhanibekov_long.ron")),
+    ) {
+        (Ok(spring), Ok(spin)) => (spring, spin),
+        (Err(code), _) | (_, Err(code)) => return code,
+    };
+    let omega_dts = [0.1, 0.25, 0.5, 1.0, 1.5, 1.8, 1.9, 1.99, 2.01, 2.1, 2.5, 2.8, 2.85, 3.0];
+    let integrators = [Integrator::SymplecticEuler, Integrator::ExplicitEuler, Integrator::Rk4];
+    let springs = spring_sweep(&spring, &omega_dts, &integrators);
+    let drifts = spin_drift(&spin, spin.steps, 100);
+    let files = match nearmiss::regression::scene_files(folder) {
+        Ok(files) => files,
+        Err(error) => {
+            eprintln!("error: {}: {error}", folder.display());
+            return ExitCode::from(2);
+        }
+    };
+    let mut verdicts = Vec::new();
+    let mut failed = false;
+    for file in files {
+        let scene = match load_scene(&file) {
+            Ok(scene) => scene,
+            Err(code) => return code,
+        };
+        let result = run_with_progress(&scene);
+        if let Some(v) = nearmiss::regression::verdict(&scene, &result) {
+            failed |= !v.passed;
+            verdicts.push((file.display().to_string(), v.passed, v.expected, v.obtained, v.error));
+        }
+    }
+    let text = stability_markdown(
+        &springs,
+        spring_omega(&spring).unwrap_or(Real::NAN),
+        &drifts,
+        spin.steps,
+        &verdicts,
+    );
+    print!("{text}");
+    let target = out.join("stability");
+    let written = std::fs::create_dir_all(&target)
+        .and_then(|_| nearmiss::output::write_atomically(&target.join("stability.md"), text.as_bytes()));
+    if let Err(error) = written {
+        eprintln!("error: cannot write to {}: {error}", target.display());
+        return ExitCode::from(2);
+    }
+    #[cfg(feature = "plot")]
+    for (chart, name) in [
+        (nearmiss::report::spring_chart(&springs), "spring_energy_drift.png"),
+        (nearmiss::report::spin_chart(&drifts), "dzhanibekov_energy_drift.png"),
+    ] {
+        let path = target.join(name);
+        match nearmiss::plot::render(&chart, &path) {
+            Ok(()) => eprintln!("wrote {}", path.display()),
+            Err(error) => eprintln!("warning: no chart {name}: {error}"),
+        }
+    }
+    if failed {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
 }

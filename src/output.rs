@@ -78,6 +78,8 @@ pub struct WorkJson {
     pub pairs_culled: usize,
     /// Steps whose implicit gyroscopic solve did not converge.
     pub gyroscopic_unconverged: usize,
+    /// Largest relative drift of an integrated body's mechanical energy.
+    pub max_energy_drift: Real,
 }
 
 /// Stage times in `summary.json`.
@@ -143,6 +145,7 @@ impl<'a> Summary<'a> {
                 triangle_pairs: counters.triangle_pairs,
                 pairs_culled: counters.pairs_culled,
                 gyroscopic_unconverged: counters.gyroscopic_unconverged,
+                max_energy_drift: counters.max_energy_drift,
             },
             stage_wall_time_s: StagesJson {
                 integrate: counters.integrate_s,

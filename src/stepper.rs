@@ -18,7 +18,7 @@ use crate::ccd::{mesh_time_of_impact, CcdStatus, MovingMesh};
 use crate::kernels::Feature;
 use crate::math::{Point, Real};
 use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistanceScratch};
-use crate::motion::{integrate, RigidState, StepMotion};
+use crate::motion::{integrate, Dynamics, Integrator, RigidState, StepMotion};
 use crate::scene::{BodyMotion, OnContact, Scene};
 use crate::trace::TraceRecord;
 
@@ -81,6 +81,9 @@ pub struct Counters {
     pub pairs_culled: usize,
     /// Steps where the implicit gyroscopic solve did not converge.
     pub gyroscopic_unconverged: usize,
+    /// The largest drift of an integrated body's mechanical energy,
+    /// `|E − E0|` over its initial energy scale (0 without integrated bodies).
+    pub max_energy_drift: Real,
     /// Seconds spent integrating.
     pub integrate_s: Real,
     /// Seconds spent in CCD.
@@ -165,6 +168,31 @@ pub fn run_observed(scene: &Scene, observer: &mut dyn FnMut(u64)) -> RunResult {
     }
 }
 
+/// A run is declared diverged when an integrated body's mechanical energy
+/// exceeds its initial value by this many times its initial energy scale
+/// (the sum of the magnitudes of its kinetic and potential terms). Gravity,
+/// springs and free spin conserve energy and damping only removes it, so
+/// such growth is the integrator's, not the physics'.
+pub const DIVERGENCE_ENERGY_GROWTH: Real = 10.0;
+
+/// What to do about a diverging body: the largest stable step of its springs.
+fn stability_advice(dynamics: &Dynamics, integrator: Integrator, dt: Real) -> String {
+    let limit = |i: Integrator| dynamics.stable_step_limit(i).unwrap_or(0.0);
+    match dynamics.stable_step_limit(integrator) {
+        None => format!("Lower `dt` (now {dt})."),
+        Some(_) if integrator == Integrator::ExplicitEuler => format!(
+            "Explicit Euler gains energy at every step on an undamped spring, whatever `dt`: use SymplecticEuler \
+             (stable for dt < {:.4e}) or Rk4 (dt < {:.4e}); `dt` is now {dt}.",
+            limit(Integrator::SymplecticEuler),
+            limit(Integrator::Rk4)
+        ),
+        Some(largest) => format!(
+            "The largest stable dt for its springs with {integrator:?} is {largest:.4e} ({} / ω, ω = sqrt(Σk / m)); `dt` is now {dt}.",
+            if integrator == Integrator::Rk4 { "2√2" } else { "2" }
+        ),
+    }
+}
+
 /// What the CCD keeps per pair between steps.
 #[derive(Clone, Debug)]
 struct PairState {
@@ -183,6 +211,8 @@ struct Stepper<'s> {
     scene: &'s Scene,
     /// Integrated bodies' states (others: `None`).
     states: Vec<Option<RigidState>>,
+    /// Integrated bodies' initial energy and energy scale.
+    energies: Vec<(Real, Real)>,
     /// Each body's motion over the current step.
     motions: Vec<StepMotion>,
     pairs: Vec<PairState>,
@@ -207,6 +237,19 @@ impl<'s> Stepper<'s> {
                 _ => None,
             })
             .collect();
+        let energies = scene
+            .bodies
+            .iter()
+            .zip(&states)
+            .map(|(body, state): (&crate::scene::Body, &Option<RigidState>)| {
+                match (&body.motion, state.as_ref()) {
+                    (BodyMotion::Integrated(dynamics), Some(state)) => {
+                        (dynamics.energy(state), dynamics.energy_scale(state).max(Real::MIN_POSITIVE))
+                    }
+                    _ => (0.0, 0.0),
+                }
+            })
+            .collect();
         let pairs = scene
             .movable_pairs()
             .into_iter()
@@ -215,6 +258,7 @@ impl<'s> Stepper<'s> {
         Stepper {
             scene,
             states,
+            energies,
             motions: scene.bodies.iter().map(|b| StepMotion::fixed(b.pose)).collect(),
             pairs,
             scratch: MeshDistanceScratch::default(),
@@ -245,6 +289,18 @@ impl<'s> Stepper<'s> {
                     let turn = motion.angular_velocity.norm() * scene.dt;
                     if turn >= std::f64::consts::FRAC_PI_2 {
                         return Err(diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", body.name)));
+                    }
+                    let (initial, scale) = self.energies[i];
+                    let energy = dynamics.energy(&next);
+                    self.counters.max_energy_drift =
+                        self.counters.max_energy_drift.max((energy - initial).abs() / scale);
+                    if energy - initial > DIVERGENCE_ENERGY_GROWTH * scale {
+                        let time = (step + 1) as Real * scene.dt;
+                        let advice = stability_advice(dynamics, scene.integrator, scene.dt);
+                        return Err(diverged(format!(
+                            "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
+                            body.name
+                        )));
                     }
                     self.states[i] = Some(next);
                     motion

@@ -143,6 +143,67 @@ impl Dynamics {
     }
 }
 
+impl Dynamics {
+    /// The mass used for energies: the body's mass, or 1 for a massless
+    /// body under gravity only (its energy is then per unit mass).
+    fn energy_mass(&self) -> Real {
+        if self.inverse_mass > 0.0 {
+            1.0 / self.inverse_mass
+        } else {
+            1.0
+        }
+    }
+
+    /// Mechanical energy in a state: kinetic (linear and rotational), the
+    /// springs' potential and gravity's (`−m g·x`). Constant for an
+    /// undamped body under exact integration.
+    pub fn energy(&self, state: &RigidState) -> Real {
+        self.energy_terms(state).iter().sum()
+    }
+
+    /// The energy's scale: the sum of the magnitudes of its terms (so a
+    /// relative drift is meaningful when the terms cancel).
+    pub fn energy_scale(&self, state: &RigidState) -> Real {
+        self.energy_terms(state).iter().map(|e| e.abs()).sum()
+    }
+
+    fn energy_terms(&self, state: &RigidState) -> [Real; 4] {
+        let mass = self.energy_mass();
+        let linear = 0.5 * mass * state.velocity.norm_squared();
+        let omega_body = state.orientation.inverse_transform_vector(&state.angular_velocity);
+        let rotational = self.inertia.map_or(0.0, |inertia| 0.5 * omega_body.dot(&(inertia * omega_body)));
+        let springs = self
+            .springs
+            .iter()
+            .map(|spring| {
+                let r = state.position + state.orientation * spring.point - spring.anchor;
+                let stretch =
+                    if spring.rest_length == 0.0 { r.norm() } else { r.norm() - spring.rest_length };
+                0.5 * spring.stiffness * stretch * stretch
+            })
+            .sum::<Real>();
+        let gravity = -mass * self.gravity.dot(&state.position.coords);
+        [linear, rotational, springs, gravity]
+    }
+
+    /// The largest step with which `integrator` keeps this body's springs
+    /// stable (undamped linear analysis, `ω = sqrt(Σk / m)`): `2 / ω` for
+    /// semi-implicit Euler, `2√2 / ω` for RK4, and none for explicit Euler
+    /// (it gains energy at every step). `None` without springs.
+    pub fn stable_step_limit(&self, integrator: Integrator) -> Option<Real> {
+        let stiffness: Real = self.springs.iter().map(|s| s.stiffness).sum();
+        if stiffness <= 0.0 || self.inverse_mass <= 0.0 {
+            return None;
+        }
+        let omega = (stiffness * self.inverse_mass).sqrt();
+        match integrator {
+            Integrator::SymplecticEuler => Some(2.0 / omega),
+            Integrator::Rk4 => Some(2.0 * Real::sqrt(2.0) / omega),
+            Integrator::ExplicitEuler => Some(0.0),
+        }
+    }
+}
+
 /// Advances `state` by `dt`. Returns the new state and whether the implicit
 /// gyroscopic solve (when used) converged.
 pub fn integrate(

@@ -5,8 +5,10 @@
 
 mod kernels;
 mod paper;
+mod stability;
 mod sweep;
 
 pub use kernels::*;
 pub use paper::*;
+pub use stability::*;
 pub use sweep::*;
