@@ -33,6 +33,10 @@
 
 use super::advance::ROUNDING_FLOOR_ULPS;
 
+/// The directional step is tried again only while it lengthens the global
+/// step at least this many times.
+const DIRECTIONAL_GAIN: Real = 2.0;
+
 /// The ulps of an integrated body's coordinates by which its path may jump
 /// between one step's end and the next step's start (the step's velocity
 /// is `(x1 − x0) / dt`, and `x0 + v dt` rounds back to `x1` only to a few
@@ -154,6 +158,7 @@ pub fn mesh_time_of_impact(
         angular_velocity_b: b.motion.angular_velocity,
     };
     let mut stack = Vec::new();
+    let mut directional_pays = true;
     let mut s = 0.0;
     let mut hint = hint;
     for iteration in 0..options.max_iterations.max(1) {
@@ -177,9 +182,13 @@ pub fn mesh_time_of_impact(
             return result;
         }
         let mut step = if speed > 0.0 { (d - target) / speed } else { Real::INFINITY };
-        if s + step < duration {
+        if s + step < duration && directional_pays {
             // The global bound stops short of the step's end: the
-            // per-triangle-pair directional bound may reach further.
+            // per-triangle-pair directional bound may reach further. It
+            // costs a scalar kernel call per nearby triangle pair, so once
+            // it fails to at least double the step (a tumble, where the
+            // spin terms dominate both bounds) it is not tried again in
+            // this query.
             let horizon = duration - s;
             let directional = directional_step(
                 a.mesh,
@@ -192,6 +201,7 @@ pub fn mesh_time_of_impact(
                 &mut stack,
             );
             result.directional_steps += 1;
+            directional_pays = directional >= DIRECTIONAL_GAIN * step;
             step = step.max(directional);
         }
         let next = s + step;
