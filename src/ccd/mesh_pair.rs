@@ -198,6 +198,7 @@ pub fn mesh_time_of_impact(
                 &motion,
                 target,
                 horizon,
+                DIRECTIONAL_GAIN * step,
                 &mut stack,
             );
             result.directional_steps += 1;

@@ -60,6 +60,9 @@ impl PairMotion {
 /// A time `≤ horizon` before which no triangle pair of `a` and `b` (posed
 /// in `a`'s frame by `pos_ab`; `a` turned by `rotation_a` in the world) can
 /// come within `target`, given that every pair is farther than `target` now.
+/// The search gives up as soon as one triangle pair allows less than
+/// `give_up_below` and returns that pair's step (still a safe step, just
+/// not the longest).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn directional_step(
     a: &TriMesh,
@@ -69,6 +72,7 @@ pub(crate) fn directional_step(
     motion: &PairMotion,
     target: Real,
     horizon: Real,
+    give_up_below: Real,
     stack: &mut Vec<(u32, u32, Real)>,
 ) -> Real {
     let pos_ab = *pos_ab;
@@ -107,6 +111,9 @@ pub(crate) fn directional_step(
                     let local_a = a.triangle(ta as usize);
                     let ra = local_a.iter().map(|p| p.coords.norm()).fold(0.0, Real::max);
                     best = best.min(pair_step(&local_a, ra, &moved, rb, rotation_a, motion, target));
+                    if best < give_up_below {
+                        return best.max(0.0);
+                    }
                 }
             }
             continue;
