@@ -31,6 +31,21 @@ pub fn triangle_to_parry(t: &Triangle) -> parry3d_f64::shape::Triangle {
     parry3d_f64::shape::Triangle::new(to_parry(&t[0]), to_parry(&t[1]), to_parry(&t[2]))
 }
 
+/// Converts a pose to parry's.
+#[inline]
+pub fn pose_to_parry(pose: &Pose) -> parry3d_f64::math::Pose {
+    let q = pose.rotation.quaternion();
+    let rotation = parry3d_f64::math::Rotation::from_xyzw(q.i, q.j, q.k, q.w);
+    let t = &pose.translation.vector;
+    parry3d_f64::math::Pose::from_parts(parry3d_f64::math::Vector::new(t.x, t.y, t.z), rotation)
+}
+
+/// Converts a vector to parry's.
+#[inline]
+pub fn vector_to_parry(v: &Vector) -> parry3d_f64::math::Vector {
+    parry3d_f64::math::Vector::new(v.x, v.y, v.z)
+}
+
 /// The largest absolute coordinate of a set of points: the scale that
 /// absolute error bounds ("a few ulps of the coordinates") refer to.
 #[inline]

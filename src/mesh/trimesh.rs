@@ -135,6 +135,15 @@ impl TriMesh {
     }
 }
 
+impl TriMesh {
+    /// The same mesh as parry's `TriMesh` (for comparisons with the peer);
+    /// `None` if parry refuses it.
+    pub fn to_parry(&self) -> Option<parry3d_f64::shape::TriMesh> {
+        let vertices = self.vertices.iter().map(crate::math::to_parry).collect();
+        parry3d_f64::shape::TriMesh::new(vertices, self.triangles.clone()).ok()
+    }
+}
+
 /// Whether a triangle has exactly zero area: all three coordinate-plane
 /// projections are degenerate (exact orientation predicates).
 fn has_zero_area(a: &Point, b: &Point, c: &Point) -> bool {
