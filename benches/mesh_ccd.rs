@@ -56,7 +56,15 @@ fn rotating_mesh_ccd(c: &mut Criterion) {
         bench.iter(|| {
             let mut found = 0.0;
             for (ma, mb) in &parry_motions {
-                let hit = parry3d_f64::query::cast_shapes_nonlinear(black_box(ma), &parry_a, black_box(mb), &parry_b, 0.0, 1.0, true);
+                let hit = parry3d_f64::query::cast_shapes_nonlinear(
+                    black_box(ma),
+                    &parry_a,
+                    black_box(mb),
+                    &parry_b,
+                    0.0,
+                    1.0,
+                    true,
+                );
                 found += hit.ok().flatten().map_or(2.0, |h| h.time_of_impact);
             }
             found

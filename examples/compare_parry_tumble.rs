@@ -52,10 +52,18 @@ fn main() {
             )
         };
         let start = Instant::now();
-        let theirs = parry3d_f64::query::cast_shapes_nonlinear(&parry_motion(ma), &pa_mesh, &parry_motion(mb), &pb_mesh, 0.0, 1.0, true)
-            .ok()
-            .flatten()
-            .map(|hit| hit.time_of_impact);
+        let theirs = parry3d_f64::query::cast_shapes_nonlinear(
+            &parry_motion(ma),
+            &pa_mesh,
+            &parry_motion(mb),
+            &pb_mesh,
+            0.0,
+            1.0,
+            true,
+        )
+        .ok()
+        .flatten()
+        .map(|hit| hit.time_of_impact);
         let parry_us = start.elapsed().as_secs_f64() * 1e6;
         let t_ours = ours.time_of_impact;
         let tolerance = 1e-6 * 2.0 / 1.0; // contact distance (1e-6 x (r_a + r_b)) over a closing speed of at least ~1
@@ -71,7 +79,17 @@ fn main() {
                 // The scan uses the BVH distance (exact kernel); the decisive
                 // samples are confirmed by brute force over all triangle pairs.
                 let exact = |t: Real, scratch: &mut MeshDistanceScratch| {
-                    mesh_distance(&a, &ma.pose_at(t), &b, &mb.pose_at(t), DistanceKernel::Exact, None, 0.0, scratch).distance
+                    mesh_distance(
+                        &a,
+                        &ma.pose_at(t),
+                        &b,
+                        &mb.pose_at(t),
+                        DistanceKernel::Exact,
+                        None,
+                        0.0,
+                        scratch,
+                    )
+                    .distance
                 };
                 let first = (0..=samples)
                     .map(|s| lo + (hi - lo) * s as Real / samples as Real)

@@ -24,6 +24,7 @@
 //! [`ccd`], and [`query_file`], the reader and runner for the public CCD
 //! benchmark format.
 
+pub mod broad_phase;
 pub mod ccd;
 pub mod exact;
 pub mod kernels;

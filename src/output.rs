@@ -78,6 +78,8 @@ pub struct WorkJson {
     pub pairs_culled: usize,
     /// Steps whose implicit gyroscopic solve did not converge.
     pub gyroscopic_unconverged: usize,
+    /// Pairs handed to CCD by the broad phase, summed over steps.
+    pub candidate_pairs: usize,
     /// Largest relative drift of an integrated body's mechanical energy.
     pub max_energy_drift: Real,
 }
@@ -87,6 +89,8 @@ pub struct WorkJson {
 pub struct StagesJson {
     /// Integration.
     pub integrate: Real,
+    /// Broad phase.
+    pub broad_phase: Real,
     /// CCD.
     pub ccd: Real,
     /// Trace.
@@ -145,10 +149,12 @@ impl<'a> Summary<'a> {
                 triangle_pairs: counters.triangle_pairs,
                 pairs_culled: counters.pairs_culled,
                 gyroscopic_unconverged: counters.gyroscopic_unconverged,
+                candidate_pairs: counters.candidate_pairs,
                 max_energy_drift: counters.max_energy_drift,
             },
             stage_wall_time_s: StagesJson {
                 integrate: counters.integrate_s,
+                broad_phase: counters.broad_phase_s,
                 ccd: counters.ccd_s,
                 trace: counters.trace_s,
             },

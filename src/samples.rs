@@ -7,8 +7,8 @@
 //! rational reference.
 
 use crate::kernels::triangle_distance;
-use crate::motion::StepMotion;
 use crate::math::{Point, Real, Triangle, Vector};
+use crate::motion::StepMotion;
 
 /// A small deterministic random stream (SplitMix64, Steele, Lea and Flood,
 /// "Fast splittable pseudorandom number generators", OOPSLA 2014).
@@ -310,7 +310,10 @@ fn at_gap(a: Triangle, b: Triangle, gap: Real) -> (Triangle, Triangle) {
 /// (radius 1), 5 apart along x, closing at about 4 with random offsets and
 /// random spins up to 10 rad/s (both tumbling, offset approach), over
 /// `t ∈ [0, 1]`. Shared by the mesh CCD benchmark and the parry comparison.
-pub fn tumbling_cases(count: usize, seed: u64) -> (crate::mesh::TriMesh, crate::mesh::TriMesh, Vec<(StepMotion, StepMotion)>) {
+pub fn tumbling_cases(
+    count: usize,
+    seed: u64,
+) -> (crate::mesh::TriMesh, crate::mesh::TriMesh, Vec<(StepMotion, StepMotion)>) {
     use crate::math::Pose;
     let a = crate::mesh::icosphere(1.0, 2).expect("a valid icosphere");
     let b = crate::mesh::icosphere(1.0, 3).expect("a valid icosphere");

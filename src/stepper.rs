@@ -8,13 +8,19 @@
 //! previous step without any mesh query; no distance is computed for a
 //! trace the scene did not ask for.
 //!
-//! Pairs are all pairs of bodies not both fixed, each culled first by its
-//! bounding spheres and carried distance bound (the broad-phase tree is
-//! not built yet: a scene of many bodies pays for the pairs).
+//! With two bodies the one pair is queried directly (no tree). With more,
+//! a broad phase ([`crate::broad_phase`]) keeps the pairs whose swept boxes
+//! overlap in the step; each pair is then culled by its bounding spheres
+//! and the distance bound carried from its previous step. The pairs' CCD
+//! runs on rayon's threads, results applied in pair order, so a run gives
+//! the same result whatever the threads.
 
 use std::time::Instant;
 
-use crate::ccd::{mesh_time_of_impact, CcdStatus, MovingMesh};
+use rayon::prelude::*;
+
+use crate::broad_phase::{swept_box, BroadPhase, SweptBox};
+use crate::ccd::{mesh_time_of_impact, CcdStatus, MeshCcdResult, MovingMesh};
 use crate::kernels::Feature;
 use crate::math::{Point, Real};
 use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistanceScratch};
@@ -88,6 +94,10 @@ pub struct Counters {
     pub integrate_s: Real,
     /// Seconds spent in CCD.
     pub ccd_s: Real,
+    /// Seconds spent in the broad phase.
+    pub broad_phase_s: Real,
+    /// Pairs handed to CCD, summed over steps.
+    pub candidate_pairs: usize,
     /// Seconds spent tracing.
     pub trace_s: Real,
 }
@@ -122,11 +132,33 @@ pub fn run(scene: &Scene) -> RunResult {
     run_observed(scene, &mut |_| {})
 }
 
+/// How a run is carried out (not what it computes: results are the same
+/// whatever the options).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct RunOptions {
+    /// Run the pairs' CCD on several threads (rayon's pool). Default: true.
+    pub parallel: bool,
+    /// Select pairs with the broad phase when there are more than two
+    /// bodies (otherwise every pair not both fixed is queried). Default: true.
+    pub broad_phase: bool,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions { parallel: true, broad_phase: true }
+    }
+}
+
 /// Runs a scene, calling `observer` with the number of steps done after
 /// each step (for progress display).
 pub fn run_observed(scene: &Scene, observer: &mut dyn FnMut(u64)) -> RunResult {
+    run_with(scene, RunOptions::default(), observer)
+}
+
+/// Runs a scene with options.
+pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64)) -> RunResult {
     let start = Instant::now();
-    let mut stepper = Stepper::new(scene);
+    let mut stepper = Stepper::new(scene, options);
     stepper.record_trace(0, 0.0, 0.0);
     let mut termination = Termination::Completed;
     let mut steps = 0;
@@ -215,7 +247,15 @@ struct Stepper<'s> {
     energies: Vec<(Real, Real)>,
     /// Each body's motion over the current step.
     motions: Vec<StepMotion>,
+    /// The pairs in play, sorted by `(a, b)`: all pairs not both fixed,
+    /// or with a broad phase the pairs whose swept boxes overlap.
     pairs: Vec<PairState>,
+    /// The broad phase, for scenes of more than two bodies.
+    broad: Option<BroadPhase>,
+    /// The swept boxes of the current step.
+    boxes: Vec<SweptBox>,
+    /// Run the pairs' CCD on several threads.
+    parallel: bool,
     scratch: MeshDistanceScratch,
     contacts: Vec<Contact>,
     trace: Vec<TraceRecord>,
@@ -223,7 +263,7 @@ struct Stepper<'s> {
 }
 
 impl<'s> Stepper<'s> {
-    fn new(scene: &'s Scene) -> Stepper<'s> {
+    fn new(scene: &'s Scene, options: RunOptions) -> Stepper<'s> {
         let states = scene
             .bodies
             .iter()
@@ -250,17 +290,26 @@ impl<'s> Stepper<'s> {
                 }
             })
             .collect();
-        let pairs = scene
-            .movable_pairs()
-            .into_iter()
-            .map(|(a, b)| PairState { a, b, lower_bound: None, hint: None, touching: None })
-            .collect();
+        let broad = (options.broad_phase && scene.bodies.len() > 2).then(BroadPhase::default);
+        // With a broad phase the pairs come from it, step by step.
+        let pairs = if broad.is_some() {
+            Vec::new()
+        } else {
+            scene
+                .movable_pairs()
+                .into_iter()
+                .map(|(a, b)| PairState { a, b, lower_bound: None, hint: None, touching: None })
+                .collect()
+        };
         Stepper {
             scene,
             states,
             energies,
             motions: scene.bodies.iter().map(|b| StepMotion::fixed(b.pose)).collect(),
             pairs,
+            broad,
+            boxes: Vec::new(),
+            parallel: options.parallel,
             scratch: MeshDistanceScratch::default(),
             contacts: Vec::new(),
             trace: Vec::new(),
@@ -316,13 +365,22 @@ impl<'s> Stepper<'s> {
     fn collide(&mut self, t0: Real) -> bool {
         let clock = Instant::now();
         let scene = self.scene;
-        let mut found = false;
-        for pair in &mut self.pairs {
-            if pair.touching.is_some() {
-                continue;
-            }
-            let moving = |i: usize| MovingMesh { mesh: &scene.bodies[i].mesh, motion: &self.motions[i] };
-            let result = mesh_time_of_impact(
+        if self.broad.is_some() {
+            self.select_pairs();
+        }
+        let broad_s = clock.elapsed().as_secs_f64();
+        self.counters.broad_phase_s += broad_s;
+        self.counters.candidate_pairs += self.pairs.len();
+        // CCD of every pair not already in contact: independent queries, in
+        // parallel when there are several, results applied in pair order
+        // (so the outcome does not depend on the threads).
+        let work: Vec<usize> = (0..self.pairs.len()).filter(|&k| self.pairs[k].touching.is_none()).collect();
+        let motions = &self.motions;
+        let pairs = &self.pairs;
+        let query = |k: usize, scratch: &mut MeshDistanceScratch| {
+            let pair = &pairs[k];
+            let moving = |i: usize| MovingMesh { mesh: &scene.bodies[i].mesh, motion: &motions[i] };
+            let mut result = mesh_time_of_impact(
                 moving(pair.a),
                 moving(pair.b),
                 scene.dt,
@@ -330,8 +388,23 @@ impl<'s> Stepper<'s> {
                 scene.kernel,
                 pair.lower_bound,
                 pair.hint,
-                &mut self.scratch,
+                scratch,
             );
+            if result.status == CcdStatus::InitiallyTouching && t0 > 0.0 {
+                // A pair new to the broad phase, touching at the step's start.
+                result.status = CcdStatus::Converged;
+            }
+            result
+        };
+        let results: Vec<MeshCcdResult> = if self.parallel && work.len() > 1 {
+            work.par_iter().map_init(MeshDistanceScratch::default, |scratch, &k| query(k, scratch)).collect()
+        } else {
+            let scratch = &mut self.scratch;
+            work.iter().map(|&k| query(k, scratch)).collect()
+        };
+        let mut found = false;
+        for (&k, result) in work.iter().zip(results) {
+            let pair = &mut self.pairs[k];
             self.counters.distance_queries += result.distance_queries;
             self.counters.triangle_pairs += result.triangle_pairs;
             self.counters.pairs_culled += usize::from(result.distance_queries == 0);
@@ -361,8 +434,39 @@ impl<'s> Stepper<'s> {
             let first = self.contacts.iter().cloned().min_by(|a, b| a.time.total_cmp(&b.time));
             self.contacts = first.into_iter().collect();
         }
-        self.counters.ccd_s += clock.elapsed().as_secs_f64();
+        self.counters.ccd_s += clock.elapsed().as_secs_f64() - broad_s;
         found
+    }
+
+    /// The broad phase: keeps the states of the pairs whose swept boxes
+    /// overlap this step (new pairs start fresh; a pair that left the set
+    /// was apart for a whole step, so it is re-armed).
+    fn select_pairs(&mut self) {
+        let scene = self.scene;
+        let (tolerance, separation) = (scene.ccd.distance_tolerance, scene.ccd.minimum_separation);
+        self.boxes.clear();
+        for (body, motion) in scene.bodies.iter().zip(&self.motions) {
+            let radius = body.mesh.radius();
+            // Each box grows by at least its share of any pair's contact
+            // distance (and a rounding margin).
+            let reach = motion.center_at(0.0).coords.amax() + motion.travel(scene.dt) + radius;
+            let margin = separation + 2.0 * tolerance * radius + 1e3 * Real::EPSILON * reach;
+            self.boxes.push(swept_box(motion, radius, scene.dt, margin));
+        }
+        let Some(broad) = self.broad.as_mut() else { return };
+        let candidates = broad.pairs(&self.boxes);
+        let fixed = |i: usize| scene.bodies[i].motion == BodyMotion::Fixed;
+        let old = std::mem::take(&mut self.pairs);
+        let mut old = old.into_iter().peekable();
+        for (a, b) in candidates.into_iter().filter(|&(a, b)| !(fixed(a) && fixed(b))) {
+            while old.peek().is_some_and(|p| (p.a, p.b) < (a, b)) {
+                old.next();
+            }
+            match old.peek() {
+                Some(p) if (p.a, p.b) == (a, b) => self.pairs.push(old.next().expect("peeked")),
+                _ => self.pairs.push(PairState { a, b, lower_bound: None, hint: None, touching: None }),
+            }
+        }
     }
 
     /// Stage 3: re-arm pairs that separated, and sample the trace.

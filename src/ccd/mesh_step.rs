@@ -61,8 +61,8 @@ impl PairMotion {
 /// in `a`'s frame by `pos_ab`; `a` turned by `rotation_a` in the world) can
 /// come within `target`, given that every pair is farther than `target` now.
 /// The search gives up as soon as one triangle pair allows less than
-/// `give_up_below` and returns that pair's step (still a safe step, just
-/// not the longest).
+/// `give_up_below`, and then returns 0 (no gain): the minimum over the pairs
+/// visited so far would not be a safe step.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn directional_step(
     a: &TriMesh,
@@ -112,7 +112,9 @@ pub(crate) fn directional_step(
                     let ra = local_a.iter().map(|p| p.coords.norm()).fold(0.0, Real::max);
                     best = best.min(pair_step(&local_a, ra, &moved, rb, rotation_a, motion, target));
                     if best < give_up_below {
-                        return best.max(0.0);
+                        // Pairs not yet visited may allow even less: the
+                        // minimum so far is not a safe step. Report no gain.
+                        return 0.0;
                     }
                 }
             }

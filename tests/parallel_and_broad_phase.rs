@@ -1,0 +1,59 @@
+//! The broad phase and the threads change how a run is computed, not what
+//! it computes: on a random scene of many tumbling bodies, the contacts and
+//! the trace are identical with and without the broad phase, and with and
+//! without threads.
+
+use nearmiss::samples::Rng;
+use nearmiss::scene::Scene;
+use nearmiss::stepper::{run_with, RunOptions, RunResult};
+
+/// Tumbling icospheres and boxes in a 6-unit cube, contacts recorded.
+fn random_scene(bodies: usize, seed: u64) -> Scene {
+    let mut rng = Rng::new(seed);
+    let mut text = String::from(
+        "Scene(name: \"many\", dt: 0.01, duration: 0.6, on_contact: Record, trace: (pairs: Only([(\"b0\", \"b1\"), (\"b2\", \"b3\")])), bodies: [",
+    );
+    for k in 0..bodies {
+        let v = |rng: &mut Rng, s: f64| {
+            let x = rng.in_unit_ball() * s;
+            format!("({:?}, {:?}, {:?})", x.x, x.y, x.z)
+        };
+        let mesh = if k % 2 == 0 {
+            format!("Icosphere(radius: {:?}, subdivisions: 1)", rng.range(0.2, 0.5))
+        } else {
+            format!(
+                "Box(half_extents: ({:?}, {:?}, {:?}))",
+                rng.range(0.1, 0.4),
+                rng.range(0.1, 0.4),
+                rng.range(0.1, 0.4)
+            )
+        };
+        let (position, velocity, spin) = (v(&mut rng, 3.0), v(&mut rng, 3.0), v(&mut rng, 8.0));
+        text.push_str(&format!(
+            "(name: \"b{k}\", mesh: {mesh}, position: {position}, velocity: {velocity}, angular_velocity: {spin}),"
+        ));
+    }
+    text.push_str("])");
+    Scene::from_ron_str(&text).unwrap()
+}
+
+fn same_outcome(a: &RunResult, b: &RunResult) {
+    assert_eq!(a.steps, b.steps);
+    assert_eq!(a.contacts, b.contacts);
+    assert_eq!(a.trace, b.trace);
+    assert_eq!(a.termination, b.termination);
+}
+
+#[test]
+fn threads_and_broad_phase_change_nothing() {
+    let scene = random_scene(40, 9);
+    let quiet = &mut |_| {};
+    let reference = run_with(&scene, RunOptions { parallel: false, broad_phase: false }, quiet);
+    assert!(reference.contacts.len() >= 5, "the scene should have contacts: {}", reference.contacts.len());
+    let broad = run_with(&scene, RunOptions { parallel: false, broad_phase: true }, quiet);
+    same_outcome(&reference, &broad);
+    // The broad phase hands far fewer pairs to CCD than all 780.
+    assert!(broad.counters.candidate_pairs < reference.counters.candidate_pairs / 4);
+    let threaded = run_with(&scene, RunOptions { parallel: true, broad_phase: true }, quiet);
+    same_outcome(&broad, &threaded);
+}
