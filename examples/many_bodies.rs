@@ -11,7 +11,9 @@ use nearmiss::stepper::{run_with, RunOptions};
 fn scene(bodies: usize, seed: u64) -> Scene {
     let mut rng = Rng::new(seed);
     let side = 4.0 * (bodies as f64).cbrt();
-    let mut text = format!("Scene(name: \"many_{bodies}\", dt: 0.004166666666666667, steps: 24, on_contact: Record, bodies: [");
+    let mut text = format!(
+        "Scene(name: \"many_{bodies}\", dt: 0.004166666666666667, steps: 24, on_contact: Record, bodies: ["
+    );
     for k in 0..bodies {
         let v = |rng: &mut Rng, s: f64| {
             let x = rng.in_unit_ball() * s;
