@@ -62,6 +62,10 @@ enum Command {
         /// The output folder.
         #[arg(long, default_value = "output")]
         out: PathBuf,
+        /// Also compute each first contact with a peer library and show
+        /// both answers (`parry`).
+        #[arg(long, value_enum)]
+        compare: Option<Peer>,
     },
     /// Run a scene over time steps, kernels and integrators: per setting the
     /// time of first contact, its error against the reference (analytic, or
@@ -130,6 +134,12 @@ enum Command {
 }
 
 #[derive(Copy, Clone, ValueEnum)]
+enum Peer {
+    /// parry3d-f64: `cast_shapes_nonlinear` for rotating bodies, `cast_shapes` for translating ones.
+    Parry,
+}
+
+#[derive(Copy, Clone, ValueEnum)]
 enum Kind {
     /// Edge–edge.
     Ee,
@@ -173,7 +183,7 @@ fn main() -> ExitCode {
             #[cfg(not(feature = "plot"))]
             let _ = out;
         }
-        Command::Run { scene, out } => return run_scene(&scene, &out),
+        Command::Run { scene, out, compare } => return run_scene(&scene, &out, compare.is_some()),
         Command::Check { scenes } => return check_scenes(&scenes),
         Command::Stability { scenes, out } => return stability(&scenes, &out),
         Command::Paper { repeats, seed, out } => {
@@ -307,13 +317,14 @@ fn run_with_progress(scene: &Scene) -> RunResult {
     result
 }
 
-fn run_scene(path: &Path, out: &Path) -> ExitCode {
+fn run_scene(path: &Path, out: &Path, compare: bool) -> ExitCode {
     let scene = match load_scene(path) {
         Ok(scene) => scene,
         Err(code) => return code,
     };
     let result = run_with_progress(&scene);
-    let written = match nearmiss::output::write_outputs(out, &result, &scene) {
+    let peer = if compare { nearmiss::report::compare_with_parry(&scene, &result) } else { Vec::new() };
+    let written = match nearmiss::output::write_outputs_with_peer(out, &result, &scene, &peer) {
         Ok(written) => written,
         Err(error) => {
             eprintln!("error: cannot write to {}: {error}", out.join(&scene.name).display());
@@ -335,6 +346,21 @@ fn run_scene(path: &Path, out: &Path) -> ExitCode {
             result.contacts.len()
         ),
         None => println!("no contact"),
+    }
+    if compare {
+        println!("| pair | nearmiss | parry | parry query | parry s |\n|---|---|---|---|---|");
+        let time = |t: Option<f64>| t.map_or("no contact".to_string(), |t| format!("{t:.12e}"));
+        for p in &peer {
+            println!(
+                "| {} / {} | {} | {} | {} | {:.3} |",
+                p.body_a,
+                p.body_b,
+                time(p.nearmiss),
+                time(p.parry),
+                p.parry_query,
+                p.parry_wall_time_s
+            );
+        }
     }
     for file in &written {
         println!("wrote {}", file.display());

@@ -11,6 +11,7 @@ use serde::Serialize;
 
 use crate::kernels::Feature;
 use crate::math::{Point, Real};
+use crate::report::PeerComparison;
 use crate::scene::Scene;
 use crate::stepper::{Contact, RunResult, Termination};
 use crate::trace::write_trace_csv;
@@ -36,6 +37,9 @@ pub struct Summary<'a> {
     pub work: WorkJson,
     /// Seconds per stage (not deterministic).
     pub stage_wall_time_s: StagesJson,
+    /// With `--compare parry`: parry's answers beside nearmiss's.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub peer: &'a [PeerComparison],
 }
 
 /// A contact in `summary.json`.
@@ -121,6 +125,11 @@ pub fn termination_text(result: &RunResult) -> String {
 impl<'a> Summary<'a> {
     /// The summary of a run.
     pub fn of(result: &'a RunResult) -> Summary<'a> {
+        Summary::with_peer(result, &[])
+    }
+
+    /// The summary of a run, with parry's answers beside.
+    pub fn with_peer(result: &'a RunResult, peer: &'a [PeerComparison]) -> Summary<'a> {
         let contact = |c: &Contact| ContactJson {
             time: c.time,
             body_a: &result.bodies[c.body_a],
@@ -158,6 +167,7 @@ impl<'a> Summary<'a> {
                 ccd: counters.ccd_s,
                 trace: counters.trace_s,
             },
+            peer,
         }
     }
 
@@ -172,11 +182,21 @@ impl<'a> Summary<'a> {
 /// Writes the run's files into `<out>/<scene>/` and returns their paths:
 /// `summary.json`, and as the scene asks `trace.csv` and `distance.png`.
 pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::Result<Vec<PathBuf>> {
+    write_outputs_with_peer(out, result, scene, &[])
+}
+
+/// [`write_outputs`], with parry's answers in `summary.json`.
+pub fn write_outputs_with_peer(
+    out: &Path,
+    result: &RunResult,
+    scene: &Scene,
+    peer: &[PeerComparison],
+) -> std::io::Result<Vec<PathBuf>> {
     let trace = scene.trace.is_some();
     let folder = out.join(&result.scene);
     fs::create_dir_all(&folder)?;
     let mut written = Vec::new();
-    let summary = Summary::of(result).to_json();
+    let summary = Summary::with_peer(result, peer).to_json();
     written.push(write_atomically(&folder.join("summary.json"), summary.as_bytes())?);
     if trace {
         let mut csv = Vec::new();

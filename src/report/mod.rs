@@ -5,10 +5,12 @@
 
 mod kernels;
 mod paper;
+mod peer;
 mod stability;
 mod sweep;
 
 pub use kernels::*;
 pub use paper::*;
+pub use peer::*;
 pub use stability::*;
 pub use sweep::*;
