@@ -33,6 +33,10 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(scene.bodies[0].mesh.radius(), 1.0);
     // motion/gyroscopic.rs: at most 20 Newton iterations.
     assert_eq!(nearmiss::motion::GYROSCOPIC_MAX_ITERATIONS, 20);
+    // ccd/mesh_pair.rs: "plus 8 ulps of an integrated body's coordinates".
+    assert_eq!(nearmiss::ccd::INTEGRATED_JUMP_ULPS, 8.0);
+    // stepper.rs and README: a run is stopped when the energy grows past 10x its scale.
+    assert_eq!(nearmiss::stepper::DIVERGENCE_ENERGY_GROWTH, 10.0);
 }
 
 #[test]

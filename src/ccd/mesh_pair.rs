@@ -23,7 +23,15 @@
 //! linear-vertex queries, so each step gains at least `tolerance / (2 L)`
 //! and rounding (a few ulps of the coordinates, far below the tolerance
 //! floor) stays on the safe side. The tolerance is `distance_tolerance ×
-//! (r_a + r_b)`: relative to the pair's size.
+//! (r_a + r_b)`: relative to the pair's size, and never below a rounding
+//! floor of 64 ulps of the pair's own scale (distances are computed in
+//! pair-relative coordinates: [`StepMotion::relative_pose`]) plus 8 ulps of
+//! an integrated body's coordinates.
+//!
+//! When the global bound stops short of the interval's end, each triangle
+//! pair's own directional bound may allow a longer step (`mesh_step.rs`);
+//! sliding and grazing motion needs it. It is dropped for the rest of the
+//! query once it fails to double the step.
 //!
 //! Two cheap tests come first: the bounding spheres about the centres of
 //! mass (whose distance is exact over the step, the centres moving
@@ -32,6 +40,11 @@
 //! without any mesh query.
 
 use super::advance::ROUNDING_FLOOR_ULPS;
+use super::mesh_step::{directional_step, PairMotion};
+use super::options::{CcdOptions, CcdStatus};
+use crate::math::{Pose, Real};
+use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistance, MeshDistanceScratch, TriMesh};
+use crate::motion::StepMotion;
 
 /// The directional step is tried again only while it lengthens the global
 /// step at least this many times.
@@ -42,12 +55,6 @@ const DIRECTIONAL_GAIN: Real = 2.0;
 /// is `(x1 − x0) / dt`, and `x0 + v dt` rounds back to `x1` only to a few
 /// ulps); the tolerance never drops below them.
 pub const INTEGRATED_JUMP_ULPS: Real = 8.0;
-use super::mesh_step::{directional_step, PairMotion};
-use super::options::{CcdOptions, CcdStatus};
-use crate::math::Pose;
-use crate::math::Real;
-use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistance, MeshDistanceScratch, TriMesh};
-use crate::motion::StepMotion;
 
 /// One body of a mesh CCD query: its mesh (vertices relative to the centre
 /// of mass) and its motion over the step.

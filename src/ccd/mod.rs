@@ -40,6 +40,7 @@ mod vertex_face;
 
 pub use advance::ROUNDING_FLOOR_ULPS;
 pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
+pub use mesh_pair::INTEGRATED_JUMP_ULPS;
 pub use mesh_pair::{mesh_time_of_impact, MeshCcdResult, MovingMesh};
 pub use options::{CcdOptions, CcdResult, CcdStatus};
 pub use vertex_face::{vertex_face_time_of_impact, vertex_face_time_of_impact_detailed};

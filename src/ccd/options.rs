@@ -13,7 +13,10 @@ pub struct CcdOptions {
     /// the time the primitives take to close that distance. The tolerance
     /// used is never below [`ROUNDING_FLOOR_ULPS`](super::ROUNDING_FLOOR_ULPS)
     /// ulps of the largest coordinate: the conservative steps need that much
-    /// margin over rounding.
+    /// margin over rounding. For rigid mesh pairs
+    /// ([`mesh_time_of_impact`](super::mesh_time_of_impact)) `S` is the sum
+    /// of the meshes' radii about their centres of mass, and the floor is
+    /// taken on the pair's own scale (see that function's module).
     /// Default: `1e-6`.
     pub distance_tolerance: Real,
     /// An absolute gap that counts as contact (for thickness or a safety
