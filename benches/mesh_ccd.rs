@@ -9,7 +9,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MovingMesh};
-use nearmiss::math::{pose_to_parry, vector_to_parry};
+use nearmiss::math::motion_to_parry;
 use nearmiss::mesh::{DistanceKernel, MeshDistanceScratch};
 use nearmiss::motion::StepMotion;
 use nearmiss::samples::tumbling_cases;
@@ -21,14 +21,7 @@ fn rotating_mesh_ccd(c: &mut Criterion) {
     let (parry_a, parry_b) = (a.to_parry().expect("parry mesh"), b.to_parry().expect("parry mesh"));
     let options = CcdOptions::default();
     let mut scratch = MeshDistanceScratch::default();
-    let parry_motion = |m: &StepMotion| {
-        parry3d_f64::query::NonlinearRigidMotion::new(
-            pose_to_parry(&m.pose_t0()),
-            parry3d_f64::math::Vector::ZERO,
-            vector_to_parry(&m.velocity),
-            vector_to_parry(&m.angular_velocity),
-        )
-    };
+    let parry_motion = |m: &StepMotion| motion_to_parry(&m.pose_t0(), &m.velocity, &m.angular_velocity);
     let parry_motions: Vec<_> = cases.iter().map(|(x, y)| (parry_motion(x), parry_motion(y))).collect();
 
     let mut group = c.benchmark_group("tumbling icospheres 320 vs 1280, 10 cases");

@@ -5,24 +5,11 @@
 //! (brute force over all triangle pairs, no BVH) before the later of the two
 //! times tells which one is right.
 use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MovingMesh};
-use nearmiss::kernels::triangle_distance;
-use nearmiss::math::{pose_to_parry, vector_to_parry, Pose, Real};
-use nearmiss::mesh::{mesh_distance, DistanceKernel, MeshDistanceScratch, TriMesh};
+use nearmiss::math::{motion_to_parry, Real};
+use nearmiss::mesh::{mesh_distance, mesh_distance_brute_force, DistanceKernel, MeshDistanceScratch};
 use nearmiss::motion::StepMotion;
 use nearmiss::samples::tumbling_cases;
 use std::time::Instant;
-
-fn brute_force(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose) -> Real {
-    let tb: Vec<_> = (0..b.triangles().len()).map(|j| b.triangle(j).map(|p| pb * p)).collect();
-    let mut best = Real::INFINITY;
-    for i in 0..a.triangles().len() {
-        let ta = a.triangle(i).map(|p| pa * p);
-        for t in &tb {
-            best = best.min(triangle_distance(&ta, t).distance);
-        }
-    }
-    best
-}
 
 fn main() {
     let (a, b, cases) = tumbling_cases(10, 5);
@@ -43,14 +30,7 @@ fn main() {
             &mut scratch,
         );
         let ours_us = start.elapsed().as_secs_f64() * 1e6;
-        let parry_motion = |m: &StepMotion| {
-            parry3d_f64::query::NonlinearRigidMotion::new(
-                pose_to_parry(&m.pose_t0()),
-                parry3d_f64::math::Vector::ZERO,
-                vector_to_parry(&m.velocity),
-                vector_to_parry(&m.angular_velocity),
-            )
-        };
+        let parry_motion = |m: &StepMotion| motion_to_parry(&m.pose_t0(), &m.velocity, &m.angular_velocity);
         let start = Instant::now();
         let theirs = parry3d_f64::query::cast_shapes_nonlinear(
             &parry_motion(ma),
@@ -95,9 +75,10 @@ fn main() {
                     .map(|s| lo + (hi - lo) * s as Real / samples as Real)
                     .find(|&t| exact(t, &mut scratch) == 0.0);
                 if let Some(t) = first {
-                    assert_eq!(brute_force(&a, &ma.pose_at(t), &b, &mb.pose_at(t)), 0.0);
+                    assert_eq!(mesh_distance_brute_force(&a, &ma.pose_at(t), &b, &mb.pose_at(t)), 0.0);
                 }
-                let at_ours = t_ours.map(|t| brute_force(&a, &ma.pose_at(t), &b, &mb.pose_at(t)));
+                let at_ours =
+                    t_ours.map(|t| mesh_distance_brute_force(&a, &ma.pose_at(t), &b, &mb.pose_at(t)));
                 let late = |t: Option<Real>| match (t, first) {
                     (Some(t), Some(f)) => t > f,
                     (None, Some(_)) => true,

@@ -444,6 +444,25 @@ fn test_scenes(paths: &[PathBuf]) -> ExitCode {
     }
 }
 
+/// Parses each name of a list option; an unknown one is an error naming the
+/// option and the known names (exit code 2).
+fn parse_names<T>(
+    names: &[String],
+    parse: fn(&str) -> Option<T>,
+    option: &str,
+    known: &str,
+) -> Result<Vec<T>, ExitCode> {
+    names
+        .iter()
+        .map(|name| {
+            parse(name).ok_or_else(|| {
+                eprintln!("error: {option}: unknown name `{name}` (known: {known})");
+                ExitCode::from(2)
+            })
+        })
+        .collect()
+}
+
 fn sweep_scene(path: &Path, dts: &[f64], kernels: &[String], integrators: &[String], out: &Path) -> ExitCode {
     use nearmiss::report::{parse_integrator, parse_kernel};
     let scene = match load_scene(path) {
@@ -454,26 +473,24 @@ fn sweep_scene(path: &Path, dts: &[f64], kernels: &[String], integrators: &[Stri
         eprintln!("error: --dt: every step must be a positive number, found {bad}");
         return ExitCode::from(2);
     }
-    let mut parsed_kernels = Vec::new();
-    for name in kernels {
-        match parse_kernel(name) {
-            Some(k) => parsed_kernels.push(k),
-            None => {
-                eprintln!("error: --kernel: unknown kernel `{name}` (exact, dyop-vector, dyop-plain-vector, dyop-heron, dyop-stable-heron)");
-                return ExitCode::from(2);
-            }
-        }
-    }
-    let mut parsed_integrators = Vec::new();
-    for name in integrators {
-        match parse_integrator(name) {
-            Some(i) => parsed_integrators.push(i),
-            None => {
-                eprintln!("error: --integrator: unknown integrator `{name}` (symplectic-euler, explicit-euler, rk4)");
-                return ExitCode::from(2);
-            }
-        }
-    }
+    let parsed_kernels = match parse_names(
+        kernels,
+        parse_kernel,
+        "--kernel",
+        "exact, dyop-vector, dyop-plain-vector, dyop-heron, dyop-stable-heron",
+    ) {
+        Ok(parsed) => parsed,
+        Err(code) => return code,
+    };
+    let mut parsed_integrators = match parse_names(
+        integrators,
+        parse_integrator,
+        "--integrator",
+        "symplectic-euler, explicit-euler, rk4",
+    ) {
+        Ok(parsed) => parsed,
+        Err(code) => return code,
+    };
     if parsed_integrators.is_empty() {
         parsed_integrators.push(scene.integrator);
     }

@@ -46,6 +46,22 @@ pub fn vector_to_parry(v: &Vector) -> parry3d_f64::math::Vector {
     parry3d_f64::math::Vector::new(v.x, v.y, v.z)
 }
 
+/// parry's constant-velocity rigid motion (about the pose's origin, the
+/// centre of mass) for a body at `pose` with these velocities.
+#[inline]
+pub fn motion_to_parry(
+    pose: &Pose,
+    velocity: &Vector,
+    angular_velocity: &Vector,
+) -> parry3d_f64::query::NonlinearRigidMotion {
+    parry3d_f64::query::NonlinearRigidMotion::new(
+        pose_to_parry(pose),
+        parry3d_f64::math::Vector::ZERO,
+        vector_to_parry(velocity),
+        vector_to_parry(angular_velocity),
+    )
+}
+
 /// The largest absolute coordinate of a set of points: the scale that
 /// absolute error bounds ("a few ulps of the coordinates") refer to.
 #[inline]

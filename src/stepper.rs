@@ -24,7 +24,7 @@ use crate::ccd::{mesh_time_of_impact, CcdStatus, MeshCcdResult, MovingMesh};
 use crate::kernels::Feature;
 use crate::math::{Point, Real};
 use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistanceScratch};
-use crate::motion::{integrate, Dynamics, Integrator, RigidState, StepMotion};
+use crate::motion::{integrate, Dynamics, Integrator, RigidState, StepMotion, MAX_TURN_PER_STEP};
 use crate::scene::{BodyMotion, OnContact, Scene};
 use crate::trace::TraceRecord;
 
@@ -207,6 +207,12 @@ pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64
 /// such growth is the integrator's, not the physics'.
 pub const DIVERGENCE_ENERGY_GROWTH: Real = 10.0;
 
+/// The swept boxes grow by this many ulps of a body's reach (largest
+/// coordinate plus travel plus radius) beyond its share of the contact
+/// distance, so that box rounding never drops a pair that the CCD's
+/// tolerance floor would count as touching.
+pub const BROAD_PHASE_ROUNDING_ULPS: Real = 1e3;
+
 /// What to do about a diverging body: the largest stable step of its springs.
 fn stability_advice(dynamics: &Dynamics, integrator: Integrator, dt: Real) -> String {
     let limit = |i: Integrator| dynamics.stable_step_limit(i).unwrap_or(0.0);
@@ -336,7 +342,7 @@ impl<'s> Stepper<'s> {
                     }
                     let motion = StepMotion::between(&state.pose(), &next.pose(), scene.dt);
                     let turn = motion.angular_velocity.norm() * scene.dt;
-                    if turn >= std::f64::consts::FRAC_PI_2 {
+                    if turn >= MAX_TURN_PER_STEP {
                         return Err(diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", body.name)));
                     }
                     let (initial, scale) = self.energies[i];
@@ -450,7 +456,8 @@ impl<'s> Stepper<'s> {
             // Each box grows by at least its share of any pair's contact
             // distance (and a rounding margin).
             let reach = motion.center_at(0.0).coords.amax() + motion.travel(scene.dt) + radius;
-            let margin = separation + 2.0 * tolerance * radius + 1e3 * Real::EPSILON * reach;
+            let margin =
+                separation + 2.0 * tolerance * radius + BROAD_PHASE_ROUNDING_ULPS * Real::EPSILON * reach;
             self.boxes.push(swept_box(motion, radius, scene.dt, margin));
         }
         let Some(broad) = self.broad.as_mut() else { return };

@@ -4,22 +4,10 @@
 //! and pairs reported as separated never touch on the scan.
 
 use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MovingMesh};
-use nearmiss::kernels::triangle_distance;
 use nearmiss::math::{Pose, Real, Vector};
-use nearmiss::mesh::{box_mesh, icosphere, DistanceKernel, MeshDistanceScratch, TriMesh};
+use nearmiss::mesh::{box_mesh, icosphere, mesh_distance_brute_force, DistanceKernel, MeshDistanceScratch};
 use nearmiss::motion::StepMotion;
 use nearmiss::samples::Rng;
-
-fn brute_force(a: &TriMesh, pose_a: &Pose, b: &TriMesh, pose_b: &Pose) -> Real {
-    let mut best = Real::INFINITY;
-    for i in 0..a.triangles().len() {
-        let ta = a.triangle(i).map(|p| pose_a * p);
-        for j in 0..b.triangles().len() {
-            best = best.min(triangle_distance(&ta, &b.triangle(j).map(|p| pose_b * p)).distance);
-        }
-    }
-    best
-}
 
 #[test]
 fn no_touching_before_the_reported_time_on_a_fine_scan() {
@@ -57,7 +45,7 @@ fn no_touching_before_the_reported_time_on_a_fine_scan() {
         }
         for k in 0..400 {
             let s = end * k as Real / 400.0;
-            let d = brute_force(&a, &motion_a.pose_at(s), &b, &motion_b.pose_at(s));
+            let d = mesh_distance_brute_force(&a, &motion_a.pose_at(s), &b, &motion_b.pose_at(s));
             assert!(
                 d > 0.0,
                 "case {case}: touching at t = {s} before the reported {:?}",

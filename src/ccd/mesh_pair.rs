@@ -164,7 +164,6 @@ pub fn mesh_time_of_impact(
         angular_velocity_a: a.motion.angular_velocity,
         angular_velocity_b: b.motion.angular_velocity,
     };
-    let mut stack = Vec::new();
     let mut directional_pays = true;
     let mut s = 0.0;
     let mut hint = hint;
@@ -206,7 +205,7 @@ pub fn mesh_time_of_impact(
                 target,
                 horizon,
                 DIRECTIONAL_GAIN * step,
-                &mut stack,
+                &mut scratch.step_stack,
             );
             result.directional_steps += 1;
             directional_pays = directional >= DIRECTIONAL_GAIN * step;

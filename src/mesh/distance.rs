@@ -73,6 +73,8 @@ pub struct MeshDistanceScratch {
     queue_b: batch::TrianglesSoa,
     queue_pairs: Vec<(u32, u32)>,
     distances: Vec<Real>,
+    /// The node-pair stack of the CCD's directional step search.
+    pub(crate) step_stack: Vec<(u32, u32, Real)>,
 }
 
 /// The distance between mesh `a` at `pose_a` and mesh `b` at `pose_b`.
@@ -184,6 +186,23 @@ pub fn mesh_distance_relative(
     }
 }
 
+/// The distance between two posed meshes by brute force: every triangle
+/// pair, both meshes moved to the world, the scalar exact kernel. The
+/// reference [`mesh_distance`] is tested against (quadratic: for tests and
+/// reports only).
+pub fn mesh_distance_brute_force(a: &TriMesh, pose_a: &Pose, b: &TriMesh, pose_b: &Pose) -> Real {
+    let moved_b: Vec<Triangle> =
+        (0..b.triangles().len()).map(|j| b.triangle(j).map(|p| pose_b * p)).collect();
+    let mut best = Real::INFINITY;
+    for i in 0..a.triangles().len() {
+        let ta = a.triangle(i).map(|p| pose_a * p);
+        for tb in &moved_b {
+            best = best.min(triangle_distance(&ta, tb).distance);
+        }
+    }
+    best
+}
+
 /// The best pair so far.
 struct Search {
     best: Real,
@@ -255,19 +274,6 @@ mod tests {
     use crate::math::Vector;
     use crate::samples::Rng;
 
-    /// Brute force over all triangle pairs, in world coordinates.
-    fn brute_force(a: &TriMesh, pose_a: &Pose, b: &TriMesh, pose_b: &Pose) -> Real {
-        let mut best = Real::INFINITY;
-        for i in 0..a.triangles().len() {
-            let ta = a.triangle(i).map(|p| pose_a * p);
-            for j in 0..b.triangles().len() {
-                let tb = b.triangle(j).map(|p| pose_b * p);
-                best = best.min(triangle_distance(&ta, &tb).distance);
-            }
-        }
-        best
-    }
-
     #[test]
     fn matches_brute_force_on_random_poses() {
         let a = icosphere(1.0, 2).unwrap();
@@ -281,7 +287,7 @@ mod tests {
             let pose_b = random_pose(&mut rng, 3.0);
             let fast =
                 mesh_distance(&a, &pose_a, &b, &pose_b, DistanceKernel::Exact, None, 0.0, &mut scratch);
-            let slow = brute_force(&a, &pose_a, &b, &pose_b);
+            let slow = mesh_distance_brute_force(&a, &pose_a, &b, &pose_b);
             // The two move b by different roundings: agree to rounding of the poses.
             assert!((fast.distance - slow).abs() <= 1e-13, "case {case}: {} vs {slow}", fast.distance);
             assert!(((fast.point_a - fast.point_b).norm() - fast.distance).abs() <= 1e-13);

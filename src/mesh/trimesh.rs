@@ -107,12 +107,6 @@ impl TriMesh {
         self.radius
     }
 
-    /// The smallest and largest corners of the mesh's bounding box.
-    pub fn bounds(&self) -> (Point, Point) {
-        let root = &self.bvh.nodes()[0];
-        (root.center - root.half_extents, root.center + root.half_extents)
-    }
-
     /// Volume, centre of mass and inertia at unit density, if the mesh
     /// encloses a positive volume (closed, outward-facing triangles).
     pub fn mass_properties(&self) -> Option<MassProperties> {

@@ -4,6 +4,12 @@ use nalgebra::{Translation3, UnitQuaternion};
 
 use crate::math::{Point, Pose, Real, Vector};
 
+/// The largest rotation of an integrated body within one step (radians):
+/// its motion within a step is interpolated with a constant angular
+/// velocity taken the short way, which must be unambiguous. Checked at
+/// load and at every step.
+pub const MAX_TURN_PER_STEP: Real = std::f64::consts::FRAC_PI_2;
+
 /// Constant linear velocity and constant angular velocity (world frame)
 /// about the centre of mass.
 ///
@@ -119,13 +125,6 @@ impl StepMotion {
     #[inline]
     pub fn travel(&self, duration: Real) -> Real {
         self.velocity.norm() * (self.elapsed + duration)
-    }
-
-    /// An upper bound on the speed of any point within `radius` of the
-    /// centre of mass: `|v| + |ω| r`.
-    #[inline]
-    pub fn max_point_speed(&self, radius: Real) -> Real {
-        self.velocity.norm() + self.angular_velocity.norm() * radius
     }
 }
 

@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::math::{pose_to_parry, vector_to_parry, Real};
+use crate::math::{motion_to_parry, pose_to_parry, vector_to_parry, Real};
 use crate::scene::{BodyMotion, Scene};
 use crate::stepper::RunResult;
 
@@ -91,14 +91,8 @@ pub fn compare_with_parry(scene: &Scene, result: &RunResult) -> Vec<PeerComparis
             let rotating = spin(body_a).norm() > 0.0 || spin(body_b).norm() > 0.0;
             let hit = if rotating {
                 row.parry_query = "cast_shapes_nonlinear".into();
-                let motion = |body: &crate::scene::Body| {
-                    parry3d_f64::query::NonlinearRigidMotion::new(
-                        pose_to_parry(&body.pose),
-                        parry3d_f64::math::Vector::ZERO,
-                        vector_to_parry(&velocity(body)),
-                        vector_to_parry(&spin(body)),
-                    )
-                };
+                let motion =
+                    |body: &crate::scene::Body| motion_to_parry(&body.pose, &velocity(body), &spin(body));
                 parry3d_f64::query::cast_shapes_nonlinear(
                     &motion(body_a),
                     &shape_a,

@@ -9,6 +9,10 @@ use crate::stepper::{run, Termination};
 
 use super::sweep::integrator_name;
 
+/// Drifts below this are drawn at this value on the charts' log axes.
+#[cfg(feature = "plot")]
+pub const DRIFT_CHART_FLOOR: Real = 1e-17;
+
 /// One run of the spring sweep.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpringRow {
@@ -153,7 +157,7 @@ pub fn spring_chart(rows: &[SpringRow]) -> crate::plot::Chart {
                 series.len() - 1
             }
         };
-        series[index].points.push((r.omega_dt, at_least(r.max_energy_drift, 1e-17)));
+        series[index].points.push((r.omega_dt, at_least(r.max_energy_drift, DRIFT_CHART_FLOOR)));
         series[index].point_labels.push(if r.diverged { "diverged".into() } else { String::new() });
     }
     Chart {
@@ -184,7 +188,7 @@ pub fn spin_chart(drifts: &[SpinDrift]) -> crate::plot::Chart {
             .iter()
             .map(|d| Series {
                 label: d.label.clone(),
-                points: d.samples.iter().map(|s| (s.0, at_least(s.1, 1e-17))).collect(),
+                points: d.samples.iter().map(|s| (s.0, at_least(s.1, DRIFT_CHART_FLOOR))).collect(),
                 line: true,
                 point_labels: Vec::new(),
             })

@@ -19,6 +19,11 @@ use crate::motion::Integrator;
 use crate::scene::{Expectation, Scene, TraceSpec};
 use crate::stepper::{run, RunResult, Termination};
 
+/// The timed runs of a setting stop once they have taken this long...
+pub const SWEEP_TIME_PER_SETTING: Duration = Duration::from_millis(50);
+/// ...or after this many runs; the fastest is reported.
+pub const SWEEP_MAX_REPEATS: usize = 20;
+
 /// One setting of a sweep.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct SweepSetting {
@@ -110,10 +115,10 @@ fn run_setting(scene: &Scene, setting: &SweepSetting) -> (RunResult, Real) {
     scene.trace = None;
     let start = Instant::now();
     let mut fastest = Real::INFINITY;
-    for _ in 0..20 {
+    for _ in 0..SWEEP_MAX_REPEATS {
         let result = run(&scene);
         fastest = fastest.min(result.wall_time_s);
-        if start.elapsed() > Duration::from_millis(50) {
+        if start.elapsed() > SWEEP_TIME_PER_SETTING {
             break;
         }
     }

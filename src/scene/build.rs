@@ -15,12 +15,7 @@ use crate::ccd::CcdOptions;
 use crate::kernels::PointEdgeFormula;
 use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::{self, DistanceKernel, TriMesh, MAX_ICOSPHERE_SUBDIVISIONS};
-use crate::motion::{Dynamics, Spring};
-
-/// The largest rotation of an integrated body within one step: its motion
-/// within a step is interpolated with a constant angular velocity, which
-/// must be unambiguous.
-const MAX_TURN_PER_STEP: Real = std::f64::consts::FRAC_PI_2;
+use crate::motion::{Dynamics, Spring, MAX_TURN_PER_STEP};
 
 /// Parses `text` (named `source` in messages; OBJ paths relative to `base`).
 pub(super) fn build(text: &str, source: &str, base: &Path) -> Result<Scene> {
