@@ -79,7 +79,7 @@ pub enum Termination {
 /// Work and time per stage.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Counters {
-    /// Mesh distance queries (CCD and trace).
+    /// Mesh queries: CCD advancement searches and trace distances.
     pub distance_queries: usize,
     /// Triangle pairs evaluated.
     pub triangle_pairs: usize,
@@ -411,9 +411,9 @@ impl<'s> Stepper<'s> {
         let mut found = false;
         for (&k, result) in work.iter().zip(results) {
             let pair = &mut self.pairs[k];
-            self.counters.distance_queries += result.distance_queries;
+            self.counters.distance_queries += result.iterations;
             self.counters.triangle_pairs += result.triangle_pairs;
-            self.counters.pairs_culled += usize::from(result.distance_queries == 0);
+            self.counters.pairs_culled += usize::from(result.iterations == 0);
             pair.hint = result.hint;
             pair.lower_bound = Some(result.end_lower_bound);
             let (Some(time), Some(closest)) = (result.time_of_impact, result.closest) else { continue };

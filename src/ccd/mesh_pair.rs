@@ -1,22 +1,20 @@
 //! Conservative advancement for two rigid meshes over one step.
 //!
 //! Each body moves with constant linear velocity `v` and angular velocity
-//! `ω` about its centre of mass ([`StepMotion`]), so no point of mesh `a`
-//! moves faster than `|v_a| + |ω_a| r_a` (`r_a`: the mesh's radius about its
-//! centre of mass), and the distance between the meshes cannot fall faster
-//! than
+//! `ω` about its centre of mass ([`StepMotion`]). From a time `s`, a search
+//! over both BVHs (`mesh_step.rs`) finds a step before which no triangle
+//! pair can come within `target`: per pair, a second-order bound of the
+//! motion along the pair's own separating direction, backed by the head-on
+//! bound of every point's speed,
 //!
 //! ```text
-//! L = |v_a − v_b| + |ω_a| r_a + |ω_b| r_b .
+//! L = |v_a − v_b| + |ω_a| r_a + |ω_b| r_b ,   step ≥ (d − target) / L .
 //! ```
 //!
-//! From a time `s` where the distance is `d`, the meshes therefore stay more
-//! than `target` apart until `s + (d − target) / L`: the advancement step.
-//! The distance comes from [`mesh_distance_relative`] (the exact kernel unless the
-//! scene asks for DyOP). The loop stops when the distance is at most the
-//! contact distance `minimum_separation + tolerance` (contact, never late:
-//! every step was proven contact-free), or when the next step would leave
-//! the interval (no contact), or after `max_iterations` steps
+//! The loop stops when the search meets a triangle pair within the contact
+//! distance `minimum_separation + tolerance` (contact, never late: every
+//! step was proven contact-free), or when the step reaches the interval's
+//! end (no contact), or after `max_iterations` steps
 //! ([`CcdStatus::OutOfIterations`]: contact reported where it stopped).
 //!
 //! The target is `minimum_separation + tolerance / 2`, as in the
@@ -28,27 +26,19 @@
 //! pair-relative coordinates: [`StepMotion::relative_pose`]) plus 8 ulps of
 //! an integrated body's coordinates.
 //!
-//! When the global bound stops short of the interval's end, each triangle
-//! pair's own directional bound may allow a longer step (`mesh_step.rs`);
-//! sliding and grazing motion needs it. It is dropped for the rest of the
-//! query once it fails to double the step.
-//!
 //! Two cheap tests come first: the bounding spheres about the centres of
 //! mass (whose distance is exact over the step, the centres moving
 //! linearly), and a lower bound on the distance carried over from the
 //! previous step (`lower_bound`), which lets a far pair skip the step
-//! without any mesh query.
+//! without any search.
 
 use super::advance::ROUNDING_FLOOR_ULPS;
-use super::mesh_step::{directional_step, PairMotion};
+use super::mesh_step::{PairFrame, StepLimits, StepOutcome, StepWork};
 use super::options::{CcdOptions, CcdStatus};
+use crate::kernels::triangle_distance;
 use crate::math::{Pose, Real};
 use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistance, MeshDistanceScratch, TriMesh};
 use crate::motion::StepMotion;
-
-/// The directional step is tried again only while it lengthens the global
-/// step at least this many times.
-const DIRECTIONAL_GAIN: Real = 2.0;
 
 /// The ulps of an integrated body's coordinates by which its path may jump
 /// between one step's end and the next step's start (the step's velocity
@@ -74,7 +64,9 @@ pub struct MeshCcdResult {
     pub time_of_impact: Option<Real>,
     /// How the iteration ended.
     pub status: CcdStatus,
-    /// At contact: the distance query at the reported time.
+    /// At contact: a triangle pair within the contact distance at the
+    /// reported time (the one that stopped the search; not necessarily the
+    /// closest), or, out of iterations, the closest pair there.
     pub closest: Option<MeshDistance>,
     /// The contact distance used (`minimum_separation + tolerance`).
     pub contact_distance: Real,
@@ -83,12 +75,12 @@ pub struct MeshCcdResult {
     pub end_lower_bound: Real,
     /// The last closest triangle pair, a good first guess for the next query.
     pub hint: Option<(usize, usize)>,
-    /// Mesh distance queries made.
-    pub distance_queries: usize,
-    /// Triangle pairs evaluated over all queries.
+    /// Advancement steps searched (0 when a filter settled the step).
+    pub iterations: usize,
+    /// Triangle pairs evaluated over all searches.
     pub triangle_pairs: usize,
-    /// Directional step searches made (`mesh_step.rs`).
-    pub directional_steps: usize,
+    /// BVH node pairs bounded over all searches.
+    pub node_pairs: usize,
 }
 
 /// The first time in `[0, duration]` at which two moving meshes come within
@@ -138,9 +130,9 @@ pub fn mesh_time_of_impact(
         contact_distance,
         end_lower_bound: 0.0,
         hint,
-        distance_queries: 0,
+        iterations: 0,
         triangle_pairs: 0,
-        directional_steps: 0,
+        node_pairs: 0,
     };
 
     // The bounding spheres: their centres move linearly, so the smallest
@@ -159,77 +151,84 @@ pub fn mesh_time_of_impact(
         return result;
     }
 
-    let motion = PairMotion {
-        relative_velocity: b.motion.velocity - a.motion.velocity,
-        angular_velocity_a: a.motion.angular_velocity,
-        angular_velocity_b: b.motion.angular_velocity,
-    };
-    let mut directional_pays = true;
+    let relative_velocity = b.motion.velocity - a.motion.velocity;
+    let (omega_a, omega_b) = (a.motion.angular_velocity, b.motion.angular_velocity);
+    // A step shorter than this proves nothing a triangle pair outside the
+    // contact distance could not (see `mesh_step.rs`).
+    let min_step = if speed > 0.0 { (contact_distance - target) / speed } else { Real::INFINITY };
+    let mut work = StepWork::default();
+    scratch.front.reset();
     let mut s = 0.0;
     let mut hint = hint;
+    let mut status = CcdStatus::OutOfIterations;
     for iteration in 0..options.max_iterations.max(1) {
         let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
-        let mut closest =
-            mesh_distance_relative(a.mesh, b.mesh, &pos_ab, kernel, hint, contact_distance, scratch);
-        result.distance_queries += 1;
-        result.triangle_pairs += closest.triangle_pairs;
-        hint = Some((closest.triangle_a, closest.triangle_b));
-        result.hint = hint;
-        let d = closest.distance;
-        if d <= contact_distance {
-            to_world(&mut closest, &a.motion.pose_at(s));
-            result.time_of_impact = Some(s);
-            result.closest = Some(closest);
-            result.status = if iteration == 0 && lower_bound.is_none() {
-                CcdStatus::InitiallyTouching
-            } else {
-                CcdStatus::Converged
-            };
-            return result;
+        let frame = PairFrame::new(pos_ab, &a.motion.rotation_at(s), &relative_velocity, &omega_a, &omega_b);
+        let limits = StepLimits { target, contact_distance, horizon: duration - s, min_step };
+        result.iterations += 1;
+        let outcome = scratch.front.advance(a.mesh, b.mesh, &frame, s, &limits, kernel, hint, &mut work);
+        match outcome {
+            StepOutcome::Contact { pair } => {
+                hint = Some(pair);
+                status = if iteration == 0 && lower_bound.is_none() {
+                    CcdStatus::InitiallyTouching
+                } else {
+                    CcdStatus::Converged
+                };
+                break;
+            }
+            StepOutcome::Advance { step, limiting } => {
+                hint = limiting.or(hint);
+                if s + step >= duration {
+                    result.status = CcdStatus::Separated;
+                    result.end_lower_bound = target.max(scratch.front.distance_bound_at(duration, speed));
+                    result.hint = hint;
+                    result.triangle_pairs = work.triangle_pairs;
+                    result.node_pairs = work.node_pairs;
+                    return result;
+                }
+                s += step;
+            }
         }
-        let mut step = if speed > 0.0 { (d - target) / speed } else { Real::INFINITY };
-        if s + step < duration && directional_pays {
-            // The global bound stops short of the step's end: the
-            // per-triangle-pair directional bound may reach further. It
-            // costs a scalar kernel call per nearby triangle pair, so once
-            // it fails to at least double the step (a tumble, where the
-            // spin terms dominate both bounds) it is not tried again in
-            // this query.
-            let horizon = duration - s;
-            let directional = directional_step(
-                a.mesh,
-                b.mesh,
-                &pos_ab,
-                &a.motion.rotation_at(s),
-                &motion,
-                target,
-                horizon,
-                DIRECTIONAL_GAIN * step,
-                &mut scratch.step_stack,
-            );
-            result.directional_steps += 1;
-            directional_pays = directional >= DIRECTIONAL_GAIN * step;
-            step = step.max(directional);
-        }
-        let next = s + step;
-        if next >= duration {
-            result.status = CcdStatus::Separated;
-            result.end_lower_bound = d - speed * (duration - s);
-            return result;
-        }
-        s = next;
     }
-    // Out of iterations: every step so far was safe, so contact is reported
-    // (conservatively) at the time reached.
     let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
-    let mut closest = mesh_distance_relative(a.mesh, b.mesh, &pos_ab, kernel, hint, 0.0, scratch);
+    let mut closest = match (status, hint) {
+        // The triangle pair found within the contact distance.
+        (CcdStatus::Converged | CcdStatus::InitiallyTouching, Some((i, j))) => {
+            pair_distance(a.mesh, i, b.mesh, j, &pos_ab)
+        }
+        // Out of iterations (every step so far was safe, so contact is
+        // reported, conservatively, at the time reached): the closest pair.
+        _ => {
+            let closest = mesh_distance_relative(a.mesh, b.mesh, &pos_ab, kernel, hint, 0.0, scratch);
+            work.triangle_pairs += closest.triangle_pairs;
+            closest
+        }
+    };
     to_world(&mut closest, &a.motion.pose_at(s));
-    result.distance_queries += 1;
-    result.triangle_pairs += closest.triangle_pairs;
+    result.hint = Some((closest.triangle_a, closest.triangle_b));
+    result.triangle_pairs = work.triangle_pairs;
+    result.node_pairs = work.node_pairs;
     result.time_of_impact = Some(s);
     result.closest = Some(closest);
-    result.status = CcdStatus::OutOfIterations;
+    result.status = status;
     result
+}
+
+/// Triangle `i` of `a` and `j` of `b` (posed by `pos_ab` in `a`'s frame) as
+/// a [`MeshDistance`] in `a`'s frame, by the exact kernel.
+fn pair_distance(a: &TriMesh, i: usize, b: &TriMesh, j: usize, pos_ab: &Pose) -> MeshDistance {
+    let closest = triangle_distance(&a.triangle(i), &b.triangle(j).map(|p| pos_ab * p));
+    MeshDistance {
+        distance: closest.distance,
+        point_a: closest.point_a,
+        point_b: closest.point_b,
+        triangle_a: i,
+        triangle_b: j,
+        feature_a: closest.feature_a,
+        feature_b: closest.feature_b,
+        triangle_pairs: 1,
+    }
 }
 
 /// Moves a distance query's points from `a`'s frame to the world.

@@ -15,9 +15,11 @@
 //!
 //! ## Rigid mesh pairs
 //! [`mesh_time_of_impact`] takes two triangle meshes, each moving with
-//! constant linear and angular velocity over a step, and advances by the
-//! distance over a bound on the closing speed (`mesh_pair.rs`), with the
-//! mesh distance from a branch and bound over both BVHs.
+//! constant linear and angular velocity over a step, and advances by a
+//! second-order bound of each triangle pair's motion along its own
+//! separating direction (`mesh_pair.rs`), the smallest over all pairs found
+//! on a front through both BVHs that is kept between the steps
+//! (`mesh_step.rs`).
 //!
 //! ## Caveats
 //! - A reported time may be early by the time the primitives need to close
@@ -42,5 +44,6 @@ pub use advance::ROUNDING_FLOOR_ULPS;
 pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
 pub use mesh_pair::INTEGRATED_JUMP_ULPS;
 pub use mesh_pair::{mesh_time_of_impact, MeshCcdResult, MovingMesh};
+pub(crate) use mesh_step::Front;
 pub use options::{CcdOptions, CcdResult, CcdStatus};
 pub use vertex_face::{vertex_face_time_of_impact, vertex_face_time_of_impact_detailed};

@@ -73,8 +73,8 @@ pub struct MeshDistanceScratch {
     queue_b: batch::TrianglesSoa,
     queue_pairs: Vec<(u32, u32)>,
     distances: Vec<Real>,
-    /// The node-pair stack of the CCD's directional step search.
-    pub(crate) step_stack: Vec<(u32, u32, Real)>,
+    /// The front of the CCD's advancement search (kept between its steps).
+    pub(crate) front: crate::ccd::Front,
 }
 
 /// The distance between mesh `a` at `pose_a` and mesh `b` at `pose_b`.
