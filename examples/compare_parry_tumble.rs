@@ -4,15 +4,19 @@
 //! disagree by more than the tolerance, a fine scan of the exact distance
 //! (brute force over all triangle pairs, no BVH) before the later of the two
 //! times tells which one is right.
+//!
+//! `--translating`: the translating cases (`samples::translating_cases`)
+//! against parry's `cast_shapes` instead.
 use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MovingMesh};
-use nearmiss::math::{motion_to_parry, Real};
+use nearmiss::math::{motion_to_parry, pose_to_parry, vector_to_parry, Real};
 use nearmiss::mesh::{mesh_distance, mesh_distance_brute_force, DistanceKernel, MeshDistanceScratch};
 use nearmiss::motion::StepMotion;
-use nearmiss::samples::tumbling_cases;
+use nearmiss::samples::{translating_cases, tumbling_cases};
 use std::time::Instant;
 
 fn main() {
-    let (a, b, cases) = tumbling_cases(10, 5);
+    let translating = std::env::args().any(|arg| arg == "--translating");
+    let (a, b, cases) = if translating { translating_cases(10, 5) } else { tumbling_cases(10, 5) };
     let (pa_mesh, pb_mesh) = (a.to_parry().unwrap(), b.to_parry().unwrap());
     let options = CcdOptions::default();
     let mut scratch = MeshDistanceScratch::default();
@@ -32,18 +36,28 @@ fn main() {
         let ours_us = start.elapsed().as_secs_f64() * 1e6;
         let parry_motion = |m: &StepMotion| motion_to_parry(&m.pose_t0(), &m.velocity, &m.angular_velocity);
         let start = Instant::now();
-        let theirs = parry3d_f64::query::cast_shapes_nonlinear(
-            &parry_motion(ma),
-            &pa_mesh,
-            &parry_motion(mb),
-            &pb_mesh,
-            0.0,
-            1.0,
-            true,
-        )
-        .ok()
-        .flatten()
-        .map(|hit| hit.time_of_impact);
+        let hit = if translating {
+            parry3d_f64::query::cast_shapes(
+                &pose_to_parry(&ma.pose_t0()),
+                vector_to_parry(&ma.velocity),
+                &pa_mesh,
+                &pose_to_parry(&mb.pose_t0()),
+                vector_to_parry(&mb.velocity),
+                &pb_mesh,
+                parry3d_f64::query::ShapeCastOptions::with_max_time_of_impact(1.0),
+            )
+        } else {
+            parry3d_f64::query::cast_shapes_nonlinear(
+                &parry_motion(ma),
+                &pa_mesh,
+                &parry_motion(mb),
+                &pb_mesh,
+                0.0,
+                1.0,
+                true,
+            )
+        };
+        let theirs = hit.ok().flatten().map(|hit| hit.time_of_impact);
         let parry_us = start.elapsed().as_secs_f64() * 1e6;
         let t_ours = ours.time_of_impact;
         let tolerance = 1e-6 * 2.0 / 1.0; // contact distance (1e-6 x (r_a + r_b)) over a closing speed of at least ~1

@@ -1,20 +1,47 @@
-//! Time per step of a scene of N tumbling bodies (icospheres of 20–1280
-//! triangles and boxes, random spins up to 8 rad/s, random velocities up to
-//! 2), spread in a cube whose side grows with N^(1/3) so the density stays
-//! the same, contacts recorded and the bodies kept moving (they pass through
-//! each other: nearmiss has no collision response). dt = 1/240, 24 steps.
-//! Usage: `cargo run --release --example many_bodies -- 10 100 1000`.
+//! Time per step of N tumbling bodies (icospheres of 20 to 1,280 triangles
+//! and boxes, random spins up to 8 rad/s, random velocities up to 2) in a
+//! closed box of six fixed walls, bouncing elastically off the walls and
+//! each other (`on_contact: Bounce(restitution: 1.0)`), dt = 1/240. The
+//! bodies start on a jittered grid (one per cell of side 1.2, so none
+//! overlap) and the box grows with N^(1/3), so the density stays the same.
+//! Prints the time per step and per stage, and checks that no pair of
+//! bodies ends a run touching.
+//! Usage: `cargo run --release --example many_bodies -- 10 100 1000 [--steps 240]`.
 use nearmiss::samples::Rng;
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{run_with, RunOptions};
 
-fn scene(bodies: usize, seed: u64) -> Scene {
+fn scene(bodies: usize, steps: usize, seed: u64) -> Scene {
     let mut rng = Rng::new(seed);
-    let side = 4.0 * (bodies as f64).cbrt();
+    let per_side = (bodies as f64).cbrt().ceil() as usize;
+    let cell = 1.2;
+    let half = cell * per_side as f64 / 2.0;
     let mut text = format!(
-        "Scene(name: \"many_{bodies}\", dt: 0.004166666666666667, steps: 24, on_contact: Record, bodies: ["
+        "Scene(name: \"box_{bodies}\", dt: 0.004166666666666667, steps: {steps}, on_contact: Bounce(restitution: 1.0), bodies: ["
     );
+    // The walls: slabs 0.5 thick just outside the cells.
+    let (t, l) = (0.25, half + 0.5);
+    for (k, (position, extents)) in [
+        ((half + t, 0.0, 0.0), (t, l, l)),
+        ((-half - t, 0.0, 0.0), (t, l, l)),
+        ((0.0, half + t, 0.0), (l, t, l)),
+        ((0.0, -half - t, 0.0), (l, t, l)),
+        ((0.0, 0.0, half + t), (l, l, t)),
+        ((0.0, 0.0, -half - t), (l, l, t)),
+    ]
+    .iter()
+    .enumerate()
+    {
+        text.push_str(&format!(
+            "(name: \"wall{k}\", mesh: Box(half_extents: ({:?}, {:?}, {:?})), position: ({:?}, {:?}, {:?}), fixed: true),",
+            extents.0, extents.1, extents.2, position.0, position.1, position.2
+        ));
+    }
     for k in 0..bodies {
+        let (i, j, m) = (k % per_side, (k / per_side) % per_side, k / (per_side * per_side));
+        let centre = |n: usize| -half + cell * (n as f64 + 0.5);
+        let jitter = rng.in_unit_ball() * 0.2;
+        let position = (centre(i) + jitter.x, centre(j) + jitter.y, centre(m) + jitter.z);
         let v = |rng: &mut Rng, s: f64| {
             let x = rng.in_unit_ball() * s;
             format!("({:?}, {:?}, {:?})", x.x, x.y, x.z)
@@ -23,30 +50,50 @@ fn scene(bodies: usize, seed: u64) -> Scene {
             0 => "Box(half_extents: (0.3, 0.2, 0.25))".to_string(),
             n => format!("Icosphere(radius: 0.3, subdivisions: {})", n - 1),
         };
-        let (position, velocity, spin) = (v(&mut rng, side / 2.0), v(&mut rng, 2.0), v(&mut rng, 8.0));
-        text.push_str(&format!("(name: \"b{k}\", mesh: {mesh}, position: {position}, velocity: {velocity}, angular_velocity: {spin}),"));
+        let (velocity, spin) = (v(&mut rng, 2.0), v(&mut rng, 8.0));
+        text.push_str(&format!(
+            "(name: \"b{k}\", mesh: {mesh}, density: 1.0, position: ({:?}, {:?}, {:?}), velocity: {velocity}, angular_velocity: {spin}),",
+            position.0, position.1, position.2
+        ));
     }
     text.push_str("])");
     Scene::from_ron_str(&text).expect("a valid scene")
 }
 
 fn main() {
-    println!("| bodies | ms per step | steps per s | broad phase ms/step | CCD ms/step | candidate pairs/step | contacts |");
-    println!("|---|---|---|---|---|---|---|");
-    for arg in std::env::args().skip(1) {
-        let n: usize = arg.parse().expect("a body count");
-        let scene = scene(n, 1);
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let steps = args
+        .iter()
+        .position(|a| a == "--steps")
+        .and_then(|k| args.get(k + 1))
+        .map_or(240, |s| s.parse().expect("a step count"));
+    let counts: Vec<usize> = args
+        .iter()
+        .enumerate()
+        .filter(|(k, a)| *a != "--steps" && (*k == 0 || args[k - 1] != "--steps"))
+        .map(|(_, a)| a.parse().expect("a body count"))
+        .collect();
+    println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | trace ms | candidate pairs/step | contacts |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for n in counts {
+        let scene = scene(n, steps, 1);
         let result = run_with(&scene, RunOptions::default(), &mut |_| {});
         let steps = result.steps as f64;
         let c = &result.counters;
+        let per_step = |seconds: f64| seconds * 1e3 / steps;
         println!(
-            "| {n} | {:.3} | {:.0} | {:.3} | {:.3} | {:.0} | {} |",
-            result.wall_time_s * 1e3 / steps,
+            "| {n} | {steps} | {:.3} | {:.0} | {:.3} | {:.3} | {:.3} | {:.3} | {:.0} | {} |",
+            per_step(result.wall_time_s),
             steps / result.wall_time_s,
-            c.broad_phase_s * 1e3 / steps,
-            c.ccd_s * 1e3 / steps,
+            per_step(c.integrate_s),
+            per_step(c.broad_phase_s),
+            per_step(c.ccd_s),
+            per_step(c.trace_s),
             c.candidate_pairs as f64 / steps,
             result.contacts.len()
         );
+        if std::env::var_os("NM_DEBUG").is_some() {
+            eprintln!("{:?}", c);
+        }
     }
 }

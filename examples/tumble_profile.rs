@@ -1,13 +1,15 @@
 //! Per case of the rotating benchmark (`samples::tumbling_cases(10, 5)`):
 //! nearmiss's time of impact, iterations, triangle pairs and wall time
-//! (fastest of 20 runs). A profiling aid for `benches/mesh_ccd.rs`.
+//! (fastest of 20 runs). A profiling aid for `benches/mesh_ccd.rs`;
+//! `--translating` for `samples::translating_cases`.
 use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MovingMesh};
 use nearmiss::mesh::{DistanceKernel, MeshDistanceScratch};
-use nearmiss::samples::tumbling_cases;
+use nearmiss::samples::{translating_cases, tumbling_cases};
 use std::time::Instant;
 
 fn main() {
-    let (a, b, cases) = tumbling_cases(10, 5);
+    let translating = std::env::args().any(|arg| arg == "--translating");
+    let (a, b, cases) = if translating { translating_cases(10, 5) } else { tumbling_cases(10, 5) };
     let options = CcdOptions::default();
     let mut scratch = MeshDistanceScratch::default();
     let mut total = 0.0;

@@ -37,6 +37,7 @@ pub mod plot;
 pub mod query_file;
 pub mod regression;
 pub mod report;
+pub mod response;
 pub mod samples;
 pub mod scene;
 pub mod stepper;

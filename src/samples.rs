@@ -314,6 +314,24 @@ pub fn tumbling_cases(
     count: usize,
     seed: u64,
 ) -> (crate::mesh::TriMesh, crate::mesh::TriMesh, Vec<(StepMotion, StepMotion)>) {
+    icosphere_cases(count, seed, 10.0)
+}
+
+/// [`tumbling_cases`] without the spins: the same meshes, random
+/// orientations and offsets, translating only.
+pub fn translating_cases(
+    count: usize,
+    seed: u64,
+) -> (crate::mesh::TriMesh, crate::mesh::TriMesh, Vec<(StepMotion, StepMotion)>) {
+    icosphere_cases(count, seed, 0.0)
+}
+
+/// The cases of [`tumbling_cases`] with spins up to `spin`.
+fn icosphere_cases(
+    count: usize,
+    seed: u64,
+    spin: Real,
+) -> (crate::mesh::TriMesh, crate::mesh::TriMesh, Vec<(StepMotion, StepMotion)>) {
     use crate::math::Pose;
     let a = crate::mesh::icosphere(1.0, 2).expect("a valid icosphere");
     let b = crate::mesh::icosphere(1.0, 3).expect("a valid icosphere");
@@ -323,12 +341,12 @@ pub fn tumbling_cases(
             let motion_a = StepMotion::new(
                 Pose::new(Vector::new(-2.5, 0.0, 0.0), rng.in_unit_ball() * 3.0),
                 Vector::new(2.0, 0.0, 0.0) + rng.in_unit_ball() * 0.3,
-                rng.in_unit_ball() * 10.0,
+                rng.in_unit_ball() * spin,
             );
             let motion_b = StepMotion::new(
                 Pose::new(Vector::new(2.5, 0.0, 0.0) + rng.in_unit_ball() * 0.8, rng.in_unit_ball() * 3.0),
                 Vector::new(-2.0, 0.0, 0.0),
-                rng.in_unit_ball() * 10.0,
+                rng.in_unit_ball() * spin,
             );
             (motion_a, motion_b)
         })

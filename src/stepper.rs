@@ -15,16 +15,19 @@
 //! runs on rayon's threads, results applied in pair order, so a run gives
 //! the same result whatever the threads.
 
+use std::cell::RefCell;
+use std::collections::HashMap;
 use std::time::Instant;
 
 use rayon::prelude::*;
 
 use crate::broad_phase::{swept_box, BroadPhase, SweptBox};
-use crate::ccd::{mesh_time_of_impact, CcdStatus, MeshCcdResult, MovingMesh};
+use crate::ccd::{mesh_time_of_impact, CcdOptions, CcdStatus, MeshCcdResult, MovingMesh};
 use crate::kernels::Feature;
 use crate::math::{Point, Real};
 use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistanceScratch};
 use crate::motion::{integrate, Dynamics, Integrator, RigidState, StepMotion, MAX_TURN_PER_STEP};
+use crate::response::{apply_impulse, ImpactBody};
 use crate::scene::{BodyMotion, OnContact, Scene};
 use crate::trace::TraceRecord;
 
@@ -125,6 +128,8 @@ pub struct RunResult {
     pub termination: Termination,
     /// Work and time per stage.
     pub counters: Counters,
+    /// Each body at `end_time`.
+    pub final_states: Vec<RigidState>,
 }
 
 /// Runs a scene.
@@ -184,6 +189,9 @@ pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64
         let step_start = (steps - 1) as Real * scene.dt;
         stepper.record_trace(steps, end_time, end_time - step_start);
     }
+    let last_step_start = steps.saturating_sub(1) as Real * scene.dt;
+    let final_states =
+        (0..scene.bodies.len()).map(|i| stepper.state_at(i, end_time - last_step_start)).collect();
     let mut contacts = stepper.contacts;
     contacts.sort_by(|a, b| a.time.total_cmp(&b.time).then((a.body_a, a.body_b).cmp(&(b.body_a, b.body_b))));
     RunResult {
@@ -197,7 +205,13 @@ pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64
         trace: stepper.trace,
         termination,
         counters: stepper.counters,
+        final_states,
     }
+}
+
+thread_local! {
+    /// Each rayon thread's CCD scratch, kept between steps and runs.
+    static THREAD_SCRATCH: RefCell<MeshDistanceScratch> = RefCell::new(MeshDistanceScratch::default());
 }
 
 /// A run is declared diverged when an integrated body's mechanical energy
@@ -240,8 +254,53 @@ struct PairState {
     lower_bound: Option<Real>,
     /// The last closest triangle pair.
     hint: Option<(usize, usize)>,
-    /// In contact (`on_contact: Record`): not re-reported until it separates.
-    touching: Option<Real>,
+    /// In contact (`on_contact: Record` or `Bounce`): not re-reported until
+    /// it separates (`Bounce`: until it comes within half this distance).
+    touching: Option<Touching>,
+}
+
+/// A pair in contact.
+#[derive(Copy, Clone, Debug)]
+struct Touching {
+    /// The contact distance of its contact (re-armed beyond twice this).
+    contact_distance: Real,
+    /// The distance at its contact.
+    distance: Real,
+}
+
+impl PairState {
+    fn new(a: usize, b: usize) -> PairState {
+        PairState { a, b, lower_bound: None, hint: None, touching: None }
+    }
+}
+
+/// A candidate contact of `on_contact: Bounce` within a step.
+#[derive(Copy, Clone, Debug)]
+struct Candidate {
+    /// Time into the step.
+    time: Real,
+    /// The pair (index into `pairs`).
+    pair: usize,
+    /// The pair's recheck count when found (stale once it changed).
+    version: u32,
+}
+
+impl PartialEq for Candidate {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == std::cmp::Ordering::Equal
+    }
+}
+impl Eq for Candidate {}
+impl PartialOrd for Candidate {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Candidate {
+    /// Reversed (the heap's top is the earliest; ties: the lower pair).
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        other.time.total_cmp(&self.time).then(other.pair.cmp(&self.pair))
+    }
 }
 
 /// The run's state and scratch buffers.
@@ -262,7 +321,11 @@ struct Stepper<'s> {
     boxes: Vec<SweptBox>,
     /// Run the pairs' CCD on several threads.
     parallel: bool,
+    /// `on_contact: Bounce`'s coefficient of restitution.
+    restitution: Option<Real>,
     scratch: MeshDistanceScratch,
+    /// The CCD results of a step (a buffer kept between steps).
+    results: Vec<MeshCcdResult>,
     contacts: Vec<Contact>,
     trace: Vec<TraceRecord>,
     counters: Counters,
@@ -270,17 +333,23 @@ struct Stepper<'s> {
 
 impl<'s> Stepper<'s> {
     fn new(scene: &'s Scene, options: RunOptions) -> Stepper<'s> {
+        let bouncing = matches!(scene.on_contact, OnContact::Bounce { .. });
         let states = scene
             .bodies
             .iter()
-            .map(|body| match body.motion {
-                BodyMotion::Integrated(_) => Some(RigidState {
+            .map(|body| {
+                // A bounce can stop a kinematic body: it needs a state too.
+                let needs_state = match body.motion {
+                    BodyMotion::Integrated(_) => true,
+                    BodyMotion::Free => bouncing,
+                    BodyMotion::Fixed => false,
+                };
+                needs_state.then(|| RigidState {
                     position: Point::from(body.pose.translation.vector),
                     orientation: body.pose.rotation,
                     velocity: body.velocity,
                     angular_velocity: body.angular_velocity,
-                }),
-                _ => None,
+                })
             })
             .collect();
         let energies = scene
@@ -301,11 +370,7 @@ impl<'s> Stepper<'s> {
         let pairs = if broad.is_some() {
             Vec::new()
         } else {
-            scene
-                .movable_pairs()
-                .into_iter()
-                .map(|(a, b)| PairState { a, b, lower_bound: None, hint: None, touching: None })
-                .collect()
+            scene.movable_pairs().into_iter().map(|(a, b)| PairState::new(a, b)).collect()
         };
         Stepper {
             scene,
@@ -316,7 +381,12 @@ impl<'s> Stepper<'s> {
             broad,
             boxes: Vec::new(),
             parallel: options.parallel,
+            restitution: match scene.on_contact {
+                OnContact::Bounce { restitution } => Some(restitution),
+                _ => None,
+            },
             scratch: MeshDistanceScratch::default(),
+            results: Vec::new(),
             contacts: Vec::new(),
             trace: Vec::new(),
             counters: Counters::default(),
@@ -330,7 +400,11 @@ impl<'s> Stepper<'s> {
         for (i, body) in scene.bodies.iter().enumerate() {
             self.motions[i] = match &body.motion {
                 BodyMotion::Fixed => StepMotion::fixed(body.pose),
-                BodyMotion::Free => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
+                BodyMotion::Free => match &self.states[i] {
+                    // Kinematic under `Bounce`: from where the last step left it.
+                    Some(state) => StepMotion::new(state.pose(), state.velocity, state.angular_velocity),
+                    None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
+                },
                 BodyMotion::Integrated(dynamics) => {
                     let Some(state) = self.states[i] else { continue };
                     let (next, converged) =
@@ -345,11 +419,15 @@ impl<'s> Stepper<'s> {
                     if turn >= MAX_TURN_PER_STEP {
                         return Err(diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", body.name)));
                     }
+                    // Bounces move energy between bodies: the check is
+                    // per body, so it is off under `Bounce`.
                     let (initial, scale) = self.energies[i];
                     let energy = dynamics.energy(&next);
-                    self.counters.max_energy_drift =
-                        self.counters.max_energy_drift.max((energy - initial).abs() / scale);
-                    if energy - initial > DIVERGENCE_ENERGY_GROWTH * scale {
+                    if self.restitution.is_none() {
+                        self.counters.max_energy_drift =
+                            self.counters.max_energy_drift.max((energy - initial).abs() / scale);
+                    }
+                    if self.restitution.is_none() && energy - initial > DIVERGENCE_ENERGY_GROWTH * scale {
                         let time = (step + 1) as Real * scene.dt;
                         let advice = stability_advice(dynamics, scene.integrator, scene.dt);
                         return Err(diverged(format!(
@@ -380,7 +458,11 @@ impl<'s> Stepper<'s> {
         // CCD of every pair not already in contact: independent queries, in
         // parallel when there are several, results applied in pair order
         // (so the outcome does not depend on the threads).
-        let work: Vec<usize> = (0..self.pairs.len()).filter(|&k| self.pairs[k].touching.is_none()).collect();
+        // Under `Bounce` a touching pair is queried too, for coming within
+        // half its distance (`pair_options`).
+        let bouncing = self.restitution.is_some();
+        let work: Vec<usize> =
+            (0..self.pairs.len()).filter(|&k| bouncing || self.pairs[k].touching.is_none()).collect();
         let motions = &self.motions;
         let pairs = &self.pairs;
         let query = |k: usize, scratch: &mut MeshDistanceScratch| {
@@ -390,7 +472,7 @@ impl<'s> Stepper<'s> {
                 moving(pair.a),
                 moving(pair.b),
                 scene.dt,
-                &scene.ccd,
+                &pair_options(scene, pair),
                 scene.kernel,
                 pair.lower_bound,
                 pair.hint,
@@ -402,38 +484,46 @@ impl<'s> Stepper<'s> {
             }
             result
         };
-        let results: Vec<MeshCcdResult> = if self.parallel && work.len() > 1 {
-            work.par_iter().map_init(MeshDistanceScratch::default, |scratch, &k| query(k, scratch)).collect()
+        // Results go into a buffer kept between steps, and each thread keeps
+        // its own scratch: a step allocates nothing once they have grown.
+        let mut results = std::mem::take(&mut self.results);
+        if self.parallel && work.len() > 1 {
+            work.par_iter()
+                .map(|&k| THREAD_SCRATCH.with(|scratch| query(k, &mut scratch.borrow_mut())))
+                .collect_into_vec(&mut results);
         } else {
+            results.clear();
             let scratch = &mut self.scratch;
-            work.iter().map(|&k| query(k, scratch)).collect()
-        };
+            results.extend(work.iter().map(|&k| query(k, scratch)));
+        }
         let mut found = false;
-        for (&k, result) in work.iter().zip(results) {
+        let mut candidates = std::collections::BinaryHeap::new();
+        let mut found_results = HashMap::new();
+        for (&k, &result) in work.iter().zip(&results) {
             let pair = &mut self.pairs[k];
             self.counters.distance_queries += result.iterations;
             self.counters.triangle_pairs += result.triangle_pairs;
             self.counters.pairs_culled += usize::from(result.iterations == 0);
             pair.hint = result.hint;
             pair.lower_bound = Some(result.end_lower_bound);
-            let (Some(time), Some(closest)) = (result.time_of_impact, result.closest) else { continue };
+            let Some(time) = result.time_of_impact else { continue };
+            if bouncing && time == 0.0 && pair.touching.is_some() {
+                // A pair that bounced, still within the tolerance floor of
+                // that contact at the step's start: not a new contact
+                // (taking it would hold both bodies still at every step).
+                continue;
+            }
+            if bouncing {
+                candidates.push(Candidate { time, pair: k, version: 0 });
+                found_results.insert(k, result);
+                continue;
+            }
             found = true;
-            pair.touching = Some(result.contact_distance);
-            pair.lower_bound = None;
-            self.contacts.push(Contact {
-                time: t0 + time,
-                body_a: pair.a,
-                body_b: pair.b,
-                distance: closest.distance,
-                point_a: closest.point_a,
-                point_b: closest.point_b,
-                triangle_a: closest.triangle_a,
-                triangle_b: closest.triangle_b,
-                feature_a: closest.feature_a,
-                feature_b: closest.feature_b,
-                status: result.status,
-                contact_distance: result.contact_distance,
-            });
+            self.record_contact(k, t0, time, &result);
+        }
+        self.results = results;
+        if bouncing {
+            found = self.bounce(t0, candidates, found_results);
         }
         if found && scene.on_contact == OnContact::Stop {
             // Keep only the earliest contact (ties: the first pair).
@@ -442,6 +532,190 @@ impl<'s> Stepper<'s> {
         }
         self.counters.ccd_s += clock.elapsed().as_secs_f64() - broad_s;
         found
+    }
+
+    /// Records the contact of pair `k` at `time` into the step starting at
+    /// `t0` and marks the pair touching.
+    fn record_contact(&mut self, k: usize, t0: Real, time: Real, result: &MeshCcdResult) {
+        let Some(closest) = result.closest else { return };
+        let pair = &mut self.pairs[k];
+        pair.touching =
+            Some(Touching { contact_distance: result.contact_distance, distance: closest.distance });
+        pair.lower_bound = None;
+        self.contacts.push(Contact {
+            time: t0 + time,
+            body_a: pair.a,
+            body_b: pair.b,
+            distance: closest.distance,
+            point_a: closest.point_a,
+            point_b: closest.point_b,
+            triangle_a: closest.triangle_a,
+            triangle_b: closest.triangle_b,
+            feature_a: closest.feature_a,
+            feature_b: closest.feature_b,
+            status: result.status,
+            contact_distance: result.contact_distance,
+        });
+    }
+
+    /// `on_contact: Bounce`: takes the step's candidate contacts in time
+    /// order. A contact is committed only if neither body has stopped
+    /// before it; both bodies then stop there for the rest of the step, and
+    /// every other pair of theirs is queried again from that time with the
+    /// stopped body held still (its earlier candidates become stale), so no
+    /// body moves past a contact with a body that stopped. At the end, the
+    /// committed contacts' impulses are applied in time order and each
+    /// body's state moves to where it stopped (or to the step's end).
+    /// Returns whether a contact was committed.
+    fn bounce(
+        &mut self,
+        t0: Real,
+        mut candidates: std::collections::BinaryHeap<Candidate>,
+        mut results: HashMap<usize, MeshCcdResult>,
+    ) -> bool {
+        let scene = self.scene;
+        let dt = scene.dt;
+        let fixed = |i: usize| scene.bodies[i].motion == BodyMotion::Fixed;
+        let mut stopped: Vec<Option<Real>> = vec![None; scene.bodies.len()];
+        let mut versions = vec![0u32; self.pairs.len()];
+        let mut committed = Vec::new();
+        while let Some(candidate) = candidates.pop() {
+            let k = candidate.pair;
+            if candidate.version != versions[k] {
+                continue;
+            }
+            let Some(result) = results.remove(&k) else { continue };
+            let time = candidate.time;
+            self.record_contact(k, t0, time, &result);
+            committed.push(self.contacts.len() - 1);
+            let (a, b) = (self.pairs[k].a, self.pairs[k].b);
+            for body in [a, b] {
+                if fixed(body) || stopped[body].is_some() {
+                    continue;
+                }
+                stopped[body] = Some(time);
+                // Every other pair of this body: again from `time`.
+                let partners: Vec<usize> = (self.pairs.iter().enumerate())
+                    .filter(|&(other, pair)| other != k && (pair.a == body || pair.b == body))
+                    .map(|(other, _)| other)
+                    .collect();
+                for other in partners {
+                    let pair = self.pairs[other].clone();
+                    versions[other] += 1;
+                    results.remove(&other);
+                    self.pairs[other].lower_bound = None;
+                    let held = |i: usize| match stopped[i] {
+                        Some(at) => StepMotion::fixed(self.motions[i].pose_at(at)),
+                        None => StepMotion { elapsed: self.motions[i].elapsed + time, ..self.motions[i] },
+                    };
+                    let (ma, mb) = (held(pair.a), held(pair.b));
+                    if stopped[pair.a].is_some() && stopped[pair.b].is_some() {
+                        continue;
+                    }
+                    let result = mesh_time_of_impact(
+                        MovingMesh { mesh: &scene.bodies[pair.a].mesh, motion: &ma },
+                        MovingMesh { mesh: &scene.bodies[pair.b].mesh, motion: &mb },
+                        dt - time,
+                        &pair_options(scene, &pair),
+                        scene.kernel,
+                        None,
+                        pair.hint,
+                        &mut self.scratch,
+                    );
+                    self.counters.distance_queries += result.iterations;
+                    self.counters.triangle_pairs += result.triangle_pairs;
+                    if let Some(after) = result.time_of_impact {
+                        candidates.push(Candidate {
+                            time: time + after,
+                            pair: other,
+                            version: versions[other],
+                        });
+                        results.insert(other, result);
+                    }
+                }
+            }
+        }
+        // Impulses in time order, at the bodies' poses at contact.
+        let restitution = self.restitution.unwrap_or(1.0);
+        for &c in &committed {
+            let contact = self.contacts[c].clone();
+            let time = contact.time - t0;
+            let (a, b) = (contact.body_a, contact.body_b);
+            let mut sides = [a, b].map(|i| self.impact_body(i, stopped[i].unwrap_or(time).min(time)));
+            let between = contact.point_b - contact.point_a;
+            let normal = if between.norm() > 0.0 {
+                between.normalize()
+            } else {
+                (sides[1].center - sides[0].center).normalize()
+            };
+            let point = Point::from((contact.point_a.coords + contact.point_b.coords) / 2.0);
+            let [side_a, side_b] = &mut sides;
+            apply_impulse(side_a, side_b, &point, &normal, restitution);
+            for (i, side) in [(a, sides[0]), (b, sides[1])] {
+                if let Some(state) = self.states[i].as_mut() {
+                    if side.inverse_mass > 0.0 {
+                        state.velocity = side.velocity;
+                        state.angular_velocity = side.angular_velocity;
+                    }
+                }
+            }
+        }
+        // Stopped bodies stay where they stopped.
+        for (i, at) in stopped.iter().enumerate() {
+            let Some(at) = *at else { continue };
+            let pose = self.motions[i].pose_at(at);
+            if let Some(state) = self.states[i].as_mut() {
+                state.position = Point::from(pose.translation.vector);
+                state.orientation = pose.rotation;
+            }
+            self.motions[i] = StepMotion::fixed(pose);
+        }
+        // Kinematic bodies that did not stop reach the step's end.
+        for (i, body) in scene.bodies.iter().enumerate() {
+            if body.motion == BodyMotion::Free && stopped[i].is_none() {
+                if let Some(state) = self.states[i].as_mut() {
+                    let pose = self.motions[i].pose_at(dt);
+                    state.position = Point::from(pose.translation.vector);
+                    state.orientation = pose.rotation;
+                }
+            }
+        }
+        !committed.is_empty()
+    }
+
+    /// Body `i` at time `s` into the current step.
+    fn state_at(&self, i: usize, s: Real) -> RigidState {
+        let motion = &self.motions[i];
+        let pose = motion.pose_at(s);
+        let (velocity, angular_velocity) = match &self.states[i] {
+            Some(state) => (state.velocity, state.angular_velocity),
+            None => (motion.velocity, motion.angular_velocity),
+        };
+        RigidState {
+            position: Point::from(pose.translation.vector),
+            orientation: pose.rotation,
+            velocity,
+            angular_velocity,
+        }
+    }
+
+    /// Body `i` at time `s` into the step, for an impulse.
+    fn impact_body(&self, i: usize, s: Real) -> ImpactBody {
+        let body = &self.scene.bodies[i];
+        let state = self.state_at(i, s);
+        let pushable = matches!(body.motion, BodyMotion::Integrated(_));
+        let rotation = state.orientation.to_rotation_matrix().into_inner();
+        let inverse_inertia = match body.inertia.and_then(|inertia| inertia.try_inverse()) {
+            Some(inverse) if pushable => rotation * inverse * rotation.transpose(),
+            _ => nalgebra::Matrix3::zeros(),
+        };
+        ImpactBody {
+            center: state.position,
+            inverse_mass: if pushable { body.mass.map_or(0.0, |m| 1.0 / m) } else { 0.0 },
+            inverse_inertia,
+            velocity: state.velocity,
+            angular_velocity: state.angular_velocity,
+        }
     }
 
     /// The broad phase: keeps the states of the pairs whose swept boxes
@@ -471,7 +745,7 @@ impl<'s> Stepper<'s> {
             }
             match old.peek() {
                 Some(p) if (p.a, p.b) == (a, b) => self.pairs.push(old.next().expect("peeked")),
-                _ => self.pairs.push(PairState { a, b, lower_bound: None, hint: None, touching: None }),
+                _ => self.pairs.push(PairState::new(a, b)),
             }
         }
     }
@@ -481,7 +755,7 @@ impl<'s> Stepper<'s> {
         let scene = self.scene;
         let dt = scene.dt;
         for pair in &mut self.pairs {
-            let Some(contact_distance) = pair.touching else { continue };
+            let Some(Touching { contact_distance, .. }) = pair.touching else { continue };
             let pos_ab = StepMotion::relative_pose(&self.motions[pair.a], &self.motions[pair.b], dt);
             let (mesh_a, mesh_b) = (&scene.bodies[pair.a].mesh, &scene.bodies[pair.b].mesh);
             let d = mesh_distance_relative(
@@ -535,5 +809,22 @@ impl<'s> Stepper<'s> {
             self.trace.push(TraceRecord { step, time, pair: (a, b), distance: d.distance, reference });
         }
         self.counters.trace_s += clock.elapsed().as_secs_f64();
+    }
+}
+
+/// The CCD options of a pair: the scene's, or for a pair touching under
+/// `on_contact: Bounce`, a contact distance of half its distance at contact
+/// (it is moving apart; coming closer again is a new contact).
+fn pair_options(scene: &Scene, pair: &PairState) -> CcdOptions {
+    match (scene.on_contact, pair.touching) {
+        (OnContact::Bounce { .. }, Some(touching)) => {
+            let size = scene.bodies[pair.a].mesh.radius() + scene.bodies[pair.b].mesh.radius();
+            CcdOptions {
+                distance_tolerance: touching.distance / 2.0 / size,
+                minimum_separation: 0.0,
+                ..scene.ccd
+            }
+        }
+        _ => scene.ccd,
     }
 }

@@ -37,12 +37,15 @@
 //! `(d − target) / (|Δv| + |ω_a| r_a + |ω_b| r_b)` backs it up; with the DyOP
 //! kernel, which gives no direction, the head-on bound alone is used.
 //!
-//! Per BVH node pair, `n` joins the two node centres, and the node is
-//! bounded both ways: as its bounding sphere (which only moves with its
-//! centre: spread term 0, gap `|ΔC| − ρ_a − ρ_b`) and as its box cut by the
-//! sphere (support `min(Σ|e_k n_k|, ρ)`, a larger gap but a spread
-//! `|n × ω| ρ` added to the rate, the box turning). The longer of the two
-//! times is a lower bound for every triangle pair below the node.
+//! Per BVH node pair, the node is bounded both ways: as its bounding sphere
+//! along the line joining the two node centres (the sphere only moves with
+//! its centre: spread term 0, gap `|ΔC| − ρ_a − ρ_b`), and as its box cut by
+//! the sphere (support `min(Σ|e_k n_k|, ρ)`, a larger gap but a spread
+//! `|n × ω| ρ` added to the rate, the box turning) along whichever of the
+//! centre line and the six box face axes separates the boxes most (a flat
+//! node such as a wall is separated along its thin axis, not along an
+//! oblique centre line). The longer of the two times is a lower bound for
+//! every triangle pair below the node.
 //!
 //! ## The search: a front kept between steps
 //! The step is the smallest time over all triangle pairs. The search keeps a
@@ -264,10 +267,11 @@ impl Front {
         let nodes_b = b.bvh().nodes();
         self.searches += 1;
         let stamp = self.searches;
-        let node_item = |i: u32, j: u32, work: &mut StepWork| {
+        // `needed`: a bound at least this long will not be refined.
+        let node_item = |i: u32, j: u32, needed: Real, work: &mut StepWork| {
             work.node_pairs += 1;
-            let (time, gap) =
-                node_pair_time(&nodes_a[i as usize], &nodes_b[j as usize], frame, limits.target);
+            let (na, nb) = (&nodes_a[i as usize], &nodes_b[j as usize]);
+            let (time, gap) = node_pair_time(na, nb, frame, limits.target, needed);
             FrontItem { safe_until: s + time, gap, evaluated: s, i, j, kind: ItemKind::Nodes, stamp }
         };
         let quick_item = |i: u32, j: u32| {
@@ -293,7 +297,7 @@ impl Front {
         let mut best = limits.horizon;
         let mut limiting = None;
         if self.heap.is_empty() {
-            self.heap.push(node_item(0, 0, work));
+            self.heap.push(node_item(0, 0, limits.horizon, work));
             if let Some((i, j)) = hint.filter(|&(i, j)| i < a.triangles().len() && j < b.triangles().len()) {
                 let item = exact_item(i as u32, j as u32, work);
                 if item.gap <= limits.contact_distance {
@@ -302,8 +306,8 @@ impl Front {
                 best = best.min(item.safe_until - s);
             }
         }
-        let long_enough =
-            |time: Real, best: Real| time >= (1.0 - STEP_SLACK) * best && time >= limits.min_step;
+        let needed = |best: Real| ((1.0 - STEP_SLACK) * best).max(limits.min_step);
+        let long_enough = |time: Real, best: Real| time >= needed(best);
         while let Some(&top) = self.heap.peek() {
             let time = top.safe_until - s;
             if time >= best || long_enough(time, best) {
@@ -328,7 +332,7 @@ impl Front {
                 }
                 ItemKind::Nodes if !fresh => {
                     self.heap.pop();
-                    let mut item = node_item(top.i, top.j, work);
+                    let mut item = node_item(top.i, top.j, needed(best), work);
                     item.safe_until = item.safe_until.max(top.safe_until);
                     self.heap.push(item);
                 }
@@ -340,7 +344,7 @@ impl Front {
                         break;
                     }
                     self.heap.pop();
-                    self.open(a, b, &top, &node_item, &quick_item, work);
+                    self.open(a, b, &top, needed(best), &node_item, &quick_item, work);
                 }
             }
         }
@@ -356,7 +360,8 @@ impl Front {
         a: &TriMesh,
         b: &TriMesh,
         parent: &FrontItem,
-        node_item: &impl Fn(u32, u32, &mut StepWork) -> FrontItem,
+        needed: Real,
+        node_item: &impl Fn(u32, u32, Real, &mut StepWork) -> FrontItem,
         quick_item: &impl Fn(u32, u32) -> FrontItem,
         work: &mut StepWork,
     ) {
@@ -379,7 +384,7 @@ impl Front {
         let children =
             if split_a { [(na.first, j), (na.first + 1, j)] } else { [(i, nb.first), (i, nb.first + 1)] };
         for (ci, cj) in children {
-            self.heap.push(inherit(node_item(ci, cj, work)));
+            self.heap.push(inherit(node_item(ci, cj, needed, work)));
         }
     }
 
@@ -413,33 +418,85 @@ fn first_root(gap: Real, rate: Real, curvature: Real) -> Real {
 /// A lower bound on the time before any triangle pair below nodes `na` and
 /// `nb` comes within `target`, and a lower bound on their distance now.
 #[inline]
-fn node_pair_time(na: &BvhNode, nb: &BvhNode, frame: &PairFrame, target: Real) -> (Real, Real) {
+/// The box face axes are tried only when the centre line does not give
+/// `needed`.
+fn node_pair_time(na: &BvhNode, nb: &BvhNode, frame: &PairFrame, target: Real, needed: Real) -> (Real, Real) {
+    let bounds = node_pair_bounds(na, nb, frame, target, needed);
+    (bounds.sphere_time.max(bounds.box_time), bounds.gap)
+}
+
+/// The two bounds of a node pair (see [`node_pair_time`]).
+#[derive(Copy, Clone, Debug)]
+struct NodeBounds {
+    /// The spheres' bound, along the line of centres.
+    sphere_time: Real,
+    /// The boxes' bound, along `box_direction` (a's frame, from a to b).
+    box_time: Real,
+    #[cfg_attr(not(test), allow(dead_code))]
+    box_direction: Vector,
+    /// A lower bound on the distance now.
+    gap: Real,
+}
+
+#[inline]
+fn node_pair_bounds(na: &BvhNode, nb: &BvhNode, frame: &PairFrame, target: Real, needed: Real) -> NodeBounds {
     // Node centres as offsets from their bodies' centres of mass, in a's frame.
     let qa = na.center.coords;
     let qb = frame.rotation * nb.center.coords;
     let offset = qb + frame.pos_ab.translation.vector - qa;
     let length = offset.norm();
     let spheres = length - na.radius - nb.radius;
-    if length <= 0.0 {
-        return (0.0, spheres);
+    // Box supports along a unit direction u of a's frame (b's box turned
+    // into a's frame), cut by the spheres.
+    let support_a = |u: &Vector| na.half_extents.dot(&u.abs()).min(na.radius);
+    let support_b = |u: &Vector| nb.half_extents.dot(&frame.rotation.tr_mul(u).abs()).min(nb.radius);
+    let box_gap = |u: &Vector| offset.dot(u) - support_a(u) - support_b(u);
+    // The boxes' slab: along the line of centres, or along a face axis of
+    // either box (the right axis for a flat node, a wall, whose centre line
+    // is oblique), whichever separates them most.
+    // Along a direction n: the rate and curvature of the centres' gap.
+    let motion = |n: &Vector| {
+        let (nwa, nwb) = (n.cross(&frame.omega_a), n.cross(&frame.omega_b));
+        let (spin_a, spin_b) = (nwa.norm(), nwb.norm());
+        let rate = n.dot(&frame.velocity) + nwb.dot(&qb) - nwa.dot(&qa);
+        let curvature = spin_a * frame.omega_a.norm() * qa.norm() + spin_b * frame.omega_b.norm() * qb.norm();
+        (rate, curvature, spin_a * na.radius + spin_b * nb.radius)
+    };
+    let sphere_time = if length > 0.0 {
+        let (rate, curvature, _) = motion(&(offset / length));
+        first_root(spheres - target, rate, curvature)
+    } else {
+        0.0
+    };
+    let box_time = |n: &Vector, gap: Real| {
+        let (rate, curvature, spread) = motion(n);
+        first_root(gap - target, rate - spread, curvature)
+    };
+    let consider = |best: (Real, Vector), u: Vector| {
+        let u = if offset.dot(&u) < 0.0 { -u } else { u };
+        let gap = box_gap(&u);
+        if gap > best.0 {
+            (gap, u)
+        } else {
+            best
+        }
+    };
+    let mut best = (Real::NEG_INFINITY, Vector::zeros());
+    if length > 0.0 {
+        best = consider(best, offset / length);
     }
-    let n = offset / length;
-    let (nwa, nwb) = (n.cross(&frame.omega_a), n.cross(&frame.omega_b));
-    let (spin_a, spin_b) = (nwa.norm(), nwb.norm());
-    let rate = n.dot(&frame.velocity) + nwb.dot(&qb) - nwa.dot(&qa);
-    let curvature = spin_a * frame.omega_a.norm() * qa.norm() + spin_b * frame.omega_b.norm() * qb.norm();
-    // Box supports along n (b's box turned into a's frame), cut by the spheres.
-    let nb_local = frame.rotation.tr_mul(&n);
-    let support_a = na.half_extents.dot(&n.abs()).min(na.radius);
-    let support_b = nb.half_extents.dot(&nb_local.abs()).min(nb.radius);
-    let boxes = length - support_a - support_b;
-    let spread = spin_a * na.radius + spin_b * nb.radius;
-    let time = first_root(spheres - target, rate, curvature).max(first_root(
-        boxes - target,
-        rate - spread,
-        curvature,
-    ));
-    (time, boxes)
+    if sphere_time.max(box_time(&best.1, best.0)) < needed {
+        for k in 0..3 {
+            best = consider(best, Vector::ith(k, 1.0));
+            best = consider(best, frame.rotation.column(k).into_owned());
+        }
+    }
+    NodeBounds {
+        sphere_time,
+        box_time: box_time(&best.1, best.0),
+        box_direction: best.1,
+        gap: best.0.max(spheres),
+    }
 }
 
 /// Triangle `ta` of `a` and `tb` of `b`, set up for the bounds: `a`'s
@@ -484,9 +541,28 @@ impl PosedPair {
     fn quick_time(&self, frame: &PairFrame, target: Real) -> (Real, Real) {
         let centroid = |t: &Triangle| (t[0].coords + t[1].coords + t[2].coords) / 3.0;
         let between = centroid(&self.b) - centroid(&self.a);
-        let length = between.norm();
-        if length > 0.0 {
-            self.slab_time(&(between / length), frame, target)
+        let normal = |t: &Triangle| (t[1] - t[0]).cross(&(t[2] - t[0]));
+        let gap = |n: &Vector| {
+            let low_b = self.b.iter().map(|p| n.dot(&p.coords)).fold(Real::INFINITY, Real::min);
+            let high_a = self.a.iter().map(|p| n.dot(&p.coords)).fold(Real::NEG_INFINITY, Real::max);
+            low_b - high_a
+        };
+        // The line between the centroids, or either face normal (the right
+        // direction for a large face over a small triangle), whichever
+        // separates them most.
+        let mut best = (Real::NEG_INFINITY, Vector::zeros());
+        for u in [between, normal(&self.a), normal(&self.b)] {
+            let length = u.norm();
+            if length > 0.0 {
+                let u = if u.dot(&between) < 0.0 { -u / length } else { u / length };
+                let g = gap(&u);
+                if g > best.0 {
+                    best = (g, u);
+                }
+            }
+        }
+        if best.0 > Real::NEG_INFINITY {
+            self.slab_time(&best.1, frame, target)
         } else {
             (0.0, Real::NEG_INFINITY)
         }
@@ -522,7 +598,7 @@ impl PosedPair {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::icosphere;
+    use crate::mesh::{box_mesh, icosphere};
     use crate::motion::StepMotion;
     use crate::samples::Rng;
 
@@ -594,16 +670,17 @@ mod tests {
     }
 
     #[test]
-    fn node_bound_holds_over_its_time() {
-        // Every vertex below a node pair stays on its side of the slab along
-        // the line of centres (taken at time 0, fixed in the world) until the
-        // node bound's time, and the bound is not vacuous.
+    fn node_bounds_hold_over_their_times() {
+        // Every vertex below a node pair stays on its side of each bound's
+        // slab (fixed in the world) until that bound's time: the spheres'
+        // along the line of centres, the boxes' along the direction chosen
+        // among the centre line and the box axes (a flat box node too).
         let mesh_a = icosphere(1.0, 2).unwrap();
-        let mesh_b = icosphere(0.6, 2).unwrap();
+        let mesh_b = box_mesh(&Vector::new(0.6, 0.05, 0.4)).unwrap();
+        let mesh_c = icosphere(0.6, 2).unwrap();
         let mut rng = Rng::new(5);
         let target = 0.01;
         let vertices_below = |mesh: &TriMesh, node: &BvhNode| -> Vec<crate::math::Point> {
-            // The node's triangles: found by walking to its leaves.
             let nodes = mesh.bvh().nodes();
             let mut stack = vec![*node];
             let mut points = Vec::new();
@@ -618,29 +695,33 @@ mod tests {
             }
             points
         };
-        let mut checked = 0;
-        for case in 0..500 {
+        let (mut spheres, mut boxes) = (0, 0);
+        for case in 0..1000 {
             let (ma, mb, frame) = random_pair(&mut rng);
+            let mesh_b = if case % 2 == 0 { &mesh_b } else { &mesh_c };
             let (nodes_a, nodes_b) = (mesh_a.bvh().nodes(), mesh_b.bvh().nodes());
             let na = nodes_a[rng.next_u64() as usize % nodes_a.len()];
             let nb = nodes_b[rng.next_u64() as usize % nodes_b.len()];
-            let (time, _) = node_pair_time(&na, &nb, &frame, target);
-            if time <= 0.0 || !time.is_finite() {
-                continue;
-            }
-            checked += 1;
+            let bounds = node_pair_bounds(&na, &nb, &frame, target, Real::INFINITY);
             let (pa, pb) = (ma.pose_at(0.0), mb.pose_at(0.0));
-            // Both of the node bound's slabs (spheres, boxes) lie along the
-            // line between the node centres at time 0, fixed in the world.
-            let between = pb * nb.center - pa * na.center;
-            let n_world = between.normalize();
-            let (a, b) = (vertices_below(&mesh_a, &na), vertices_below(&mesh_b, &nb));
-            for k in 0..=40 {
-                let t = time * k as Real / 40.0;
-                let g = gap_at(&n_world, &a, &ma, &b, &mb, t);
-                assert!(g >= target - 1e-12, "case {case}: gap {g} at {t} < target, bound {time}");
+            let rotation_a = ma.rotation_at(0.0);
+            let centre_line = (pb * nb.center - pa * na.center).normalize();
+            let (a, b) = (vertices_below(&mesh_a, &na), vertices_below(mesh_b, &nb));
+            for (time, n_world, count) in [
+                (bounds.sphere_time, centre_line, &mut spheres),
+                (bounds.box_time, rotation_a * bounds.box_direction, &mut boxes),
+            ] {
+                if time <= 0.0 || !time.is_finite() {
+                    continue;
+                }
+                *count += 1;
+                for k in 0..=40 {
+                    let t = time * k as Real / 40.0;
+                    let g = gap_at(&n_world, &a, &ma, &b, &mb, t);
+                    assert!(g >= target - 1e-12, "case {case}: gap {g} at {t} < target, bound {time}");
+                }
             }
         }
-        assert!(checked > 100, "{checked} cases with a positive bound");
+        assert!(spheres > 100 && boxes > 100, "{spheres} sphere and {boxes} box bounds checked");
     }
 }

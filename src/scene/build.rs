@@ -7,8 +7,8 @@ use std::sync::Arc;
 use nalgebra::{Matrix3, Quaternion, Translation3, UnitQuaternion};
 
 use super::file::{
-    BodySettings, ExpectSettings, FormulaSettings, KernelSettings, MeshSettings, OrientationSettings,
-    SceneFile, TracePairs, Triple,
+    BodySettings, ExpectSettings, FormulaSettings, KernelSettings, MeshSettings, OnContact,
+    OrientationSettings, SceneFile, TracePairs, Triple,
 };
 use super::{Body, BodyMotion, Expectation, Scene, SceneError, TraceSpec};
 use crate::ccd::CcdOptions;
@@ -187,8 +187,33 @@ impl Builder<'_> {
                 rest_length: self.non_negative(&field("rest_length"), spring.rest_length)?,
             });
         }
+        let bounce = match file.on_contact {
+            OnContact::Bounce { restitution } => {
+                if !(0.0..=1.0).contains(&restitution) {
+                    return self.invalid(
+                        "on_contact.restitution",
+                        format!("{restitution} is not a coefficient of restitution: give a number in [0, 1]"),
+                    );
+                }
+                true
+            }
+            _ => false,
+        };
         for (i, body) in bodies.iter_mut().enumerate() {
             let settings = &file.bodies[i];
+            if bounce
+                && !settings.fixed
+                && !settings.kinematic
+                && (body.mass.is_none() || body.inertia.is_none())
+            {
+                return self.invalid(
+                    format!("bodies[{i}].density"),
+                    format!(
+                        "`{}` can be pushed by a bounce (`on_contact: Bounce`), so it needs a mass and an inertia: give `density`, or `mass` and `inertia` (or make it `fixed` or `kinematic`)",
+                        body.name
+                    ),
+                );
+            }
             body.motion = if settings.fixed {
                 if body.velocity.norm() > 0.0 || body.angular_velocity.norm() > 0.0 {
                     return self.invalid(format!("bodies[{i}].fixed"), "a fixed body cannot have a velocity");
@@ -203,7 +228,9 @@ impl Builder<'_> {
                     momentum.cross(&omega_body).norm()
                         > 64.0 * Real::EPSILON * momentum.norm() * omega_body.norm()
                 });
-                if gravity.norm() > 0.0 || !springs[i].is_empty() || precesses {
+                // A bouncing body's spin changes at every bounce: integrated,
+                // so that it precesses.
+                if gravity.norm() > 0.0 || !springs[i].is_empty() || precesses || bounce {
                     let turn = body.angular_velocity.norm() * dt;
                     if turn >= MAX_TURN_PER_STEP {
                         return self.invalid(

@@ -114,7 +114,7 @@ pub enum FormulaSettings {
 }
 
 /// What the run does at a contact.
-#[derive(Copy, Clone, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, Default, Deserialize, PartialEq)]
 pub enum OnContact {
     /// Stop at the first contact. The default.
     #[default]
@@ -124,6 +124,23 @@ pub enum OnContact {
     /// re-armed once its distance at a step's end exceeds twice the contact
     /// distance.
     Record,
+    /// Record every contact and bounce: the two bodies stop at their time of
+    /// contact for the rest of the step (no body ever moves past a contact),
+    /// an impulse along the contact normal with this coefficient of
+    /// restitution (0: the approach speed is absorbed, 1: elastic) sets
+    /// their velocities, and they move on from the next step. Contacts are
+    /// taken in time order within a step; every body's motion after another
+    /// stopped is checked again. Every body that is neither fixed nor
+    /// kinematic needs a mass and an inertia (`density`, or `mass` and
+    /// `inertia`) and is integrated (so a tumbling body precesses); a
+    /// kinematic body is not pushed (infinite mass) but also stops at a
+    /// contact for the rest of its step. Meant for bouncing, not resting,
+    /// contact: a pair pressed together for many steps is re-detected at
+    /// half its distance each time.
+    Bounce {
+        /// The coefficient of restitution, in `[0, 1]`.
+        restitution: f64,
+    },
 }
 
 /// Which pairs are traced, how often.

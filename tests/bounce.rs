@@ -1,0 +1,114 @@
+//! `on_contact: Bounce`: analytic outcomes of simple collisions, momentum
+//! conservation in a crowd, and no body ever inside another.
+
+use nearmiss::math::{Real, Vector};
+use nearmiss::samples::Rng;
+use nearmiss::scene::Scene;
+use nearmiss::stepper::run;
+
+#[test]
+fn equal_spheres_head_on_exchange_velocities() {
+    // Two equal icospheres (vertices on the axes: the contact is vertex to
+    // vertex on the x axis), one at rest: an elastic impact gives all the
+    // velocity to the other. Contact at t = (3 - 2) / 2 = 0.5.
+    let scene = Scene::from_ron_str(
+        r#"Scene(name: "head_on", dt: 0.01, duration: 1.0, on_contact: Bounce(restitution: 1.0),
+            trace: (pairs: All, every: 1),
+            bodies: [
+                (name: "a", mesh: Icosphere(radius: 1.0, subdivisions: 1), density: 1.0, velocity: (2.0, 0.0, 0.0)),
+                (name: "b", mesh: Icosphere(radius: 1.0, subdivisions: 1), density: 1.0, position: (3.0, 0.0, 0.0)),
+            ])"#,
+    )
+    .unwrap();
+    let result = run(&scene);
+    assert_eq!(result.contacts.len(), 1, "{:?}", result.contacts);
+    let contact = &result.contacts[0];
+    assert!(contact.time <= 0.5 && contact.time > 0.5 - 1e-6, "{}", contact.time);
+    // After the step of the impact, a stands still and b moves at 2: the
+    // gap grows at 2 per unit time from (near) zero.
+    let last = result.trace.last().unwrap();
+    let gap_expected = 2.0 * (1.0 - 0.5);
+    // a stopped at the contact for the rest of its step (at most dt lost).
+    assert!(
+        (last.distance - gap_expected).abs() <= 2.0 * scene.dt + 1e-6,
+        "gap {} at the end, expected about {gap_expected}",
+        last.distance
+    );
+    assert!(result.final_states[0].velocity.norm() <= 1e-9, "{}", result.final_states[0].velocity);
+    assert!((result.final_states[1].velocity - Vector::new(2.0, 0.0, 0.0)).norm() <= 1e-9);
+    // The gap never shrinks after the contact (a is at rest).
+    let after: Vec<Real> = result.trace.iter().filter(|r| r.time > 0.51).map(|r| r.distance).collect();
+    assert!(after.windows(2).all(|w| w[1] >= w[0]));
+    assert!((after[1] - after[0] - 2.0 * scene.dt).abs() <= 1e-9);
+}
+
+#[test]
+fn a_ball_between_two_walls_keeps_bouncing() {
+    // A unit-speed ball of radius 0.5 between walls whose faces are at ±2:
+    // contacts near t = 1.5 (right wall), 4.5 (left), 7.5 (right); elastic,
+    // so it keeps its speed.
+    let scene = Scene::from_ron_str(
+        r#"Scene(name: "walls", dt: 0.01, duration: 8.0, on_contact: Bounce(restitution: 1.0),
+            bodies: [
+                (name: "ball", mesh: Icosphere(radius: 0.5, subdivisions: 2), density: 1.0, velocity: (1.0, 0.0, 0.0)),
+                (name: "left", mesh: Box(half_extents: (0.5, 2.0, 2.0)), position: (-2.5, 0.0, 0.0), fixed: true),
+                (name: "right", mesh: Box(half_extents: (0.5, 2.0, 2.0)), position: (2.5, 0.0, 0.0), fixed: true),
+            ])"#,
+    )
+    .unwrap();
+    let result = run(&scene);
+    assert!((result.final_states[0].velocity.norm() - 1.0).abs() <= 1e-9);
+    let times: Vec<Real> = result.contacts.iter().map(|c| c.time).collect();
+    assert_eq!(times.len(), 3, "{times:?}");
+    // Each bounce may lose up to one step (the ball holds still for the rest
+    // of the step it hit in), never more, and comes early by at most the
+    // contact distance (1e-6 of the pair size, about 3.4e-6) over the speed.
+    let expected = [1.5, 4.5, 7.5];
+    for (k, (&t, &e)) in times.iter().zip(&expected).enumerate() {
+        let lost = k as Real * scene.dt;
+        assert!(t <= e + lost + 1e-9 && t >= e - 1e-5, "bounce {k} at {t}, expected {e} (+ up to {lost})");
+    }
+}
+
+#[test]
+fn a_crowd_conserves_momentum_and_never_interpenetrates() {
+    // 24 tumbling bodies, no walls, elastic: the total momentum is constant
+    // (stopping a body for the rest of a step does not change its velocity),
+    // and no pair's distance at any step's end is zero.
+    let mut rng = Rng::new(17);
+    let mut text = String::from(
+        "Scene(name: \"crowd\", dt: 0.01, steps: 150, on_contact: Bounce(restitution: 1.0), trace: (pairs: All, every: 1), bodies: [",
+    );
+    let mut momentum = Vector::zeros();
+    for k in 0..24 {
+        let position = rng.in_unit_ball() * 2.0;
+        let velocity = rng.in_unit_ball() * 2.0 - position * 0.5;
+        let spin = rng.in_unit_ball() * 5.0;
+        let mesh = if k % 2 == 0 {
+            "Box(half_extents: (0.2, 0.15, 0.1))"
+        } else {
+            "Icosphere(radius: 0.2, subdivisions: 1)"
+        };
+        text.push_str(&format!(
+            "(name: \"b{k}\", mesh: {mesh}, density: 1.0, position: ({:?}, {:?}, {:?}), velocity: ({:?}, {:?}, {:?}), angular_velocity: ({:?}, {:?}, {:?})),",
+            position.x, position.y, position.z, velocity.x, velocity.y, velocity.z, spin.x, spin.y, spin.z
+        ));
+    }
+    text.push_str("])");
+    let scene = Scene::from_ron_str(&text).unwrap();
+    for body in &scene.bodies {
+        momentum += body.velocity * body.mass.unwrap();
+    }
+    let result = run(&scene);
+    assert!(result.contacts.len() >= 5, "{} contacts", result.contacts.len());
+    for record in &result.trace {
+        assert!(record.distance > 0.0, "pair {:?} touching at t = {}", record.pair, record.time);
+    }
+    let end: Vector = result
+        .final_states
+        .iter()
+        .zip(&scene.bodies)
+        .map(|(state, body)| state.velocity * body.mass.unwrap())
+        .sum();
+    assert!((end - momentum).norm() <= 1e-9 * (1.0 + momentum.norm()), "momentum {momentum} -> {end}");
+}
