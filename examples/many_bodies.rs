@@ -92,8 +92,25 @@ fn main() {
             c.candidate_pairs as f64 / steps,
             result.contacts.len()
         );
-        if std::env::var_os("NM_DEBUG").is_some() {
-            eprintln!("{:?}", c);
-        }
+        // The mesh assets (shared between bodies) and their BVHs, in bytes.
+        let mut assets: Vec<*const nearmiss::mesh::TriMesh> =
+            scene.bodies.iter().map(|b| std::sync::Arc::as_ptr(&b.mesh)).collect();
+        assets.sort();
+        assets.dedup();
+        let mesh_bytes: usize = scene
+            .bodies
+            .iter()
+            .filter(|b| {
+                let p = std::sync::Arc::as_ptr(&b.mesh);
+                assets.iter().position(|&q| q == p).map(|k| assets[k] = std::ptr::null()).is_some()
+            })
+            .map(|b| {
+                let m = &b.mesh;
+                std::mem::size_of_val(m.vertices())
+                    + std::mem::size_of_val(m.triangles())
+                    + std::mem::size_of_val(m.bvh().nodes())
+            })
+            .sum();
+        eprintln!("{n} bodies: mesh assets and BVHs {mesh_bytes} bytes");
     }
 }

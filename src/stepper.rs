@@ -209,6 +209,9 @@ pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64
     }
 }
 
+/// Bodies are integrated on several threads from this many on.
+const PARALLEL_INTEGRATION_BODIES: usize = 64;
+
 thread_local! {
     /// Each rayon thread's CCD scratch, kept between steps and runs.
     static THREAD_SCRATCH: RefCell<MeshDistanceScratch> = RefCell::new(MeshDistanceScratch::default());
@@ -326,6 +329,9 @@ struct Stepper<'s> {
     scratch: MeshDistanceScratch,
     /// The CCD results of a step (a buffer kept between steps).
     results: Vec<MeshCcdResult>,
+    /// The integrated states of a step and whether their solve converged
+    /// (a buffer kept between steps).
+    advanced: Vec<Option<(RigidState, bool)>>,
     contacts: Vec<Contact>,
     trace: Vec<TraceRecord>,
     counters: Counters,
@@ -387,6 +393,7 @@ impl<'s> Stepper<'s> {
             },
             scratch: MeshDistanceScratch::default(),
             results: Vec::new(),
+            advanced: Vec::new(),
             contacts: Vec::new(),
             trace: Vec::new(),
             counters: Counters::default(),
@@ -397,6 +404,37 @@ impl<'s> Stepper<'s> {
     fn integrate(&mut self, step: u64, t0: Real) -> Result<(), Termination> {
         let clock = Instant::now();
         let scene = self.scene;
+        // The integrations are independent: on the threads when there are
+        // many (each body's step is the same whatever the threads).
+        let advance = |(body, state): (&crate::scene::Body, &Option<RigidState>)| match (&body.motion, state)
+        {
+            (BodyMotion::Integrated(dynamics), Some(state)) => {
+                Some(integrate(state, dynamics, scene.integrator, scene.gyroscopic, scene.dt))
+            }
+            _ => None,
+        };
+        let mut advanced = std::mem::take(&mut self.advanced);
+        if self.parallel && scene.bodies.len() >= PARALLEL_INTEGRATION_BODIES {
+            scene.bodies.par_iter().zip(&self.states).map(advance).collect_into_vec(&mut advanced);
+        } else {
+            advanced.clear();
+            advanced.extend(scene.bodies.iter().zip(&self.states).map(advance));
+        }
+        let result = self.take_integrated(step, t0, &advanced);
+        self.advanced = advanced;
+        self.counters.integrate_s += clock.elapsed().as_secs_f64();
+        result
+    }
+
+    /// Stage 1's second half: the bodies' motions from their integrated
+    /// states (`advanced`), checked for divergence.
+    fn take_integrated(
+        &mut self,
+        step: u64,
+        t0: Real,
+        advanced: &[Option<(RigidState, bool)>],
+    ) -> Result<(), Termination> {
+        let scene = self.scene;
         for (i, body) in scene.bodies.iter().enumerate() {
             self.motions[i] = match &body.motion {
                 BodyMotion::Fixed => StepMotion::fixed(body.pose),
@@ -406,9 +444,9 @@ impl<'s> Stepper<'s> {
                     None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
                 },
                 BodyMotion::Integrated(dynamics) => {
-                    let Some(state) = self.states[i] else { continue };
-                    let (next, converged) =
-                        integrate(&state, dynamics, scene.integrator, scene.gyroscopic, scene.dt);
+                    let (Some(state), Some((next, converged))) = (self.states[i], advanced[i]) else {
+                        continue;
+                    };
                     self.counters.gyroscopic_unconverged += usize::from(!converged);
                     let diverged = |reason: String| Termination::Diverged { body: i, step, reason };
                     if !next.is_finite() {
@@ -421,26 +459,25 @@ impl<'s> Stepper<'s> {
                     }
                     // Bounces move energy between bodies: the check is
                     // per body, so it is off under `Bounce`.
-                    let (initial, scale) = self.energies[i];
-                    let energy = dynamics.energy(&next);
                     if self.restitution.is_none() {
+                        let (initial, scale) = self.energies[i];
+                        let energy = dynamics.energy(&next);
                         self.counters.max_energy_drift =
                             self.counters.max_energy_drift.max((energy - initial).abs() / scale);
-                    }
-                    if self.restitution.is_none() && energy - initial > DIVERGENCE_ENERGY_GROWTH * scale {
-                        let time = (step + 1) as Real * scene.dt;
-                        let advice = stability_advice(dynamics, scene.integrator, scene.dt);
-                        return Err(diverged(format!(
-                            "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
-                            body.name
-                        )));
+                        if energy - initial > DIVERGENCE_ENERGY_GROWTH * scale {
+                            let time = (step + 1) as Real * scene.dt;
+                            let advice = stability_advice(dynamics, scene.integrator, scene.dt);
+                            return Err(diverged(format!(
+                                "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
+                                body.name
+                            )));
+                        }
                     }
                     self.states[i] = Some(next);
                     motion
                 }
             };
         }
-        self.counters.integrate_s += clock.elapsed().as_secs_f64();
         Ok(())
     }
 
@@ -764,7 +801,9 @@ impl<'s> Stepper<'s> {
                 &pos_ab,
                 scene.kernel,
                 pair.hint,
-                0.0,
+                // Only "beyond twice the contact distance?" is asked: the
+                // search may stop at the first pair within it.
+                2.0 * contact_distance,
                 &mut self.scratch,
             );
             self.counters.distance_queries += 1;

@@ -112,6 +112,10 @@ pub(crate) struct PairFrame {
     pub omega_a: Vector,
     /// `ω_b`, in `a`'s frame.
     pub omega_b: Vector,
+    /// `|v_b − v_a|`, `|ω_a|`, `|ω_b|`.
+    pub speed: Real,
+    pub spin_a: Real,
+    pub spin_b: Real,
 }
 
 impl PairFrame {
@@ -131,13 +135,16 @@ impl PairFrame {
             velocity: to_a(relative_velocity),
             omega_a: to_a(omega_a),
             omega_b: to_a(omega_b),
+            speed: relative_velocity.norm(),
+            spin_a: omega_a.norm(),
+            spin_b: omega_b.norm(),
         }
     }
 
     /// The head-on closing speed of points within `ra` and `rb` of the centres.
     #[inline]
     pub fn head_on_speed(&self, ra: Real, rb: Real) -> Real {
-        self.velocity.norm() + self.omega_a.norm() * ra + self.omega_b.norm() * rb
+        self.speed + self.spin_a * ra + self.spin_b * rb
     }
 }
 
@@ -459,7 +466,7 @@ fn node_pair_bounds(na: &BvhNode, nb: &BvhNode, frame: &PairFrame, target: Real,
         let (nwa, nwb) = (n.cross(&frame.omega_a), n.cross(&frame.omega_b));
         let (spin_a, spin_b) = (nwa.norm(), nwb.norm());
         let rate = n.dot(&frame.velocity) + nwb.dot(&qb) - nwa.dot(&qa);
-        let curvature = spin_a * frame.omega_a.norm() * qa.norm() + spin_b * frame.omega_b.norm() * qb.norm();
+        let curvature = spin_a * frame.spin_a * qa.norm() + spin_b * frame.spin_b * qb.norm();
         (rate, curvature, spin_a * na.radius + spin_b * nb.radius)
     };
     let sphere_time = if length > 0.0 {
@@ -530,8 +537,7 @@ impl PosedPair {
         let slowest_b = self.offsets_b.iter().map(|q| nwb.dot(&q.coords)).fold(Real::INFINITY, Real::min);
         let fastest_a = self.a.iter().map(|p| nwa.dot(&p.coords)).fold(Real::NEG_INFINITY, Real::max);
         let rate = n.dot(&frame.velocity) + slowest_b - fastest_a;
-        let curvature = nwa.norm() * frame.omega_a.norm() * self.reach_a
-            + nwb.norm() * frame.omega_b.norm() * self.reach_b;
+        let curvature = nwa.norm() * frame.spin_a * self.reach_a + nwb.norm() * frame.spin_b * self.reach_b;
         let gap = low_b - high_a;
         (first_root(gap - target, rate, curvature), gap)
     }
