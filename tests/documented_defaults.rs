@@ -35,6 +35,9 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(nearmiss::motion::GYROSCOPIC_MAX_ITERATIONS, 20);
     // ccd/mesh_pair.rs: "plus 8 ulps of an integrated body's coordinates".
     assert_eq!(nearmiss::ccd::INTEGRATED_JUMP_ULPS, 8.0);
+    // ccd/mesh_step.rs: the search's slack `0.1` and opening ratio `1.0`.
+    assert_eq!(nearmiss::ccd::STEP_SLACK, 0.1);
+    assert_eq!(nearmiss::ccd::OPEN_RATIO, 1.0);
     // stepper.rs and README: a run is stopped when the energy grows past 10x its scale.
     assert_eq!(nearmiss::stepper::DIVERGENCE_ENERGY_GROWTH, 10.0);
 }

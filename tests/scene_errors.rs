@@ -139,3 +139,18 @@ fn missing_scene_file() {
     assert_eq!(output.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&output.stderr).contains("no/such/scene.ron"));
 }
+
+#[test]
+fn bounce_needs_a_restitution_in_range_and_pushable_bodies_with_mass() {
+    assert_rejected(
+        "restitution",
+        &scene(&format!("on_contact: Bounce(restitution: 1.5), {GOOD_BODIES}")),
+        &["on_contact.restitution", "[0, 1]"],
+    );
+    // Body `b` moves and can be pushed but has no mass or inertia.
+    assert_rejected(
+        "bounce_mass",
+        &scene(&format!("on_contact: Bounce(restitution: 0.5), {GOOD_BODIES}")),
+        &["bodies[1].density", "mass and an inertia"],
+    );
+}

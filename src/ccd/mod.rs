@@ -45,5 +45,6 @@ pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed}
 pub use mesh_pair::INTEGRATED_JUMP_ULPS;
 pub use mesh_pair::{mesh_time_of_impact, MeshCcdResult, MovingMesh};
 pub(crate) use mesh_step::Front;
+pub use mesh_step::{OPEN_RATIO, STEP_SLACK};
 pub use options::{CcdOptions, CcdResult, CcdStatus};
 pub use vertex_face::{vertex_face_time_of_impact, vertex_face_time_of_impact_detailed};
