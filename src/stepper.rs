@@ -14,6 +14,13 @@
 //! and the distance bound carried from its previous step. The pairs' CCD
 //! runs on rayon's threads, results applied in pair order, so a run gives
 //! the same result whatever the threads.
+//!
+//! With `on_contact: Bounce` the step's contacts are taken in time order:
+//! both bodies of a contact stop there for the rest of the step, every other
+//! pair of theirs is queried again from that time with the stopped body held
+//! still (so no body moves past a contact with a body that stopped), and
+//! the committed contacts' impulses ([`crate::response`]) set the velocities
+//! the bodies move on with from the next step.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
