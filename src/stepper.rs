@@ -284,6 +284,38 @@ impl PairState {
     }
 }
 
+/// What the stepper keeps of a pair's CCD result: the counters and what
+/// carries to the next step, and the full result only at a contact (a few
+/// pairs a step), so that thousands of pairs cost little memory.
+#[derive(Clone, Debug)]
+struct PairOutcome {
+    summary: OutcomeSummary,
+    contact: Option<Box<MeshCcdResult>>,
+}
+
+/// The part of every pair's result that the stepper reads.
+#[derive(Copy, Clone, Debug)]
+struct OutcomeSummary {
+    iterations: usize,
+    triangle_pairs: usize,
+    hint: Option<(usize, usize)>,
+    end_lower_bound: Real,
+}
+
+impl From<MeshCcdResult> for PairOutcome {
+    fn from(result: MeshCcdResult) -> PairOutcome {
+        PairOutcome {
+            summary: OutcomeSummary {
+                iterations: result.iterations,
+                triangle_pairs: result.triangle_pairs,
+                hint: result.hint,
+                end_lower_bound: result.end_lower_bound,
+            },
+            contact: result.time_of_impact.is_some().then(|| Box::new(result)),
+        }
+    }
+}
+
 /// A candidate contact of `on_contact: Bounce` within a step.
 #[derive(Copy, Clone, Debug)]
 struct Candidate {
@@ -335,7 +367,9 @@ struct Stepper<'s> {
     restitution: Option<Real>,
     scratch: MeshDistanceScratch,
     /// The CCD results of a step (a buffer kept between steps).
-    results: Vec<MeshCcdResult>,
+    results: Vec<PairOutcome>,
+    /// The previous step's pairs (a buffer kept between steps).
+    spare_pairs: Vec<PairState>,
     /// The integrated states of a step and whether their solve converged
     /// (a buffer kept between steps).
     advanced: Vec<Option<(RigidState, bool)>>,
@@ -400,6 +434,7 @@ impl<'s> Stepper<'s> {
             },
             scratch: MeshDistanceScratch::default(),
             results: Vec::new(),
+            spare_pairs: Vec::new(),
             advanced: Vec::new(),
             contacts: Vec::new(),
             trace: Vec::new(),
@@ -526,7 +561,7 @@ impl<'s> Stepper<'s> {
                 // A pair new to the broad phase, touching at the step's start.
                 result.status = CcdStatus::Converged;
             }
-            result
+            PairOutcome::from(result)
         };
         // Results go into a buffer kept between steps, and each thread keeps
         // its own scratch: a step allocates nothing once they have grown.
@@ -543,14 +578,16 @@ impl<'s> Stepper<'s> {
         let mut found = false;
         let mut candidates = std::collections::BinaryHeap::new();
         let mut found_results = HashMap::new();
-        for (&k, &result) in work.iter().zip(&results) {
+        for (&k, outcome) in work.iter().zip(&mut results) {
             let pair = &mut self.pairs[k];
+            let result = outcome.summary;
             self.counters.distance_queries += result.iterations;
             self.counters.triangle_pairs += result.triangle_pairs;
             self.counters.pairs_culled += usize::from(result.iterations == 0);
             pair.hint = result.hint;
             pair.lower_bound = Some(result.end_lower_bound);
-            let Some(time) = result.time_of_impact else { continue };
+            let Some(contact) = outcome.contact.take() else { continue };
+            let Some(time) = contact.time_of_impact else { continue };
             if bouncing && time == 0.0 && pair.touching.is_some() {
                 // A pair that bounced, still within the tolerance floor of
                 // that contact at the step's start: not a new contact
@@ -559,11 +596,11 @@ impl<'s> Stepper<'s> {
             }
             if bouncing {
                 candidates.push(Candidate { time, pair: k, version: 0 });
-                found_results.insert(k, result);
+                found_results.insert(k, *contact);
                 continue;
             }
             found = true;
-            self.record_contact(k, t0, time, &result);
+            self.record_contact(k, t0, time, &contact);
         }
         self.results = results;
         if bouncing {
@@ -781,17 +818,25 @@ impl<'s> Stepper<'s> {
         let Some(broad) = self.broad.as_mut() else { return };
         let candidates = broad.pairs(&self.boxes);
         let fixed = |i: usize| scene.bodies[i].motion == BodyMotion::Fixed;
-        let old = std::mem::take(&mut self.pairs);
-        let mut old = old.into_iter().peekable();
+        // The new pairs go into the previous step's spare buffer.
+        let mut old = std::mem::replace(&mut self.pairs, std::mem::take(&mut self.spare_pairs));
+        self.pairs.clear();
+        self.pairs.reserve(candidates.len());
+        let mut next_old = 0;
         for (a, b) in candidates.into_iter().filter(|&(a, b)| !(fixed(a) && fixed(b))) {
-            while old.peek().is_some_and(|p| (p.a, p.b) < (a, b)) {
-                old.next();
+            while old.get(next_old).is_some_and(|p| (p.a, p.b) < (a, b)) {
+                next_old += 1;
             }
-            match old.peek() {
-                Some(p) if (p.a, p.b) == (a, b) => self.pairs.push(old.next().expect("peeked")),
+            match old.get(next_old) {
+                Some(p) if (p.a, p.b) == (a, b) => {
+                    self.pairs.push(p.clone());
+                    next_old += 1;
+                }
                 _ => self.pairs.push(PairState::new(a, b)),
             }
         }
+        old.clear();
+        self.spare_pairs = old;
     }
 
     /// Stage 3: re-arm pairs that separated, and sample the trace.
