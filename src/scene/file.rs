@@ -120,7 +120,7 @@ pub enum OnContact {
     #[default]
     Stop,
     /// Record every contact and keep moving (bodies pass through each
-    /// other: there is no collision response). A pair in contact is
+    /// other; `Bounce` is the collision response). A pair in contact is
     /// re-armed once its distance at a step's end exceeds twice the contact
     /// distance.
     Record,
