@@ -53,6 +53,21 @@ impl ImpactBody {
     }
 }
 
+/// The contact point (midpoint of the closest points) and the unit normal
+/// from `a` to `b` (along the closest points, or between the centres when
+/// they coincide).
+pub fn contact_frame(point_a: &Point, point_b: &Point, a: &ImpactBody, b: &ImpactBody) -> (Point, Vector) {
+    let between = point_b - point_a;
+    let normal = if between.norm() > 0.0 { between.normalize() } else { (b.center - a.center).normalize() };
+    (Point::from((point_a.coords + point_b.coords) / 2.0), normal)
+}
+
+/// The normal speed of `b`'s point relative to `a`'s at `point` (negative:
+/// approaching).
+pub fn approach_speed(a: &ImpactBody, b: &ImpactBody, point: &Point, normal: &Vector) -> Real {
+    (b.point_velocity(point) - a.point_velocity(point)).dot(normal)
+}
+
 /// Applies the contact impulse (see the module) to `a` and `b` touching at
 /// `point` (the midpoint of the two closest points) with unit normal `normal`
 /// from `a` to `b`. Returns the impulse's magnitude `j` (0 if the contact
@@ -64,7 +79,7 @@ pub fn apply_impulse(
     normal: &Vector,
     restitution: Real,
 ) -> Real {
-    let approach = (b.point_velocity(point) - a.point_velocity(point)).dot(normal);
+    let approach = approach_speed(a, b, point, normal);
     if approach >= 0.0 {
         return 0.0;
     }

@@ -34,7 +34,7 @@ use crate::kernels::Feature;
 use crate::math::{Point, Real};
 use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistanceScratch};
 use crate::motion::{integrate, Dynamics, Integrator, RigidState, StepMotion, MAX_TURN_PER_STEP};
-use crate::response::{apply_impulse, ImpactBody};
+use crate::response::{apply_impulse, approach_speed, contact_frame, ImpactBody};
 use crate::scene::{BodyMotion, OnContact, Scene};
 use crate::trace::TraceRecord;
 
@@ -588,10 +588,11 @@ impl<'s> Stepper<'s> {
             pair.lower_bound = Some(result.end_lower_bound);
             let Some(contact) = outcome.contact.take() else { continue };
             let Some(time) = contact.time_of_impact else { continue };
-            if bouncing && time == 0.0 && pair.touching.is_some() {
-                // A pair that bounced, still within the tolerance floor of
-                // that contact at the step's start: not a new contact
-                // (taking it would hold both bodies still at every step).
+            if bouncing && time == 0.0 && self.pairs[k].touching.is_some() && !self.approaching(k, &contact) {
+                // A pair that bounced and is moving apart, still within the
+                // tolerance floor of that contact at the step's start: not a
+                // new contact (taking it would hold both bodies still at
+                // every step). Approaching, it bounces again.
                 continue;
             }
             if bouncing {
@@ -723,13 +724,7 @@ impl<'s> Stepper<'s> {
             let time = contact.time - t0;
             let (a, b) = (contact.body_a, contact.body_b);
             let mut sides = [a, b].map(|i| self.impact_body(i, stopped[i].unwrap_or(time).min(time)));
-            let between = contact.point_b - contact.point_a;
-            let normal = if between.norm() > 0.0 {
-                between.normalize()
-            } else {
-                (sides[1].center - sides[0].center).normalize()
-            };
-            let point = Point::from((contact.point_a.coords + contact.point_b.coords) / 2.0);
+            let (point, normal) = contact_frame(&contact.point_a, &contact.point_b, &sides[0], &sides[1]);
             let [side_a, side_b] = &mut sides;
             apply_impulse(side_a, side_b, &point, &normal, restitution);
             for (i, side) in [(a, sides[0]), (b, sides[1])] {
@@ -762,6 +757,16 @@ impl<'s> Stepper<'s> {
             }
         }
         !committed.is_empty()
+    }
+
+    /// Whether the closest points of pair `k`'s contact at the step's start
+    /// approach each other.
+    fn approaching(&self, k: usize, contact: &MeshCcdResult) -> bool {
+        let Some(closest) = contact.closest else { return true };
+        let pair = &self.pairs[k];
+        let (a, b) = (self.impact_body(pair.a, 0.0), self.impact_body(pair.b, 0.0));
+        let (point, normal) = contact_frame(&closest.point_a, &closest.point_b, &a, &b);
+        approach_speed(&a, &b, &point, &normal) < 0.0
     }
 
     /// Body `i` at time `s` into the current step.
