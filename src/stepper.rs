@@ -216,6 +216,14 @@ pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64
     }
 }
 
+/// A pair in contact (`Record`, `Bounce`) is re-armed once its distance at
+/// a step's end exceeds this many times its contact distance.
+pub const REARM_DISTANCE_FACTOR: Real = 2.0;
+
+/// Under `Bounce`, a pair that bounced and is not yet re-armed is a new
+/// contact when it comes within this fraction of its distance at the bounce.
+pub const BOUNCE_REDETECT_FRACTION: Real = 0.5;
+
 /// Bodies are integrated on several threads from this many on.
 const PARALLEL_INTEGRATION_BODIES: usize = 64;
 
@@ -860,11 +868,11 @@ impl<'s> Stepper<'s> {
                 pair.hint,
                 // Only "beyond twice the contact distance?" is asked: the
                 // search may stop at the first pair within it.
-                2.0 * contact_distance,
+                REARM_DISTANCE_FACTOR * contact_distance,
                 &mut self.scratch,
             );
             self.counters.distance_queries += 1;
-            if d.distance > 2.0 * contact_distance {
+            if d.distance > REARM_DISTANCE_FACTOR * contact_distance {
                 pair.touching = None;
                 pair.lower_bound = Some(d.distance);
             }
@@ -916,7 +924,7 @@ fn pair_options(scene: &Scene, pair: &PairState) -> CcdOptions {
         (OnContact::Bounce { .. }, Some(touching)) => {
             let size = scene.bodies[pair.a].mesh.radius() + scene.bodies[pair.b].mesh.radius();
             CcdOptions {
-                distance_tolerance: touching.distance / 2.0 / size,
+                distance_tolerance: BOUNCE_REDETECT_FRACTION * touching.distance / size,
                 minimum_separation: 0.0,
                 ..scene.ccd
             }

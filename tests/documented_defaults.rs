@@ -40,6 +40,10 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(nearmiss::ccd::OPEN_RATIO, 1.0);
     // stepper.rs and README: a run is stopped when the energy grows past 10x its scale.
     assert_eq!(nearmiss::stepper::DIVERGENCE_ENERGY_GROWTH, 10.0);
+    // scenes/README.md: re-armed beyond "twice the contact distance"; a bounced
+    // pair is a new contact "within half its distance at the bounce".
+    assert_eq!(nearmiss::stepper::REARM_DISTANCE_FACTOR, 2.0);
+    assert_eq!(nearmiss::stepper::BOUNCE_REDETECT_FRACTION, 0.5);
 }
 
 #[test]

@@ -35,8 +35,8 @@
 use super::advance::ROUNDING_FLOOR_ULPS;
 use super::mesh_step::{PairFrame, StepLimits, StepOutcome, StepWork};
 use super::options::{CcdOptions, CcdStatus};
-use crate::kernels::triangle_distance;
 use crate::math::{Pose, Real};
+use crate::mesh::distance::triangle_pair_distance;
 use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistance, MeshDistanceScratch, TriMesh};
 use crate::motion::StepMotion;
 
@@ -195,7 +195,7 @@ pub fn mesh_time_of_impact(
     let mut closest = match (status, hint) {
         // The triangle pair found within the contact distance.
         (CcdStatus::Converged | CcdStatus::InitiallyTouching, Some((i, j))) => {
-            pair_distance(a.mesh, i, b.mesh, j, &pos_ab)
+            triangle_pair_distance(a.mesh, i, b.mesh, j, &pos_ab)
         }
         // Out of iterations (every step so far was safe, so contact is
         // reported, conservatively, at the time reached): the closest pair.
@@ -213,22 +213,6 @@ pub fn mesh_time_of_impact(
     result.closest = Some(closest);
     result.status = status;
     result
-}
-
-/// Triangle `i` of `a` and `j` of `b` (posed by `pos_ab` in `a`'s frame) as
-/// a [`MeshDistance`] in `a`'s frame, by the exact kernel.
-fn pair_distance(a: &TriMesh, i: usize, b: &TriMesh, j: usize, pos_ab: &Pose) -> MeshDistance {
-    let closest = triangle_distance(&a.triangle(i), &b.triangle(j).map(|p| pos_ab * p));
-    MeshDistance {
-        distance: closest.distance,
-        point_a: closest.point_a,
-        point_b: closest.point_b,
-        triangle_a: i,
-        triangle_b: j,
-        feature_a: closest.feature_a,
-        feature_b: closest.feature_b,
-        triangle_pairs: 1,
-    }
 }
 
 /// Moves a distance query's points from `a`'s frame to the world.

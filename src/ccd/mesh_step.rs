@@ -532,14 +532,21 @@ impl PosedPair {
     #[inline]
     fn slab_time(&self, n: &Vector, frame: &PairFrame, target: Real) -> (Real, Real) {
         let (nwa, nwb) = (n.cross(&frame.omega_a), n.cross(&frame.omega_b));
-        let low_b = self.b.iter().map(|p| n.dot(&p.coords)).fold(Real::INFINITY, Real::min);
-        let high_a = self.a.iter().map(|p| n.dot(&p.coords)).fold(Real::NEG_INFINITY, Real::max);
         let slowest_b = self.offsets_b.iter().map(|q| nwb.dot(&q.coords)).fold(Real::INFINITY, Real::min);
         let fastest_a = self.a.iter().map(|p| nwa.dot(&p.coords)).fold(Real::NEG_INFINITY, Real::max);
         let rate = n.dot(&frame.velocity) + slowest_b - fastest_a;
         let curvature = nwa.norm() * frame.spin_a * self.reach_a + nwb.norm() * frame.spin_b * self.reach_b;
-        let gap = low_b - high_a;
+        let gap = self.gap(n);
         (first_root(gap - target, rate, curvature), gap)
+    }
+
+    /// The gap between the two triangles along the unit direction `n` now:
+    /// `b`'s lowest vertex minus `a`'s highest.
+    #[inline]
+    fn gap(&self, n: &Vector) -> Real {
+        let low_b = self.b.iter().map(|p| n.dot(&p.coords)).fold(Real::INFINITY, Real::min);
+        let high_a = self.a.iter().map(|p| n.dot(&p.coords)).fold(Real::NEG_INFINITY, Real::max);
+        low_b - high_a
     }
 
     /// A cheap bound: the slab along the line between the centroids.
@@ -548,11 +555,6 @@ impl PosedPair {
         let centroid = |t: &Triangle| (t[0].coords + t[1].coords + t[2].coords) / 3.0;
         let between = centroid(&self.b) - centroid(&self.a);
         let normal = |t: &Triangle| (t[1] - t[0]).cross(&(t[2] - t[0]));
-        let gap = |n: &Vector| {
-            let low_b = self.b.iter().map(|p| n.dot(&p.coords)).fold(Real::INFINITY, Real::min);
-            let high_a = self.a.iter().map(|p| n.dot(&p.coords)).fold(Real::NEG_INFINITY, Real::max);
-            low_b - high_a
-        };
         // The line between the centroids, or either face normal (the right
         // direction for a large face over a small triangle), whichever
         // separates them most.
@@ -561,7 +563,7 @@ impl PosedPair {
             let length = u.norm();
             if length > 0.0 {
                 let u = if u.dot(&between) < 0.0 { -u / length } else { u / length };
-                let g = gap(&u);
+                let g = self.gap(&u);
                 if g > best.0 {
                     best = (g, u);
                 }

@@ -173,16 +173,33 @@ pub fn mesh_distance_relative(
     flush(scratch, kernel, &mut search);
 
     let (i, j) = (search.best_pair.0 as usize, search.best_pair.1 as usize);
-    let closest = triangle_distance(&a.triangle(i), &triangle_b(j));
+    // The kernel's value (DyOP's, if chosen), points and features exact.
     MeshDistance {
         distance: search.best,
+        triangle_pairs: search.evaluated,
+        ..triangle_pair_distance(a, i, b, j, &pos_ab)
+    }
+}
+
+/// Triangle `i` of `a` and triangle `j` of `b` (posed by `pos_ab` in `a`'s
+/// frame) as a [`MeshDistance`] in `a`'s frame, by the exact kernel.
+pub(crate) fn triangle_pair_distance(
+    a: &TriMesh,
+    i: usize,
+    b: &TriMesh,
+    j: usize,
+    pos_ab: &Pose,
+) -> MeshDistance {
+    let closest = triangle_distance(&a.triangle(i), &b.triangle(j).map(|p| pos_ab * p));
+    MeshDistance {
+        distance: closest.distance,
         point_a: closest.point_a,
         point_b: closest.point_b,
         triangle_a: i,
         triangle_b: j,
         feature_a: closest.feature_a,
         feature_b: closest.feature_b,
-        triangle_pairs: search.evaluated,
+        triangle_pairs: 1,
     }
 }
 
