@@ -10,9 +10,9 @@
 //! --release --example compare_parry_tumble`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MovingMesh};
+use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MeshCcdQuery, MeshCcdScratch, MovingMesh, WarmStart};
 use nearmiss::math::{motion_to_parry, pose_to_parry, vector_to_parry, Real};
-use nearmiss::mesh::{DistanceKernel, MeshDistanceScratch, TriMesh};
+use nearmiss::mesh::TriMesh;
 use nearmiss::motion::StepMotion;
 use nearmiss::samples::{translating_cases, tumbling_cases};
 use parry3d_f64::query::{cast_shapes, cast_shapes_nonlinear, ShapeCastOptions};
@@ -24,19 +24,19 @@ fn nearmiss_all(
     a: &TriMesh,
     b: &TriMesh,
     cases: &[(StepMotion, StepMotion)],
-    scratch: &mut MeshDistanceScratch,
+    scratch: &mut MeshCcdScratch,
 ) -> Real {
     let options = CcdOptions::default();
     let mut found = 0.0;
     for (ma, mb) in cases {
         let result = mesh_time_of_impact(
-            MovingMesh { mesh: a, motion: black_box(ma) },
-            MovingMesh { mesh: b, motion: black_box(mb) },
-            1.0,
-            &options,
-            DistanceKernel::Exact,
-            None,
-            None,
+            &MeshCcdQuery::new(
+                MovingMesh { mesh: a, motion: black_box(ma) },
+                MovingMesh { mesh: b, motion: black_box(mb) },
+                1.0,
+                options,
+            ),
+            WarmStart::default(),
             scratch,
         );
         found += result.time_of_impact.unwrap_or(2.0);
@@ -47,7 +47,7 @@ fn nearmiss_all(
 fn rotating_mesh_ccd(c: &mut Criterion) {
     let (a, b, cases) = tumbling_cases(10, 5);
     let (parry_a, parry_b) = (a.to_parry().expect("parry mesh"), b.to_parry().expect("parry mesh"));
-    let mut scratch = MeshDistanceScratch::default();
+    let mut scratch = MeshCcdScratch::default();
     let parry_motion = |m: &StepMotion| motion_to_parry(&m.pose_t0(), &m.velocity, &m.angular_velocity);
     let parry_motions: Vec<_> = cases.iter().map(|(x, y)| (parry_motion(x), parry_motion(y))).collect();
 
@@ -73,7 +73,7 @@ fn rotating_mesh_ccd(c: &mut Criterion) {
 fn translating_mesh_ccd(c: &mut Criterion) {
     let (a, b, cases) = translating_cases(10, 5);
     let (parry_a, parry_b) = (a.to_parry().expect("parry mesh"), b.to_parry().expect("parry mesh"));
-    let mut scratch = MeshDistanceScratch::default();
+    let mut scratch = MeshCcdScratch::default();
     let mut group = c.benchmark_group("translating icospheres 320 vs 1280, 10 cases");
     group.sample_size(20).measurement_time(Duration::from_secs(10));
     group.bench_function("nearmiss mesh_time_of_impact", |bench| {

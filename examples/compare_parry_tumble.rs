@@ -7,9 +7,9 @@
 //!
 //! `--translating`: the translating cases (`samples::translating_cases`)
 //! against parry's `cast_shapes` instead.
-use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MovingMesh};
+use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MeshCcdQuery, MeshCcdScratch, MovingMesh, WarmStart};
 use nearmiss::math::{motion_to_parry, pose_to_parry, vector_to_parry, Real};
-use nearmiss::mesh::{mesh_distance, mesh_distance_brute_force, DistanceKernel, MeshDistanceScratch};
+use nearmiss::mesh::{mesh_distance, mesh_distance_brute_force, DistanceSearch, MeshDistanceScratch};
 use nearmiss::motion::StepMotion;
 use nearmiss::samples::{translating_cases, tumbling_cases};
 use std::time::Instant;
@@ -19,18 +19,18 @@ fn main() {
     let (a, b, cases) = if translating { translating_cases(10, 5) } else { tumbling_cases(10, 5) };
     let (pa_mesh, pb_mesh) = (a.to_parry().unwrap(), b.to_parry().unwrap());
     let options = CcdOptions::default();
-    let mut scratch = MeshDistanceScratch::default();
+    let mut scratch = MeshCcdScratch::default();
     println!("| case | nearmiss toi | µs | parry toi | µs | verdict |\n|---|---|---|---|---|---|");
     for (k, (ma, mb)) in cases.iter().enumerate() {
         let start = Instant::now();
         let ours = mesh_time_of_impact(
-            MovingMesh { mesh: &a, motion: ma },
-            MovingMesh { mesh: &b, motion: mb },
-            1.0,
-            &options,
-            DistanceKernel::Exact,
-            None,
-            None,
+            &MeshCcdQuery::new(
+                MovingMesh { mesh: &a, motion: ma },
+                MovingMesh { mesh: &b, motion: mb },
+                1.0,
+                options,
+            ),
+            WarmStart::default(),
             &mut scratch,
         );
         let ours_us = start.elapsed().as_secs_f64() * 1e6;
@@ -72,22 +72,21 @@ fn main() {
                 let samples = 4000;
                 // The scan uses the BVH distance (exact kernel); the decisive
                 // samples are confirmed by brute force over all triangle pairs.
-                let exact = |t: Real, scratch: &mut MeshDistanceScratch| {
+                let mut distance_scratch = MeshDistanceScratch::default();
+                let mut exact = |t: Real| {
                     mesh_distance(
                         &a,
                         &ma.pose_at(t),
                         &b,
                         &mb.pose_at(t),
-                        DistanceKernel::Exact,
-                        None,
-                        0.0,
-                        scratch,
+                        &DistanceSearch::default(),
+                        &mut distance_scratch,
                     )
                     .distance
                 };
                 let first = (0..=samples)
                     .map(|s| lo + (hi - lo) * s as Real / samples as Real)
-                    .find(|&t| exact(t, &mut scratch) == 0.0);
+                    .find(|&t| exact(t) == 0.0);
                 if let Some(t) = first {
                     assert_eq!(mesh_distance_brute_force(&a, &ma.pose_at(t), &b, &mb.pose_at(t)), 0.0);
                 }

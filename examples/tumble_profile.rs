@@ -2,8 +2,7 @@
 //! nearmiss's time of impact, iterations, triangle pairs and wall time
 //! (fastest of 20 runs). A profiling aid for `benches/mesh_ccd.rs`;
 //! `--translating` for `samples::translating_cases`.
-use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MovingMesh};
-use nearmiss::mesh::{DistanceKernel, MeshDistanceScratch};
+use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MeshCcdQuery, MeshCcdScratch, MovingMesh, WarmStart};
 use nearmiss::samples::{translating_cases, tumbling_cases};
 use std::time::Instant;
 
@@ -11,7 +10,7 @@ fn main() {
     let translating = std::env::args().any(|arg| arg == "--translating");
     let (a, b, cases) = if translating { translating_cases(10, 5) } else { tumbling_cases(10, 5) };
     let options = CcdOptions::default();
-    let mut scratch = MeshDistanceScratch::default();
+    let mut scratch = MeshCcdScratch::default();
     let mut total = 0.0;
     println!("| case | toi | status | iterations | triangle pairs | node pairs | µs |\n|---|---|---|---|---|---|---|");
     for (k, (ma, mb)) in cases.iter().enumerate() {
@@ -20,13 +19,13 @@ fn main() {
         for _ in 0..20 {
             let start = Instant::now();
             let r = mesh_time_of_impact(
-                MovingMesh { mesh: &a, motion: ma },
-                MovingMesh { mesh: &b, motion: mb },
-                1.0,
-                &options,
-                DistanceKernel::Exact,
-                None,
-                None,
+                &MeshCcdQuery::new(
+                    MovingMesh { mesh: &a, motion: ma },
+                    MovingMesh { mesh: &b, motion: mb },
+                    1.0,
+                    options,
+                ),
+                WarmStart::default(),
                 &mut scratch,
             );
             fastest = fastest.min(start.elapsed().as_secs_f64() * 1e6);

@@ -95,8 +95,12 @@ pub struct StagesJson {
     pub integrate: Real,
     /// Broad phase.
     pub broad_phase: Real,
-    /// CCD.
+    /// CCD (the narrow phase).
     pub ccd: Real,
+    /// The contact response.
+    pub respond: Real,
+    /// Re-arming pairs that separated.
+    pub rearm: Real,
     /// Trace.
     pub trace: Real,
 }
@@ -165,6 +169,8 @@ impl<'a> Summary<'a> {
                 integrate: counters.integrate_s,
                 broad_phase: counters.broad_phase_s,
                 ccd: counters.ccd_s,
+                respond: counters.respond_s,
+                rearm: counters.rearm_s,
                 trace: counters.trace_s,
             },
             peer,

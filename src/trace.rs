@@ -1,8 +1,18 @@
-//! Distance-over-time records and their CSV writer.
+//! Distance-over-time records: the observer that samples them during a
+//! run (the stepper calls it after each step), and their CSV writer.
+//!
+//! A sample is the distance of each traced pair by the scene's kernel at
+//! the step's end (every `every` steps, at the start and the last step, and
+//! at a contact that ends the run); with `reference`, also the exact
+//! distance of the closest triangle pair in rational arithmetic.
 
 use std::io::Write;
+use std::time::Instant;
 
 use crate::math::Real;
+use crate::mesh::{mesh_distance_relative, DistanceKernel, DistanceSearch, MeshDistanceScratch};
+use crate::motion::StepMotion;
+use crate::scene::{Scene, TraceSpec};
 
 /// One distance sample of a traced pair.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -18,6 +28,69 @@ pub struct TraceRecord {
     /// The exact distance (rational arithmetic on the closest triangle
     /// pair, rounded), when the trace asks for it.
     pub reference: Option<Real>,
+}
+
+/// Samples a run's trace. Built only for a scene that asks for a trace.
+#[derive(Debug)]
+pub struct TraceObserver<'s> {
+    scene: &'s Scene,
+    spec: &'s TraceSpec,
+    records: Vec<TraceRecord>,
+    scratch: MeshDistanceScratch,
+    /// Mesh distance queries made.
+    pub distance_queries: usize,
+    /// Seconds spent sampling.
+    pub seconds: Real,
+}
+
+impl<'s> TraceObserver<'s> {
+    /// The observer of `scene`'s trace, or `None` if it asks for none.
+    pub fn of(scene: &'s Scene) -> Option<TraceObserver<'s>> {
+        scene.trace.as_ref().map(|spec| TraceObserver {
+            scene,
+            spec,
+            records: Vec::new(),
+            scratch: MeshDistanceScratch::default(),
+            distance_queries: 0,
+            seconds: 0.0,
+        })
+    }
+
+    /// After step `step` (1-based count of steps done) ending at `time`:
+    /// samples if the cadence asks for it.
+    pub fn step_done(&mut self, step: u64, time: Real, motions: &[StepMotion]) {
+        if step % self.spec.every == 0 || step == self.scene.steps {
+            self.sample(step, time, self.scene.dt, motions);
+        }
+    }
+
+    /// Appends one sample per traced pair, the bodies at time `s` into
+    /// their current step motions (`time` in all), after `step` steps.
+    pub fn sample(&mut self, step: u64, time: Real, s: Real, motions: &[StepMotion]) {
+        let clock = Instant::now();
+        let scene = self.scene;
+        for &(a, b) in &self.spec.pairs {
+            let pos_ab = StepMotion::relative_pose(&motions[a], &motions[b], s);
+            let (mesh_a, mesh_b) = (&scene.bodies[a].mesh, &scene.bodies[b].mesh);
+            let search = DistanceSearch::new(scene.kernel, None);
+            let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, &mut self.scratch);
+            self.distance_queries += 1;
+            let reference = self.spec.reference.then(|| {
+                let exact = DistanceSearch::new(DistanceKernel::Exact, None);
+                let exact = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &exact, &mut self.scratch);
+                // The closest pair as the kernels see it: b in a's frame.
+                let tb = mesh_b.triangle(exact.triangle_b).map(|p| pos_ab * p);
+                crate::exact::triangle_distance_f64(&mesh_a.triangle(exact.triangle_a), &tb)
+            });
+            self.records.push(TraceRecord { step, time, pair: (a, b), distance: d.distance, reference });
+        }
+        self.seconds += clock.elapsed().as_secs_f64();
+    }
+
+    /// The samples taken.
+    pub fn into_records(self) -> Vec<TraceRecord> {
+        self.records
+    }
 }
 
 /// Writes `step,time,body_a,body_b,distance` lines with a header; numbers

@@ -35,15 +35,23 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(nearmiss::motion::GYROSCOPIC_MAX_ITERATIONS, 20);
     // ccd/mesh_pair.rs: "plus 8 ulps of an integrated body's coordinates".
     assert_eq!(nearmiss::ccd::INTEGRATED_JUMP_ULPS, 8.0);
-    // ccd/mesh_step.rs: the search's slack `0.1` and opening ratio `1.0`.
+    // ccd/mesh_search.rs: the search's slack `0.1` and opening ratio `1.0`.
     assert_eq!(nearmiss::ccd::STEP_SLACK, 0.1);
     assert_eq!(nearmiss::ccd::OPEN_RATIO, 1.0);
-    // stepper.rs and README: a run is stopped when the energy grows past 10x its scale.
-    assert_eq!(nearmiss::stepper::DIVERGENCE_ENERGY_GROWTH, 10.0);
-    // scenes/README.md: re-armed beyond "twice the contact distance"; a bounced
-    // pair is a new contact "within half its distance at the bounce".
-    assert_eq!(nearmiss::stepper::REARM_DISTANCE_FACTOR, 2.0);
-    assert_eq!(nearmiss::stepper::BOUNCE_REDETECT_FRACTION, 0.5);
+    // ccd/contact.rs: the target at `0.5` of the tolerance, box margins `2.0` x tolerance x r.
+    assert_eq!(nearmiss::ccd::TARGET_FRACTION, 0.5);
+    assert_eq!(nearmiss::ccd::BOX_MARGIN_TOLERANCE_FACTOR, 2.0);
+    // stepper/parameters.rs (and README, scenes/README.md): a run is stopped when the
+    // energy grows past 10x its scale; re-armed beyond "twice the contact distance"; a
+    // bounced pair is a new contact "within half its distance at the bounce"; box
+    // rounding 1e3 ulps; integration on the threads from 64 bodies.
+    let parameters = nearmiss::stepper::StepParameters::default();
+    assert_eq!(parameters.divergence_energy_growth, 10.0);
+    assert_eq!(parameters.rearm_distance_factor, 2.0);
+    assert_eq!(parameters.bounce_redetect_fraction, 0.5);
+    assert_eq!(parameters.broad_phase_rounding_ulps, 1e3);
+    assert_eq!(parameters.parallel_integration_bodies, 64);
+    assert_eq!(scene.parameters, parameters);
 }
 
 #[test]

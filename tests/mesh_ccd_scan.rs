@@ -5,11 +5,11 @@
 //! separated never touch on the scan, and at a reported contact the meshes
 //! are within the contact distance.
 
-use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, MeshCcdResult, MovingMesh};
-use nearmiss::math::{Pose, Real, Vector};
-use nearmiss::mesh::{
-    box_mesh, icosphere, load_obj, mesh_distance_brute_force, DistanceKernel, MeshDistanceScratch, TriMesh,
+use nearmiss::ccd::{
+    mesh_time_of_impact, CcdOptions, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart,
 };
+use nearmiss::math::{Pose, Real, Vector};
+use nearmiss::mesh::{box_mesh, icosphere, load_obj, mesh_distance_brute_force, TriMesh};
 use nearmiss::motion::StepMotion;
 use nearmiss::samples::Rng;
 use std::path::Path;
@@ -17,15 +17,15 @@ use std::path::Path;
 /// Runs one case and checks it against brute force; returns whether contact was reported.
 fn check_case(case: usize, a: &TriMesh, b: &TriMesh, motion_a: &StepMotion, motion_b: &StepMotion) -> bool {
     let options = CcdOptions { distance_tolerance: 1e-9, ..CcdOptions::default() };
-    let mut scratch = MeshDistanceScratch::default();
+    let mut scratch = MeshCcdScratch::default();
     let result: MeshCcdResult = mesh_time_of_impact(
-        MovingMesh { mesh: a, motion: motion_a },
-        MovingMesh { mesh: b, motion: motion_b },
-        1.0,
-        &options,
-        DistanceKernel::Exact,
-        None,
-        None,
+        &MeshCcdQuery::new(
+            MovingMesh { mesh: a, motion: motion_a },
+            MovingMesh { mesh: b, motion: motion_b },
+            1.0,
+            options,
+        ),
+        WarmStart::default(),
         &mut scratch,
     );
     let distance_at = |s: Real| mesh_distance_brute_force(a, &motion_a.pose_at(s), b, &motion_b.pose_at(s));

@@ -24,11 +24,13 @@
 //! axis step is then refused: see [`LinearPair::gap_crossing`].)
 //!
 //! The step aims at `G = minimum_separation + tolerance / 2` and contact is
-//! declared at distance `minimum_separation + tolerance`; the half-tolerance
+//! declared at distance `minimum_separation + tolerance` (the contract of
+//! `contact.rs`, the tolerance relative to the query's size); the half-tolerance
 //! margin, `ε`-sized errors aside, keeps every floating-point step on the
 //! safe side (the rounding of `c` and `k` below is about `8 ε S`, and the
 //! tolerance is `1e-6 S` by default).
 
+use super::contact::{ContactContract, ContactRule};
 use super::options::{CcdOptions, CcdResult, CcdStatus};
 use crate::math::{Point, Real, Vector};
 
@@ -159,10 +161,13 @@ pub(crate) fn advance<const NA: usize, const NB: usize>(
         .chain(&pair.b_t0)
         .chain(&pair.b_t1)
         .fold(0.0, |m: Real, p| m.max(p.coords.amax()));
-    let tolerance =
-        (options.distance_tolerance * pair.size()).max(ROUNDING_FLOOR_ULPS * Real::EPSILON * largest);
-    let contact_distance = options.minimum_separation + tolerance;
-    let target = options.minimum_separation + 0.5 * tolerance;
+    let contract = ContactContract::of(
+        options,
+        ContactRule::ScaleRelative,
+        pair.size(),
+        ROUNDING_FLOOR_ULPS * Real::EPSILON * largest,
+    );
+    let (contact_distance, target) = (contract.contact_distance, contract.target);
     let no_contact = |status, distance, iterations| CcdResult {
         time_of_impact: None,
         status,

@@ -2,7 +2,7 @@
 //!
 //! Each body moves with constant linear velocity `v` and angular velocity
 //! `ω` about its centre of mass ([`StepMotion`]). From a time `s`, a search
-//! over both BVHs (`mesh_step.rs`) finds a step before which no triangle
+//! over both BVHs (`mesh_search.rs`, with the bounds of `mesh_bound.rs`) finds a step before which no triangle
 //! pair can come within `target`: per pair, a second-order bound of the
 //! motion along the pair's own separating direction, backed by the head-on
 //! bound of every point's speed,
@@ -18,7 +18,7 @@
 //! ([`CcdStatus::OutOfIterations`]: contact reported where it stopped).
 //!
 //! The target is `minimum_separation + tolerance / 2`, as in the
-//! linear-vertex queries, so each step gains at least `tolerance / (2 L)`
+//! linear-vertex queries (the contract of `contact.rs`), so each step gains at least `tolerance / (2 L)`
 //! and rounding (a few ulps of the coordinates, far below the tolerance
 //! floor) stays on the safe side. The tolerance is `distance_tolerance ×
 //! (r_a + r_b)`: relative to the pair's size, and never below a rounding
@@ -33,11 +33,15 @@
 //! without any search.
 
 use super::advance::ROUNDING_FLOOR_ULPS;
-use super::mesh_step::{PairFrame, StepLimits, StepOutcome, StepWork};
+use super::contact::{ContactContract, ContactRule};
+use super::mesh_bound::PairFrame;
+use super::mesh_search::{Front, SearchMeshes, StepLimits, StepOutcome, StepWork};
 use super::options::{CcdOptions, CcdStatus};
 use crate::math::{Pose, Real};
 use crate::mesh::distance::triangle_pair_distance;
-use crate::mesh::{mesh_distance_relative, DistanceKernel, MeshDistance, MeshDistanceScratch, TriMesh};
+use crate::mesh::{
+    mesh_distance_relative, DistanceKernel, DistanceSearch, MeshDistance, MeshDistanceScratch, TriMesh,
+};
 use crate::motion::StepMotion;
 
 /// The ulps of an integrated body's coordinates by which its path may jump
@@ -83,23 +87,75 @@ pub struct MeshCcdResult {
     pub node_pairs: usize,
 }
 
+/// A mesh CCD query: two moving meshes over `[0, duration]`, and what
+/// counts as contact.
+#[derive(Copy, Clone, Debug)]
+pub struct MeshCcdQuery<'a> {
+    /// The first body.
+    pub a: MovingMesh<'a>,
+    /// The second body.
+    pub b: MovingMesh<'a>,
+    /// The length of the interval (the motions' time unit).
+    pub duration: Real,
+    /// Tolerances and the iteration limit.
+    pub options: CcdOptions,
+    /// How the contact distance is chosen: relative to the pair's size
+    /// `r_a + r_b` (the default), or absolute.
+    pub contact: ContactRule,
+    /// The triangle distance kernel.
+    pub kernel: DistanceKernel,
+}
+
+impl<'a> MeshCcdQuery<'a> {
+    /// A query with the default contact rule and the exact kernel.
+    pub fn new(
+        a: MovingMesh<'a>,
+        b: MovingMesh<'a>,
+        duration: Real,
+        options: CcdOptions,
+    ) -> MeshCcdQuery<'a> {
+        MeshCcdQuery {
+            a,
+            b,
+            duration,
+            options,
+            contact: ContactRule::default(),
+            kernel: DistanceKernel::Exact,
+        }
+    }
+}
+
+/// What a query may start from, carried over from the pair's previous
+/// query (all optional; [`WarmStart::default`] is a cold start).
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct WarmStart {
+    /// A known lower bound on the distance at the interval's start (the
+    /// previous query's [`MeshCcdResult::end_lower_bound`]).
+    pub lower_bound: Option<Real>,
+    /// A triangle pair to seed the search (the previous query's
+    /// [`MeshCcdResult::hint`]).
+    pub hint: Option<(usize, usize)>,
+}
+
+/// Reusable buffers of [`mesh_time_of_impact`]: queries do not allocate
+/// once they have grown. Keep one per thread.
+#[derive(Clone, Debug, Default)]
+pub struct MeshCcdScratch {
+    /// The front of the advancement search (kept between its steps).
+    front: Front,
+    /// The buffers of the distance queries (also lent to the stepper's).
+    pub(crate) distance: MeshDistanceScratch,
+}
+
 /// The first time in `[0, duration]` at which two moving meshes come within
 /// the contact distance, by conservative advancement.
-///
-/// `lower_bound` is a known lower bound on the distance at the step's start
-/// (`end_lower_bound` of the previous step), `hint` a triangle pair to seed
-/// the distance search.
-#[allow(clippy::too_many_arguments)]
 pub fn mesh_time_of_impact(
-    a: MovingMesh<'_>,
-    b: MovingMesh<'_>,
-    duration: Real,
-    options: &CcdOptions,
-    kernel: DistanceKernel,
-    lower_bound: Option<Real>,
-    hint: Option<(usize, usize)>,
-    scratch: &mut MeshDistanceScratch,
+    query: &MeshCcdQuery<'_>,
+    warm: WarmStart,
+    scratch: &mut MeshCcdScratch,
 ) -> MeshCcdResult {
+    let MeshCcdQuery { a, b, duration, ref options, contact, kernel } = *query;
+    let WarmStart { lower_bound, hint } = warm;
     let (ra, rb) = (a.mesh.radius(), b.mesh.radius());
     let speed = (a.motion.velocity - b.motion.velocity).norm()
         + a.motion.angular_velocity.norm() * ra
@@ -120,9 +176,8 @@ pub fn mesh_time_of_impact(
         .map(|m| m.reference.translation.vector.amax() + m.velocity.amax() * duration)
         .sum::<Real>();
     let floor = Real::EPSILON * (ROUNDING_FLOOR_ULPS * relative_size + INTEGRATED_JUMP_ULPS * jumps);
-    let tolerance = (options.distance_tolerance * (ra + rb)).max(floor);
-    let contact_distance = options.minimum_separation + tolerance;
-    let target = options.minimum_separation + 0.5 * tolerance;
+    let contract = ContactContract::of(options, contact, ra + rb, floor);
+    let (contact_distance, target) = (contract.contact_distance, contract.target);
     let mut result = MeshCcdResult {
         time_of_impact: None,
         status: CcdStatus::Filtered,
@@ -154,9 +209,10 @@ pub fn mesh_time_of_impact(
     let relative_velocity = b.motion.velocity - a.motion.velocity;
     let (omega_a, omega_b) = (a.motion.angular_velocity, b.motion.angular_velocity);
     // A step shorter than this proves nothing a triangle pair outside the
-    // contact distance could not (see `mesh_step.rs`).
+    // contact distance could not (see `mesh_search.rs`).
     let min_step = if speed > 0.0 { (contact_distance - target) / speed } else { Real::INFINITY };
     let mut work = StepWork::default();
+    let meshes = SearchMeshes { a: a.mesh, b: b.mesh, kernel };
     scratch.front.reset();
     let mut s = 0.0;
     let mut hint = hint;
@@ -164,9 +220,9 @@ pub fn mesh_time_of_impact(
     for iteration in 0..options.max_iterations.max(1) {
         let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
         let frame = PairFrame::new(pos_ab, &a.motion.rotation_at(s), &relative_velocity, &omega_a, &omega_b);
-        let limits = StepLimits { target, contact_distance, horizon: duration - s, min_step };
+        let limits = StepLimits { start: s, target, contact_distance, horizon: duration - s, min_step };
         result.iterations += 1;
-        let outcome = scratch.front.advance(a.mesh, b.mesh, &frame, s, &limits, kernel, hint, &mut work);
+        let outcome = scratch.front.advance(&meshes, &frame, &limits, hint, &mut work);
         match outcome {
             StepOutcome::Contact { pair } => {
                 hint = Some(pair);
@@ -200,7 +256,13 @@ pub fn mesh_time_of_impact(
         // Out of iterations (every step so far was safe, so contact is
         // reported, conservatively, at the time reached): the closest pair.
         _ => {
-            let closest = mesh_distance_relative(a.mesh, b.mesh, &pos_ab, kernel, hint, 0.0, scratch);
+            let closest = mesh_distance_relative(
+                a.mesh,
+                b.mesh,
+                &pos_ab,
+                &DistanceSearch::new(kernel, hint),
+                &mut scratch.distance,
+            );
             work.triangle_pairs += closest.triangle_pairs;
             closest
         }

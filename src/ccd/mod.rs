@@ -17,9 +17,15 @@
 //! [`mesh_time_of_impact`] takes two triangle meshes, each moving with
 //! constant linear and angular velocity over a step, and advances by a
 //! second-order bound of each triangle pair's motion along its own
-//! separating direction (`mesh_pair.rs`), the smallest over all pairs found
+//! separating direction (`mesh_bound.rs`), the smallest over all pairs found
 //! on a front through both BVHs that is kept between the steps
-//! (`mesh_step.rs`).
+//! (`mesh_search.rs`); `mesh_pair.rs` is the front door and the loop.
+//!
+//! ## The contact contract
+//! `contact.rs` is the one place that turns options and a query's size into
+//! the contact distance (`minimum_separation + tolerance`) and the level
+//! every advancement step keeps above (`minimum_separation + tolerance / 2`);
+//! the broad phase's box margin and the `Bounce` response use it too.
 //!
 //! ## Caveats
 //! - A reported time may be early by the time the primitives need to close
@@ -34,17 +40,21 @@
 //!   ([`CcdStatus::NonFiniteInput`]), never a silent "no contact".
 
 mod advance;
+mod contact;
 mod edge_edge;
+mod mesh_bound;
 mod mesh_pair;
-mod mesh_step;
+mod mesh_search;
 mod options;
 mod vertex_face;
 
 pub use advance::ROUNDING_FLOOR_ULPS;
+pub use contact::{box_margin, ContactContract, ContactRule, BOX_MARGIN_TOLERANCE_FACTOR, TARGET_FRACTION};
 pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
 pub use mesh_pair::INTEGRATED_JUMP_ULPS;
-pub use mesh_pair::{mesh_time_of_impact, MeshCcdResult, MovingMesh};
-pub(crate) use mesh_step::Front;
-pub use mesh_step::{OPEN_RATIO, STEP_SLACK};
+pub use mesh_pair::{
+    mesh_time_of_impact, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart,
+};
+pub use mesh_search::{OPEN_RATIO, STEP_SLACK};
 pub use options::{CcdOptions, CcdResult, CcdStatus};
 pub use vertex_face::{vertex_face_time_of_impact, vertex_face_time_of_impact_detailed};

@@ -73,28 +73,39 @@ pub struct MeshDistanceScratch {
     queue_b: batch::TrianglesSoa,
     queue_pairs: Vec<(u32, u32)>,
     distances: Vec<Real>,
-    /// The front of the CCD's advancement search (kept between its steps).
-    pub(crate) front: crate::ccd::Front,
+}
+
+/// How a mesh distance query searches.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct DistanceSearch {
+    /// The triangle kernel. Default: [`DistanceKernel::Exact`].
+    pub kernel: DistanceKernel,
+    /// A triangle pair (for example the previous query's closest pair)
+    /// that seeds the bound. Default: none.
+    pub hint: Option<(usize, usize)>,
+    /// The search stops as soon as a pair at this distance or less is
+    /// found: a caller that only asks "within this distance?" gets its
+    /// answer sooner. Default: `0.0` (the true minimum).
+    pub enough: Real,
+}
+
+impl DistanceSearch {
+    /// The true minimum by `kernel`, from `hint`.
+    pub fn new(kernel: DistanceKernel, hint: Option<(usize, usize)>) -> DistanceSearch {
+        DistanceSearch { kernel, hint, enough: 0.0 }
+    }
 }
 
 /// The distance between mesh `a` at `pose_a` and mesh `b` at `pose_b`.
-///
-/// `hint`, a triangle pair (for example the previous query's closest
-/// pair), seeds the bound. The search stops as soon as a pair at distance
-/// `enough` or less is found (pass `0.0` for the true minimum): a caller
-/// that only asks "within this distance?" gets its answer sooner.
-#[allow(clippy::too_many_arguments)]
 pub fn mesh_distance(
     a: &TriMesh,
     pose_a: &Pose,
     b: &TriMesh,
     pose_b: &Pose,
-    kernel: DistanceKernel,
-    hint: Option<(usize, usize)>,
-    enough: Real,
+    search: &DistanceSearch,
     scratch: &mut MeshDistanceScratch,
 ) -> MeshDistance {
-    let mut found = mesh_distance_relative(a, b, &pose_a.inv_mul(pose_b), kernel, hint, enough, scratch);
+    let mut found = mesh_distance_relative(a, b, &pose_a.inv_mul(pose_b), search, scratch);
     found.point_a = pose_a * found.point_a;
     found.point_b = pose_a * found.point_b;
     found
@@ -106,11 +117,10 @@ pub fn mesh_distance_relative(
     a: &TriMesh,
     b: &TriMesh,
     pos_ab: &Pose,
-    kernel: DistanceKernel,
-    hint: Option<(usize, usize)>,
-    enough: Real,
+    search: &DistanceSearch,
     scratch: &mut MeshDistanceScratch,
 ) -> MeshDistance {
+    let DistanceSearch { kernel, hint, enough } = *search;
     let pos_ab = *pos_ab;
     let rotation = pos_ab.rotation.to_rotation_matrix().into_inner();
     let abs_rotation = rotation.abs();
@@ -302,8 +312,7 @@ mod tests {
                 |rng: &mut Rng, reach: Real| Pose::new(rng.in_unit_ball() * reach, rng.in_unit_ball() * 3.0);
             let pose_a = random_pose(&mut rng, 1.0);
             let pose_b = random_pose(&mut rng, 3.0);
-            let fast =
-                mesh_distance(&a, &pose_a, &b, &pose_b, DistanceKernel::Exact, None, 0.0, &mut scratch);
+            let fast = mesh_distance(&a, &pose_a, &b, &pose_b, &DistanceSearch::default(), &mut scratch);
             let slow = mesh_distance_brute_force(&a, &pose_a, &b, &pose_b);
             // The two move b by different roundings: agree to rounding of the poses.
             assert!((fast.distance - slow).abs() <= 1e-13, "case {case}: {} vs {slow}", fast.distance);

@@ -14,8 +14,8 @@ mod trimesh;
 
 pub use bvh::{BvhNode, MeshBvh, BVH_LEAF_SIZE};
 pub use distance::{
-    mesh_distance, mesh_distance_brute_force, mesh_distance_relative, DistanceKernel, MeshDistance,
-    MeshDistanceScratch,
+    mesh_distance, mesh_distance_brute_force, mesh_distance_relative, DistanceKernel, DistanceSearch,
+    MeshDistance, MeshDistanceScratch,
 };
 pub use mass::MassProperties;
 pub use obj::{load_obj, parse_obj, ObjError};

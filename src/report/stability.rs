@@ -211,7 +211,7 @@ pub fn stability_markdown(
         "## Stiff spring, ω = {omega} rad/s, 20 periods\n\nA run is declared diverged when the body's mechanical energy exceeds its initial value by {}× its scale. \
          Theory (undamped): semi-implicit Euler stable for ω·dt < 2, RK4 for ω·dt < 2√2 ≈ 2.83, explicit Euler never.\n\n\
          | integrator | ω·dt | dt | max energy drift | diverged |\n|---|---|---|---|---|\n",
-        crate::stepper::DIVERGENCE_ENERGY_GROWTH
+        crate::stepper::StepParameters::default().divergence_energy_growth
     ));
     for r in springs {
         out.push_str(&format!(

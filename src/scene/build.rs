@@ -323,6 +323,7 @@ impl Builder<'_> {
             plot,
             bodies,
             expect,
+            parameters: Default::default(),
         })
     }
 

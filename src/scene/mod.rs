@@ -72,6 +72,8 @@ pub struct Scene {
     pub bodies: Vec<Body>,
     /// The expectation `nearmiss test` checks.
     pub expect: Option<Expectation>,
+    /// The stepper's parameters (not part of the file format: defaults).
+    pub parameters: crate::stepper::StepParameters,
 }
 
 /// A body, resolved.

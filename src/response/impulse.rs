@@ -1,5 +1,5 @@
-//! The collision response of `on_contact: Bounce`: one impulse along the
-//! contact normal between two rigid bodies.
+//! One impulse along the contact normal between two rigid bodies (the
+//! impulse of `on_contact: Bounce`).
 //!
 //! With `n` the unit normal from `a` to `b`, `r` each contact point's
 //! offset from its body's centre of mass and `u = (v_b + ω_b × r_b) −

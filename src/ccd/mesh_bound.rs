@@ -1,7 +1,7 @@
-//! One advancement step of a rigid mesh pair: a time before which no
-//! triangle pair can come within `target`, found by branch and bound over
-//! both BVHs with second-order motion bounds along each pair's own
-//! separating direction.
+//! The bounds of a rigid mesh pair's advancement step: for a BVH node pair
+//! or a triangle pair, a time before which it cannot come within `target`,
+//! from a second-order bound of the motion along a separating direction.
+//! The search that combines them is `mesh_search.rs`.
 //!
 //! ## The bound
 //! A body turns with constant `ω` about its centre of mass, which moves with
@@ -46,58 +46,11 @@
 //! node such as a wall is separated along its thin axis, not along an
 //! oblique centre line). The longer of the two times is a lower bound for
 //! every triangle pair below the node.
-//!
-//! ## The search: a front kept between steps
-//! The step is the smallest time over all triangle pairs. The search keeps a
-//! *front*: a cut through the tree of node pairs (every triangle pair lies
-//! below exactly one element), each element with the absolute time until
-//! which nothing below it can come within `target`, in a heap ordered by
-//! that time. A bound stays valid after the time it was computed at, so the
-//! front is kept across the advancement steps of a query (temporal
-//! coherence): an element whose time lies beyond the next step is not
-//! looked at again, and a node pair that can never come close during the
-//! rest of the interval is settled once for the whole loop.
-//!
-//! Each step, the earliest element is taken while it limits the step:
-//! - a node pair bounded at an earlier time is bounded again now;
-//! - a node pair bounded now is opened (its children, or the triangle pairs
-//!   of two leaves, enter the front with their own bounds, never shorter
-//!   than their parent's, which still holds), unless its two radii are
-//!   small against its distance ([`OPEN_RATIO`]): then the children would
-//!   be bounded no better and the search stops there;
-//! - a triangle pair with only the cheap bound (the slab along the line
-//!   between its centroids) or one evaluated earlier is evaluated in full
-//!   now, and a triangle pair within the contact distance ends the search
-//!   with a contact;
-//! - a triangle pair evaluated now ends the search: nothing can do better.
-//!
-//! The search also stops as soon as the earliest element is within
-//! [`STEP_SLACK`] of the shortest triangle pair time found in this search,
-//! which is then the step at a fraction of the work. An element below
-//! `min_step` is always refined, so a triangle pair within the contact
-//! distance is found whenever the meshes can reach `target`, and without
-//! one the step is at least `min_step` (each full triangle pair time is, by
-//! its head-on bound): the loop advances. A pair that stays between `target`
-//! and the contact distance without ever closing to `target` (a resting
-//! pair, a receding one) need not be reported.
 
 use crate::kernels::{dyop_distance, triangle_distance};
 use crate::math::{Pose, Real, Triangle, Vector};
 use crate::mesh::{BvhNode, DistanceKernel, TriMesh};
 use nalgebra::Matrix3;
-
-/// The search stops once the front's earliest time is within this fraction
-/// of the shortest triangle pair time found: the step is then at least
-/// `1 − STEP_SLACK` of what a full search would give. `0.1`: on the
-/// tumbling benchmark, 0.1 to 0.25 all take about 12–14 steps per query,
-/// and 0.1 the fewest triangle and node pairs.
-pub const STEP_SLACK: Real = 0.1;
-
-/// A node pair is opened only if the sum of its radii is at least this
-/// many times its distance (or its time is below `min_step`): smaller
-/// nodes, far apart, are bounded about as well as their children would be.
-/// `1.0`: 0.5 and 2 took more steps and pairs on the tumbling benchmark.
-pub const OPEN_RATIO: Real = 1.0;
 
 /// The motion of `b` relative to `a`, in `a`'s frame at the current time.
 #[derive(Copy, Clone, Debug)]
@@ -148,265 +101,11 @@ impl PairFrame {
     }
 }
 
-/// What the step search is asked.
-#[derive(Copy, Clone, Debug)]
-pub(crate) struct StepLimits {
-    /// No pair may come within this distance before the step's end.
-    pub target: Real,
-    /// A triangle pair this close or closer is a contact.
-    pub contact_distance: Real,
-    /// The longest step wanted (the rest of the interval).
-    pub horizon: Real,
-    /// Node bounds below this are always opened (see the module).
-    pub min_step: Real,
-}
-
-/// The answer of [`Front::advance`].
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub(crate) enum StepOutcome {
-    /// A triangle pair is within the contact distance now.
-    Contact {
-        /// The pair (triangle of `a`, triangle of `b`).
-        pair: (usize, usize),
-    },
-    /// No pair comes within `target` before `step` (which may exceed the horizon).
-    Advance {
-        /// The step.
-        step: Real,
-        /// The triangle pair that limited the step most, if one was evaluated.
-        limiting: Option<(usize, usize)>,
-    },
-}
-
-/// Work counters of a search.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
-pub(crate) struct StepWork {
-    /// Triangle pairs evaluated.
-    pub triangle_pairs: usize,
-    /// Node pairs bounded.
-    pub node_pairs: usize,
-}
-
-/// One element of the front: a node pair or a triangle pair of the two
-/// BVHs, with the time until which it is known to stay farther than the
-/// target. The front is a cut through the tree of node pairs: every
-/// triangle pair lies below exactly one element.
-#[derive(Copy, Clone, Debug)]
-pub(crate) struct FrontItem {
-    /// Time (from the step's start) before which nothing below it comes
-    /// within the target.
-    safe_until: Real,
-    /// A lower bound on its distance at `evaluated`.
-    gap: Real,
-    /// When `safe_until` and `gap` were computed.
-    evaluated: Real,
-    /// Node (or triangle) of `a`, of `b`.
-    i: u32,
-    j: u32,
-    /// What `i`, `j` are.
-    kind: ItemKind,
-    /// The search that evaluated it (`Front::searches`).
-    stamp: u32,
-}
-
-impl PartialEq for FrontItem {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == std::cmp::Ordering::Equal
-    }
-}
-impl Eq for FrontItem {}
-impl PartialOrd for FrontItem {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for FrontItem {
-    /// Reversed on `safe_until`: the binary heap's top is the earliest.
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        other.safe_until.total_cmp(&self.safe_until)
-    }
-}
-
-/// What a front element holds.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-enum ItemKind {
-    /// A pair of BVH nodes.
-    Nodes,
-    /// A pair of triangles with the cheap bound only.
-    TrianglesQuick,
-    /// A pair of triangles with the full bound (and its distance as `gap`).
-    Triangles,
-}
-
-/// The front of one CCD query, kept between its advancement steps: an
-/// element whose time bound still reaches past the next step is not looked
-/// at again (temporal coherence), and only the elements that limit the
-/// step are re-evaluated at the current time, opened, or both.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Front {
-    heap: std::collections::BinaryHeap<FrontItem>,
-    searches: u32,
-}
-
-impl Front {
-    /// Starts a new query: the front is the pair of roots.
-    pub fn reset(&mut self) {
-        self.heap.clear();
-        self.searches = 0;
-    }
-
-    /// The longest safe step from time `s` (see the module), or the contact
-    /// found on the way. `hint`, a triangle pair, is evaluated first (at the
-    /// first search) so that the search starts with a good bound.
-    #[allow(clippy::too_many_arguments)]
-    pub fn advance(
-        &mut self,
-        a: &TriMesh,
-        b: &TriMesh,
-        frame: &PairFrame,
-        s: Real,
-        limits: &StepLimits,
-        kernel: DistanceKernel,
-        hint: Option<(usize, usize)>,
-        work: &mut StepWork,
-    ) -> StepOutcome {
-        let nodes_a = a.bvh().nodes();
-        let nodes_b = b.bvh().nodes();
-        self.searches += 1;
-        let stamp = self.searches;
-        // `needed`: a bound at least this long will not be refined.
-        let node_item = |i: u32, j: u32, needed: Real, work: &mut StepWork| {
-            work.node_pairs += 1;
-            let (na, nb) = (&nodes_a[i as usize], &nodes_b[j as usize]);
-            let (time, gap) = node_pair_time(na, nb, frame, limits.target, needed);
-            FrontItem { safe_until: s + time, gap, evaluated: s, i, j, kind: ItemKind::Nodes, stamp }
-        };
-        let quick_item = |i: u32, j: u32| {
-            let (time, gap) =
-                PosedPair::new(a, i as usize, b, j as usize, frame).quick_time(frame, limits.target);
-            FrontItem { safe_until: s + time, gap, evaluated: s, i, j, kind: ItemKind::TrianglesQuick, stamp }
-        };
-        let exact_item = |i: u32, j: u32, work: &mut StepWork| {
-            work.triangle_pairs += 1;
-            let (time, distance) =
-                PosedPair::new(a, i as usize, b, j as usize, frame).exact_time(frame, limits.target, kernel);
-            FrontItem {
-                safe_until: s + time,
-                gap: distance,
-                evaluated: s,
-                i,
-                j,
-                kind: ItemKind::Triangles,
-                stamp,
-            }
-        };
-        // The shortest time of a triangle pair evaluated in full in this search.
-        let mut best = limits.horizon;
-        let mut limiting = None;
-        if self.heap.is_empty() {
-            self.heap.push(node_item(0, 0, limits.horizon, work));
-            if let Some((i, j)) = hint.filter(|&(i, j)| i < a.triangles().len() && j < b.triangles().len()) {
-                let item = exact_item(i as u32, j as u32, work);
-                if item.gap <= limits.contact_distance {
-                    return StepOutcome::Contact { pair: (i, j) };
-                }
-                best = best.min(item.safe_until - s);
-            }
-        }
-        let needed = |best: Real| ((1.0 - STEP_SLACK) * best).max(limits.min_step);
-        let long_enough = |time: Real, best: Real| time >= needed(best);
-        while let Some(&top) = self.heap.peek() {
-            let time = top.safe_until - s;
-            if time >= best || long_enough(time, best) {
-                break;
-            }
-            let fresh = top.stamp == stamp;
-            match top.kind {
-                ItemKind::Triangles if fresh => break,
-                ItemKind::Triangles | ItemKind::TrianglesQuick => {
-                    self.heap.pop();
-                    let mut item = exact_item(top.i, top.j, work);
-                    if item.gap <= limits.contact_distance {
-                        return StepOutcome::Contact { pair: (top.i as usize, top.j as usize) };
-                    }
-                    // An earlier bound that reaches further still holds.
-                    item.safe_until = item.safe_until.max(top.safe_until);
-                    if item.safe_until - s < best {
-                        best = item.safe_until - s;
-                        limiting = Some((top.i as usize, top.j as usize));
-                    }
-                    self.heap.push(item);
-                }
-                ItemKind::Nodes if !fresh => {
-                    self.heap.pop();
-                    let mut item = node_item(top.i, top.j, needed(best), work);
-                    item.safe_until = item.safe_until.max(top.safe_until);
-                    self.heap.push(item);
-                }
-                ItemKind::Nodes => {
-                    let (na, nb) = (&nodes_a[top.i as usize], &nodes_b[top.j as usize]);
-                    if time >= limits.min_step && na.radius + nb.radius < OPEN_RATIO * top.gap {
-                        // Small against their distance: the children would
-                        // not be bounded much better.
-                        break;
-                    }
-                    self.heap.pop();
-                    self.open(a, b, &top, needed(best), &node_item, &quick_item, work);
-                }
-            }
-        }
-        let step = self.heap.peek().map_or(Real::INFINITY, |top| top.safe_until - s);
-        StepOutcome::Advance { step: step.max(0.0), limiting }
-    }
-
-    /// Replaces node pair `(i, j)` by its children (node pairs, or the
-    /// triangle pairs of two leaves with their cheap bounds).
-    #[allow(clippy::too_many_arguments)]
-    fn open(
-        &mut self,
-        a: &TriMesh,
-        b: &TriMesh,
-        parent: &FrontItem,
-        needed: Real,
-        node_item: &impl Fn(u32, u32, Real, &mut StepWork) -> FrontItem,
-        quick_item: &impl Fn(u32, u32) -> FrontItem,
-        work: &mut StepWork,
-    ) {
-        let (i, j) = (parent.i, parent.j);
-        // The parent's bound holds for everything below it.
-        let inherit = |mut item: FrontItem| {
-            item.safe_until = item.safe_until.max(parent.safe_until);
-            item
-        };
-        let (na, nb) = (&a.bvh().nodes()[i as usize], &b.bvh().nodes()[j as usize]);
-        if na.is_leaf() && nb.is_leaf() {
-            for tb in nb.first..nb.first + nb.count {
-                for ta in na.first..na.first + na.count {
-                    self.heap.push(inherit(quick_item(ta, tb)));
-                }
-            }
-            return;
-        }
-        let split_a = !na.is_leaf() && (nb.is_leaf() || na.radius >= nb.radius);
-        let children =
-            if split_a { [(na.first, j), (na.first + 1, j)] } else { [(i, nb.first), (i, nb.first + 1)] };
-        for (ci, cj) in children {
-            self.heap.push(inherit(node_item(ci, cj, needed, work)));
-        }
-    }
-
-    /// A lower bound on the distance at time `end`, from every element's
-    /// gap at its evaluation and the head-on closing `speed` since.
-    pub fn distance_bound_at(&self, end: Real, speed: Real) -> Real {
-        self.heap.iter().map(|item| item.gap - speed * (end - item.evaluated)).fold(Real::INFINITY, Real::min)
-    }
-}
-
 /// The first time `t > 0` at which `gap + rate t − curvature t² / 2`
 /// reaches 0 (`gap > 0`; `curvature ≥ 0`), infinite if never; 0 if
 /// `gap ≤ 0`.
 #[inline]
-fn first_root(gap: Real, rate: Real, curvature: Real) -> Real {
+pub(crate) fn first_root(gap: Real, rate: Real, curvature: Real) -> Real {
     if gap <= 0.0 {
         return 0.0;
     }
@@ -427,7 +126,13 @@ fn first_root(gap: Real, rate: Real, curvature: Real) -> Real {
 #[inline]
 /// The box face axes are tried only when the centre line does not give
 /// `needed`.
-fn node_pair_time(na: &BvhNode, nb: &BvhNode, frame: &PairFrame, target: Real, needed: Real) -> (Real, Real) {
+pub(crate) fn node_pair_time(
+    na: &BvhNode,
+    nb: &BvhNode,
+    frame: &PairFrame,
+    target: Real,
+    needed: Real,
+) -> (Real, Real) {
     let bounds = node_pair_bounds(na, nb, frame, target, needed);
     (bounds.sphere_time.max(bounds.box_time), bounds.gap)
 }
@@ -509,7 +214,7 @@ fn node_pair_bounds(na: &BvhNode, nb: &BvhNode, frame: &PairFrame, target: Real,
 /// Triangle `ta` of `a` and `tb` of `b`, set up for the bounds: `a`'s
 /// vertices (offsets from its centre), `b`'s as offsets from its centre
 /// and as points, both in `a`'s frame, and each one's largest offset.
-struct PosedPair {
+pub(crate) struct PosedPair {
     a: Triangle,
     offsets_b: Triangle,
     b: Triangle,
@@ -519,7 +224,7 @@ struct PosedPair {
 
 impl PosedPair {
     #[inline]
-    fn new(a: &TriMesh, ta: usize, b: &TriMesh, tb: usize, frame: &PairFrame) -> PosedPair {
+    pub(crate) fn new(a: &TriMesh, ta: usize, b: &TriMesh, tb: usize, frame: &PairFrame) -> PosedPair {
         let local_a = a.triangle(ta);
         let offsets_b: Triangle = b.triangle(tb).map(|p| (frame.rotation * p.coords).into());
         let moved_b: Triangle = offsets_b.map(|q| q + frame.pos_ab.translation.vector);
@@ -551,7 +256,7 @@ impl PosedPair {
 
     /// A cheap bound: the slab along the line between the centroids.
     #[inline]
-    fn quick_time(&self, frame: &PairFrame, target: Real) -> (Real, Real) {
+    pub(crate) fn quick_time(&self, frame: &PairFrame, target: Real) -> (Real, Real) {
         let centroid = |t: &Triangle| (t[0].coords + t[1].coords + t[2].coords) / 3.0;
         let between = centroid(&self.b) - centroid(&self.a);
         let normal = |t: &Triangle| (t[1] - t[0]).cross(&(t[2] - t[0]));
@@ -578,7 +283,7 @@ impl PosedPair {
 
     /// The full bound (see the module) and the distance.
     #[inline]
-    fn exact_time(&self, frame: &PairFrame, target: Real, kernel: DistanceKernel) -> (Real, Real) {
+    pub(crate) fn exact_time(&self, frame: &PairFrame, target: Real, kernel: DistanceKernel) -> (Real, Real) {
         let head_on = |d: Real| {
             let speed = frame.head_on_speed(self.reach_a, self.reach_b);
             if speed > 0.0 {

@@ -1,0 +1,90 @@
+//! What happens at contact: the seam between the stepper's narrow phase and
+//! the bodies' motion.
+//!
+//! Each step the narrow phase hands the contacts it found (pairs and their
+//! CCD results, in pair order) to the scene's [`Response`], which records
+//! them and may change the bodies' motion before the step ends. The
+//! responses:
+//! - `Stop` and `Record` (`record.rs`): record each contact once; `Stop`
+//!   keeps the earliest and ends the run, `Record` lets bodies move on (a
+//!   pair in contact is re-armed once it separates).
+//! - `Bounce` (`bounce.rs`): contacts in time order, bodies stopped at their
+//!   contacts for the rest of the step and re-checked, impulses along the
+//!   contact normal ([`impulse`] maths).
+//!
+//! A new response is a new file implementing [`Response`] and one arm of
+//! [`for_scene`]; the stepper does not change.
+
+mod bounce;
+mod impulse;
+mod record;
+
+pub use impulse::{apply_impulse, approach_speed, contact_frame, ImpactBody};
+
+use crate::ccd::{ContactRule, MeshCcdScratch};
+use crate::math::Real;
+use crate::scene::{OnContact, Scene};
+use crate::stepper::{Counters, Found, PairState, World};
+
+/// What a response may read and change during a step.
+pub(crate) struct StepContext<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// The world state.
+    pub world: &'a mut World,
+    /// CCD scratch, for queries the response makes itself.
+    pub scratch: &'a mut MeshCcdScratch,
+    /// The run's counters.
+    pub counters: &'a mut Counters,
+    /// The time at the step's start.
+    pub t0: Real,
+}
+
+/// A collision response (see the module).
+pub(crate) trait Response: Sync {
+    /// Whether pairs already in contact are queried again (for coming
+    /// closer still). Default: no.
+    fn queries_touching_pairs(&self) -> bool {
+        false
+    }
+
+    /// The contact rule of `pair`'s CCD query. Default: the scene's
+    /// options, relative to the pair's size.
+    fn contact_rule(&self, _pair: &PairState) -> ContactRule {
+        ContactRule::ScaleRelative
+    }
+
+    /// Whether the response can stop kinematic bodies (they then keep a
+    /// state of their own). Default: no.
+    fn stops_kinematic_bodies(&self) -> bool {
+        false
+    }
+
+    /// Whether it moves momentum (and energy) between bodies: the per-body
+    /// energy check of the integration stage is then off. Default: no.
+    fn exchanges_momentum(&self) -> bool {
+        false
+    }
+
+    /// Whether the run ends at the first contact. Default: no.
+    fn ends_run(&self) -> bool {
+        false
+    }
+
+    /// Responds to the step's contacts (`found`, in pair order, drained).
+    /// Called every step, also when nothing was found. Returns whether a
+    /// contact was recorded.
+    fn respond(&self, step: &mut StepContext<'_>, found: &mut Vec<Found>) -> bool;
+}
+
+/// The response a scene asks for.
+pub(crate) fn for_scene(scene: &Scene) -> Box<dyn Response> {
+    match scene.on_contact {
+        OnContact::Stop => Box::new(record::Record { stop: true }),
+        OnContact::Record => Box::new(record::Record { stop: false }),
+        OnContact::Bounce { restitution } => Box::new(bounce::Bounce {
+            restitution,
+            redetect_fraction: scene.parameters.bounce_redetect_fraction,
+        }),
+    }
+}

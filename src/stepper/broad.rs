@@ -1,0 +1,58 @@
+//! Stage 2, broad phase: the pairs whose swept boxes overlap in the step
+//! (scenes of more than two bodies; with two, the one pair is kept from
+//! the start). Each pair keeps its state from the previous step; a new pair
+//! starts fresh, and a pair that left the set was apart for a whole step,
+//! so it is re-armed.
+
+use std::time::Instant;
+
+use super::world::{PairState, World};
+use super::Stepper;
+use crate::broad_phase::swept_box;
+use crate::ccd::box_margin;
+use crate::math::Real;
+use crate::scene::BodyMotion;
+
+impl Stepper<'_> {
+    /// Replaces `world.pairs` by the pairs of this step's swept boxes.
+    pub(super) fn broad_phase(&mut self, world: &mut World) {
+        let clock = Instant::now();
+        if let Some(broad) = self.broad.as_mut() {
+            let scene = self.scene;
+            let boxes = &mut self.scratch.boxes;
+            boxes.clear();
+            for (body, motion) in scene.bodies.iter().zip(&world.motions) {
+                let radius = body.mesh.radius();
+                // Each box grows by at least its share of any pair's contact
+                // distance (the contract's box margin) and a rounding margin.
+                let reach = motion.center_at(0.0).coords.amax() + motion.travel(scene.dt) + radius;
+                let margin = box_margin(&scene.ccd, radius)
+                    + self.parameters.broad_phase_rounding_ulps * Real::EPSILON * reach;
+                boxes.push(swept_box(motion, radius, scene.dt, margin));
+            }
+            let candidates = broad.pairs(boxes);
+            let fixed = |i: usize| scene.bodies[i].motion == BodyMotion::Fixed;
+            // The new pairs go into the previous step's spare buffer.
+            let mut old = std::mem::replace(&mut world.pairs, std::mem::take(&mut self.scratch.spare_pairs));
+            world.pairs.clear();
+            world.pairs.reserve(candidates.len());
+            let mut next_old = 0;
+            for (a, b) in candidates.into_iter().filter(|&(a, b)| !(fixed(a) && fixed(b))) {
+                while old.get(next_old).is_some_and(|p| (p.a, p.b) < (a, b)) {
+                    next_old += 1;
+                }
+                match old.get(next_old) {
+                    Some(p) if (p.a, p.b) == (a, b) => {
+                        world.pairs.push(p.clone());
+                        next_old += 1;
+                    }
+                    _ => world.pairs.push(PairState::new(a, b)),
+                }
+            }
+            old.clear();
+            self.scratch.spare_pairs = old;
+        }
+        self.counters.broad_phase_s += clock.elapsed().as_secs_f64();
+        self.counters.candidate_pairs += world.pairs.len();
+    }
+}

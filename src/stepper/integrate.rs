@@ -1,0 +1,118 @@
+//! Stage 1, integrate: each body's motion over the step, from its state
+//! (fixed bodies stay, free ones move exactly, integrated ones take one
+//! integrator step), checked for divergence.
+
+use rayon::prelude::*;
+
+use std::time::Instant;
+
+use super::result::Termination;
+use super::world::World;
+use super::Stepper;
+use crate::math::Real;
+use crate::motion::{integrate, Dynamics, Integrator, RigidState, StepMotion, MAX_TURN_PER_STEP};
+use crate::scene::{Body, BodyMotion};
+
+/// The integrated states of a step and whether their solve converged.
+pub(crate) type Advanced = Vec<Option<(RigidState, bool)>>;
+
+impl Stepper<'_> {
+    /// Moves every body's motion to the step starting at `t0` (step number
+    /// `step`), checked for divergence.
+    pub(super) fn integrate(&mut self, world: &mut World, step: u64, t0: Real) -> Result<(), Termination> {
+        let clock = Instant::now();
+        let mut advanced = std::mem::take(&mut self.scratch.advanced);
+        let result = self.integrate_into(world, &mut advanced, step, t0);
+        self.scratch.advanced = advanced;
+        self.counters.integrate_s += clock.elapsed().as_secs_f64();
+        result
+    }
+
+    fn integrate_into(
+        &mut self,
+        world: &mut World,
+        advanced: &mut Advanced,
+        step: u64,
+        t0: Real,
+    ) -> Result<(), Termination> {
+        let (scene, parameters, counters) = (self.scene, &self.parameters, &mut self.counters);
+        // Bounces move energy between bodies: the check is per body, so a
+        // response that exchanges momentum turns it off.
+        let check_energy = !self.response.exchanges_momentum();
+        // The integrations are independent: on the threads when there are many
+        // (each body's step is the same whatever the threads).
+        let advance = |(body, state): (&Body, &Option<RigidState>)| match (&body.motion, state) {
+            (BodyMotion::Integrated(dynamics), Some(state)) => {
+                Some(integrate(state, dynamics, scene.integrator, scene.gyroscopic, scene.dt))
+            }
+            _ => None,
+        };
+        if self.options.parallel && scene.bodies.len() >= parameters.parallel_integration_bodies {
+            scene.bodies.par_iter().zip(&world.states).map(advance).collect_into_vec(advanced);
+        } else {
+            advanced.clear();
+            advanced.extend(scene.bodies.iter().zip(&world.states).map(advance));
+        }
+        for (i, body) in scene.bodies.iter().enumerate() {
+            world.motions[i] = match &body.motion {
+                BodyMotion::Fixed => StepMotion::fixed(body.pose),
+                BodyMotion::Free => match &world.states[i] {
+                    // Kinematic with a state (the response can stop it): from
+                    // where the last step left it.
+                    Some(state) => StepMotion::new(state.pose(), state.velocity, state.angular_velocity),
+                    None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
+                },
+                BodyMotion::Integrated(dynamics) => {
+                    let (Some(state), Some((next, converged))) = (world.states[i], advanced[i]) else {
+                        continue;
+                    };
+                    counters.gyroscopic_unconverged += usize::from(!converged);
+                    let diverged = |reason: String| Termination::Diverged { body: i, step, reason };
+                    if !next.is_finite() {
+                        return Err(diverged(format!("the state of `{}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator", body.name)));
+                    }
+                    let motion = StepMotion::between(&state.pose(), &next.pose(), scene.dt);
+                    let turn = motion.angular_velocity.norm() * scene.dt;
+                    if turn >= MAX_TURN_PER_STEP {
+                        return Err(diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", body.name)));
+                    }
+                    if check_energy {
+                        let (initial, scale) = world.energies[i];
+                        let energy = dynamics.energy(&next);
+                        counters.max_energy_drift =
+                            counters.max_energy_drift.max((energy - initial).abs() / scale);
+                        if energy - initial > parameters.divergence_energy_growth * scale {
+                            let time = (step + 1) as Real * scene.dt;
+                            let advice = stability_advice(dynamics, scene.integrator, scene.dt);
+                            return Err(diverged(format!(
+                                "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
+                                body.name
+                            )));
+                        }
+                    }
+                    world.states[i] = Some(next);
+                    motion
+                }
+            };
+        }
+        Ok(())
+    }
+}
+
+/// What to do about a diverging body: the largest stable step of its springs.
+fn stability_advice(dynamics: &Dynamics, integrator: Integrator, dt: Real) -> String {
+    let limit = |i: Integrator| dynamics.stable_step_limit(i).unwrap_or(0.0);
+    match dynamics.stable_step_limit(integrator) {
+        None => format!("Lower `dt` (now {dt})."),
+        Some(_) if integrator == Integrator::ExplicitEuler => format!(
+            "Explicit Euler gains energy at every step on an undamped spring, whatever `dt`: use SymplecticEuler \
+             (stable for dt < {:.4e}) or Rk4 (dt < {:.4e}); `dt` is now {dt}.",
+            limit(Integrator::SymplecticEuler),
+            limit(Integrator::Rk4)
+        ),
+        Some(largest) => format!(
+            "The largest stable dt for its springs with {integrator:?} is {largest:.4e} ({} / ω, ω = sqrt(Σk / m)); `dt` is now {dt}.",
+            if integrator == Integrator::Rk4 { "2√2" } else { "2" }
+        ),
+    }
+}

@@ -1,0 +1,235 @@
+//! The time-stepper: each fixed step runs the stages below in order, one
+//! file each, each timed by its counter ([`Counters`]):
+//!
+//! 1. **integrate** (`integrate.rs`): each body's motion over the step;
+//! 2. **broad phase** (`broad.rs`): the pairs whose swept boxes overlap
+//!    (scenes of more than two bodies; with two, the one pair is queried);
+//! 3. **narrow phase** (`narrow.rs`): the CCD of every pair in play, on
+//!    rayon's threads, results in pair order (a run is the same whatever the
+//!    threads);
+//! 4. **respond** ([`crate::response`]): what the scene's `on_contact` does
+//!    with the contacts found (stop, record, bounce);
+//! 5. **re-arm** (`rearm.rs`): touching pairs that separated are armed again;
+//! 6. **observe** ([`crate::trace`]): the distance trace, when asked for.
+//!
+//! The world state (bodies' states and motions, pairs, contacts:
+//! `world.rs`) is passed to each stage; the [`Stepper`] owns only the run's
+//! set-up and scratch buffers. A scene gets only the stages it needs: fixed
+//! bodies are never integrated and a pair of fixed bodies never queried;
+//! free bodies (nothing acting on them) move exactly; there is no tree for
+//! two bodies and no trace unless asked for.
+
+mod broad;
+mod integrate;
+mod narrow;
+mod parameters;
+mod rearm;
+mod result;
+mod world;
+
+use std::time::Instant;
+
+pub(crate) use narrow::{pair_query, Found};
+pub use parameters::StepParameters;
+pub use result::{Contact, Counters, RunResult, Termination};
+pub(crate) use world::{PairState, World};
+
+use crate::broad_phase::{BroadPhase, SweptBox};
+use crate::ccd::MeshCcdScratch;
+use crate::math::Real;
+use crate::response::{Response, StepContext};
+use crate::scene::Scene;
+use crate::trace::TraceObserver;
+
+/// Runs a scene.
+pub fn run(scene: &Scene) -> RunResult {
+    run_observed(scene, &mut |_| {})
+}
+
+/// How a run is carried out (not what it computes: results are the same
+/// whatever the options).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct RunOptions {
+    /// Run the pairs' CCD on several threads (rayon's pool). Default: true.
+    pub parallel: bool,
+    /// Select pairs with the broad phase when there are more than two
+    /// bodies (otherwise every pair not both fixed is queried). Default: true.
+    pub broad_phase: bool,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions { parallel: true, broad_phase: true }
+    }
+}
+
+/// Runs a scene, calling `observer` with the number of steps done after
+/// each step (for progress display).
+pub fn run_observed(scene: &Scene, observer: &mut dyn FnMut(u64)) -> RunResult {
+    run_with(scene, RunOptions::default(), observer)
+}
+
+/// Runs a scene with options.
+pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64)) -> RunResult {
+    let start = Instant::now();
+    let mut stepper = Stepper::new(scene, options);
+    let mut world = World::new(scene, stepper.response.stops_kinematic_bodies());
+    if stepper.broad.is_none() {
+        world.pairs = scene.movable_pairs().into_iter().map(|(a, b)| PairState::new(a, b)).collect();
+    }
+    if let Some(trace) = stepper.trace.as_mut() {
+        trace.sample(0, 0.0, 0.0, &world.motions);
+    }
+    let mut termination = Termination::Completed;
+    let mut steps = 0;
+    for step in 0..scene.steps {
+        steps = step + 1;
+        match stepper.step(&mut world, step) {
+            Ok(StepEnd::Continue) => observer(steps),
+            Ok(StepEnd::FirstContact) => {
+                termination = Termination::FirstContact;
+                break;
+            }
+            Err(diverged) => {
+                termination = diverged;
+                break;
+            }
+        }
+    }
+    stepper.finish(world, steps, termination, start)
+}
+
+/// How a step ended, when the run goes on or stops at a contact.
+enum StepEnd {
+    Continue,
+    FirstContact,
+}
+
+/// A run's set-up and scratch buffers (the world state is passed in).
+struct Stepper<'s> {
+    scene: &'s Scene,
+    parameters: StepParameters,
+    options: RunOptions,
+    /// What happens at contact.
+    response: Box<dyn Response>,
+    /// The broad phase, for scenes of more than two bodies.
+    broad: Option<BroadPhase>,
+    /// The trace, when the scene asks for one.
+    trace: Option<TraceObserver<'s>>,
+    scratch: Scratch,
+    counters: Counters,
+}
+
+/// Buffers kept between steps, so that a step allocates nothing once they
+/// have grown.
+#[derive(Default)]
+struct Scratch {
+    /// The CCD's scratch (also lent to the re-arm stage's distances).
+    ccd: MeshCcdScratch,
+    /// The swept boxes of the current step.
+    boxes: Vec<SweptBox>,
+    /// The previous step's pairs.
+    spare_pairs: Vec<PairState>,
+    /// The pairs queried in the narrow phase (indices into the pairs).
+    work: Vec<usize>,
+    /// The narrow phase's results.
+    results: Vec<narrow::PairOutcome>,
+    /// The contacts found in a step.
+    found: Vec<Found>,
+    /// The integrated states of a step.
+    advanced: integrate::Advanced,
+}
+
+impl<'s> Stepper<'s> {
+    fn new(scene: &'s Scene, options: RunOptions) -> Stepper<'s> {
+        Stepper {
+            scene,
+            parameters: scene.parameters,
+            options,
+            response: crate::response::for_scene(scene),
+            broad: (options.broad_phase && scene.bodies.len() > 2).then(BroadPhase::default),
+            trace: TraceObserver::of(scene),
+            scratch: Scratch::default(),
+            counters: Counters::default(),
+        }
+    }
+
+    /// One step (0-based `step`): the stages in order.
+    fn step(&mut self, world: &mut World, step: u64) -> Result<StepEnd, Termination> {
+        let t0 = step as Real * self.scene.dt;
+        self.integrate(world, step, t0)?;
+        self.broad_phase(world);
+        let mut found = std::mem::take(&mut self.scratch.found);
+        self.narrow_phase(world, t0, &mut found);
+        let contact = self.respond(world, t0, &mut found);
+        self.scratch.found = found;
+        if contact && self.response.ends_run() {
+            return Ok(StepEnd::FirstContact);
+        }
+        self.rearm(world);
+        self.observe(world, step + 1, t0 + self.scene.dt);
+        Ok(StepEnd::Continue)
+    }
+
+    /// Stage 4: the response to the contacts found. Returns whether one
+    /// was recorded.
+    fn respond(&mut self, world: &mut World, t0: Real, found: &mut Vec<Found>) -> bool {
+        let clock = Instant::now();
+        let mut context = StepContext {
+            scene: self.scene,
+            world,
+            scratch: &mut self.scratch.ccd,
+            counters: &mut self.counters,
+            t0,
+        };
+        let contact = self.response.respond(&mut context, found);
+        self.counters.respond_s += clock.elapsed().as_secs_f64();
+        contact
+    }
+
+    /// Stage 6: the trace after `done` steps, at `time`.
+    fn observe(&mut self, world: &World, done: u64, time: Real) {
+        if let Some(trace) = self.trace.as_mut() {
+            trace.step_done(done, time, &world.motions);
+        }
+    }
+
+    /// The run's result after `steps` steps.
+    fn finish(mut self, world: World, steps: u64, termination: Termination, start: Instant) -> RunResult {
+        let scene = self.scene;
+        let end_time = match (&termination, world.contacts.first()) {
+            (Termination::FirstContact, Some(contact)) => contact.time,
+            _ => steps as Real * scene.dt,
+        };
+        let last_step_start = steps.saturating_sub(1) as Real * scene.dt;
+        let trace = match self.trace.take() {
+            Some(mut trace) => {
+                if termination == Termination::FirstContact {
+                    trace.sample(steps, end_time, end_time - last_step_start, &world.motions);
+                }
+                self.counters.distance_queries += trace.distance_queries;
+                self.counters.trace_s += trace.seconds;
+                trace.into_records()
+            }
+            None => Vec::new(),
+        };
+        let final_states =
+            (0..scene.bodies.len()).map(|i| world.state_at(i, end_time - last_step_start)).collect();
+        let mut contacts = world.contacts;
+        contacts
+            .sort_by(|a, b| a.time.total_cmp(&b.time).then((a.body_a, a.body_b).cmp(&(b.body_a, b.body_b))));
+        RunResult {
+            scene: scene.name.clone(),
+            bodies: scene.bodies.iter().map(|b| b.name.clone()).collect(),
+            steps,
+            end_time,
+            wall_time_s: start.elapsed().as_secs_f64(),
+            first_contact: contacts.first().cloned(),
+            contacts,
+            trace,
+            termination,
+            counters: self.counters,
+            final_states,
+        }
+    }
+}

@@ -1,0 +1,137 @@
+//! Stage 3, narrow phase: the CCD of every pair in play over the step. The
+//! queries are independent: on rayon's threads when there are several,
+//! results applied in pair order, so a run gives the same result whatever
+//! the threads. A far pair is settled without a mesh query by its bounding
+//! spheres or the distance bound carried from its previous step.
+
+use std::cell::RefCell;
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::world::{PairState, World};
+use super::Stepper;
+use crate::ccd::{
+    mesh_time_of_impact, CcdStatus, ContactRule, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh,
+};
+use crate::math::Real;
+use crate::motion::StepMotion;
+use crate::scene::Scene;
+
+thread_local! {
+    /// Each rayon thread's CCD scratch, kept between steps and runs.
+    static THREAD_SCRATCH: RefCell<MeshCcdScratch> = RefCell::new(MeshCcdScratch::default());
+}
+
+/// A contact the narrow phase found: the pair (index into `world.pairs`)
+/// and its CCD result (with a time of impact).
+#[derive(Clone, Debug)]
+pub(crate) struct Found {
+    pub pair: usize,
+    pub result: MeshCcdResult,
+}
+
+/// What the stepper keeps of a pair's CCD result: the counters and what
+/// carries to the next step, and the full result only at a contact (a few
+/// pairs a step), so that thousands of pairs cost little memory.
+#[derive(Clone, Debug)]
+pub(crate) struct PairOutcome {
+    summary: OutcomeSummary,
+    contact: Option<Box<MeshCcdResult>>,
+}
+
+/// The part of every pair's result that the stepper reads.
+#[derive(Copy, Clone, Debug)]
+struct OutcomeSummary {
+    iterations: usize,
+    triangle_pairs: usize,
+    hint: Option<(usize, usize)>,
+    end_lower_bound: Real,
+}
+
+impl From<MeshCcdResult> for PairOutcome {
+    fn from(result: MeshCcdResult) -> PairOutcome {
+        PairOutcome {
+            summary: OutcomeSummary {
+                iterations: result.iterations,
+                triangle_pairs: result.triangle_pairs,
+                hint: result.hint,
+                end_lower_bound: result.end_lower_bound,
+            },
+            contact: result.time_of_impact.is_some().then(|| Box::new(result)),
+        }
+    }
+}
+
+/// The mesh CCD query of `pair` over `duration`, its bodies moving by
+/// `motions`, under the scene's options and kernel and the rule `contact`.
+pub(crate) fn pair_query<'a>(
+    scene: &'a Scene,
+    pair: &PairState,
+    motions: [&'a StepMotion; 2],
+    duration: Real,
+    contact: ContactRule,
+) -> MeshCcdQuery<'a> {
+    MeshCcdQuery {
+        a: MovingMesh { mesh: &scene.bodies[pair.a].mesh, motion: motions[0] },
+        b: MovingMesh { mesh: &scene.bodies[pair.b].mesh, motion: motions[1] },
+        duration,
+        options: scene.ccd,
+        contact,
+        kernel: scene.kernel,
+    }
+}
+
+impl Stepper<'_> {
+    /// The CCD of every pair in play over the step starting at `t0`; the
+    /// contacts found go to `found`, in pair order.
+    pub(super) fn narrow_phase(&mut self, world: &mut World, t0: Real, found: &mut Vec<Found>) {
+        let clock = Instant::now();
+        let scene = self.scene;
+        let response = &*self.response;
+        // Pairs already in contact are left alone unless the response asks
+        // for them (`Bounce`: for coming closer again).
+        let touching_too = response.queries_touching_pairs();
+        let work = &mut self.scratch.work;
+        work.clear();
+        work.extend((0..world.pairs.len()).filter(|&k| touching_too || world.pairs[k].touching.is_none()));
+        let (motions, pairs) = (&world.motions, &world.pairs);
+        let query = |k: usize, scratch: &mut MeshCcdScratch| {
+            let pair = &pairs[k];
+            let motions = [&motions[pair.a], &motions[pair.b]];
+            let query = pair_query(scene, pair, motions, scene.dt, response.contact_rule(pair));
+            let mut result = mesh_time_of_impact(&query, pair.warm_start(), scratch);
+            if result.status == CcdStatus::InitiallyTouching && t0 > 0.0 {
+                // A pair new to the broad phase, touching at the step's start.
+                result.status = CcdStatus::Converged;
+            }
+            PairOutcome::from(result)
+        };
+        // Results go into a buffer kept between steps, and each thread keeps
+        // its own scratch: a step allocates nothing once they have grown.
+        let results = &mut self.scratch.results;
+        if self.options.parallel && work.len() > 1 {
+            work.par_iter()
+                .map(|&k| THREAD_SCRATCH.with(|scratch| query(k, &mut scratch.borrow_mut())))
+                .collect_into_vec(results);
+        } else {
+            results.clear();
+            let scratch = &mut self.scratch.ccd;
+            results.extend(work.iter().map(|&k| query(k, scratch)));
+        }
+        for (&k, outcome) in work.iter().zip(results.iter_mut()) {
+            let pair = &mut world.pairs[k];
+            let result = outcome.summary;
+            self.counters.distance_queries += result.iterations;
+            self.counters.triangle_pairs += result.triangle_pairs;
+            self.counters.pairs_culled += usize::from(result.iterations == 0);
+            pair.hint = result.hint;
+            pair.lower_bound = Some(result.end_lower_bound);
+            let Some(contact) = outcome.contact.take() else { continue };
+            if contact.time_of_impact.is_some() {
+                found.push(Found { pair: k, result: *contact });
+            }
+        }
+        self.counters.ccd_s += clock.elapsed().as_secs_f64();
+    }
+}

@@ -1,0 +1,35 @@
+//! Stage 5, re-arm: a pair in contact is not reported again until it
+//! separates; at the step's end, a touching pair farther apart than
+//! [`StepParameters::rearm_distance_factor`](super::StepParameters) times
+//! its contact distance is armed again.
+
+use std::time::Instant;
+
+use super::world::{Touching, World};
+use super::Stepper;
+use crate::mesh::{mesh_distance_relative, DistanceSearch};
+use crate::motion::StepMotion;
+
+impl Stepper<'_> {
+    /// Re-arms the touching pairs that separated by the step's end.
+    pub(super) fn rearm(&mut self, world: &mut World) {
+        let clock = Instant::now();
+        let scene = self.scene;
+        for pair in &mut world.pairs {
+            let Some(Touching { contact_distance, .. }) = pair.touching else { continue };
+            let pos_ab = StepMotion::relative_pose(&world.motions[pair.a], &world.motions[pair.b], scene.dt);
+            let (mesh_a, mesh_b) = (&scene.bodies[pair.a].mesh, &scene.bodies[pair.b].mesh);
+            let rearm_distance = self.parameters.rearm_distance_factor * contact_distance;
+            // Only "beyond the re-arm distance?" is asked: the search may
+            // stop at the first pair within it.
+            let search = DistanceSearch { kernel: scene.kernel, hint: pair.hint, enough: rearm_distance };
+            let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, &mut self.scratch.ccd.distance);
+            self.counters.distance_queries += 1;
+            if d.distance > rearm_distance {
+                pair.touching = None;
+                pair.lower_bound = Some(d.distance);
+            }
+        }
+        self.counters.rearm_s += clock.elapsed().as_secs_f64();
+    }
+}

@@ -1,0 +1,113 @@
+//! What a run returns: contacts, why it ended, work counters.
+
+use crate::ccd::CcdStatus;
+use crate::kernels::Feature;
+use crate::math::{Point, Real};
+use crate::motion::RigidState;
+use crate::trace::TraceRecord;
+
+/// A contact event.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Contact {
+    /// The time of first contact (never later than the true one).
+    pub time: Real,
+    /// The first body (index into the scene's bodies; the lower index).
+    pub body_a: usize,
+    /// The second body.
+    pub body_b: usize,
+    /// The distance at `time` (at most the contact distance).
+    pub distance: Real,
+    /// The closest point of `body_a`, world frame.
+    pub point_a: Point,
+    /// The closest point of `body_b`, world frame.
+    pub point_b: Point,
+    /// The triangle of `body_a` (in its mesh's triangle order).
+    pub triangle_a: usize,
+    /// The triangle of `body_b`.
+    pub triangle_b: usize,
+    /// The feature of `triangle_a` that `point_a` lies on.
+    pub feature_a: Feature,
+    /// The feature of `triangle_b` that `point_b` lies on.
+    pub feature_b: Feature,
+    /// How the CCD iteration ended.
+    pub status: CcdStatus,
+    /// The contact distance of the pair (`minimum_separation + tolerance`).
+    pub contact_distance: Real,
+}
+
+/// Why a run ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Termination {
+    /// All steps ran.
+    Completed,
+    /// Stopped at the first contact (`on_contact: Stop`).
+    FirstContact,
+    /// A body's state stopped being usable: not finite, or turning too far
+    /// in one step for the in-step motion to be defined.
+    Diverged {
+        /// The body.
+        body: usize,
+        /// The step at which it happened (0-based).
+        step: u64,
+        /// What happened.
+        reason: String,
+    },
+}
+
+/// Work and time per stage.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Counters {
+    /// Mesh queries: CCD advancement searches and trace distances.
+    pub distance_queries: usize,
+    /// Triangle pairs evaluated.
+    pub triangle_pairs: usize,
+    /// Pair-steps skipped without a mesh query (spheres or carried bound).
+    pub pairs_culled: usize,
+    /// Steps where the implicit gyroscopic solve did not converge.
+    pub gyroscopic_unconverged: usize,
+    /// The largest drift of an integrated body's mechanical energy,
+    /// `|E − E0|` over its initial energy scale (0 without integrated bodies).
+    pub max_energy_drift: Real,
+    /// Seconds spent integrating.
+    pub integrate_s: Real,
+    /// Seconds spent in CCD.
+    pub ccd_s: Real,
+    /// Seconds spent in the broad phase.
+    pub broad_phase_s: Real,
+    /// Pairs handed to CCD, summed over steps.
+    pub candidate_pairs: usize,
+    /// Seconds spent in the contact response (`Bounce`'s ordering,
+    /// re-checks and impulses; recording contacts).
+    pub respond_s: Real,
+    /// Seconds spent re-arming pairs that separated.
+    pub rearm_s: Real,
+    /// Seconds spent tracing.
+    pub trace_s: Real,
+}
+
+/// The outcome of a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunResult {
+    /// The scene's name.
+    pub scene: String,
+    /// The body names (for the indices in contacts and traces).
+    pub bodies: Vec<String>,
+    /// Steps taken (the last one possibly cut short by a contact).
+    pub steps: u64,
+    /// The time reached.
+    pub end_time: Real,
+    /// Wall-clock time of the run, in seconds.
+    pub wall_time_s: Real,
+    /// The earliest contact, if any.
+    pub first_contact: Option<Contact>,
+    /// Every contact in time order (only the first with `on_contact: Stop`).
+    pub contacts: Vec<Contact>,
+    /// The distance trace (empty unless the scene asks for one).
+    pub trace: Vec<TraceRecord>,
+    /// Why the run ended.
+    pub termination: Termination,
+    /// Work and time per stage.
+    pub counters: Counters,
+    /// Each body at `end_time`.
+    pub final_states: Vec<RigidState>,
+}

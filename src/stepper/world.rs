@@ -1,0 +1,163 @@
+//! The run's world state: the bodies' states and motions over the current
+//! step, the pairs in play with what each carries between steps, and the
+//! contacts found so far. The stages read and change it; the stepper's
+//! scratch buffers live apart (`mod.rs`).
+
+use super::result::Contact;
+use crate::ccd::{MeshCcdResult, WarmStart};
+use crate::math::{Point, Real};
+use crate::motion::{RigidState, StepMotion};
+use crate::response::ImpactBody;
+use crate::scene::{BodyMotion, Scene};
+
+/// The world state of a run.
+pub(crate) struct World {
+    /// The bodies' states where the stepper keeps one (integrated bodies,
+    /// and kinematic ones when the response can stop them); others `None`.
+    pub states: Vec<Option<RigidState>>,
+    /// Integrated bodies' initial energy and energy scale.
+    pub energies: Vec<(Real, Real)>,
+    /// Each body's motion over the current step.
+    pub motions: Vec<StepMotion>,
+    /// The pairs in play, sorted by `(a, b)`: all pairs not both fixed,
+    /// or with a broad phase the pairs whose swept boxes overlap.
+    pub pairs: Vec<PairState>,
+    /// The contacts found so far.
+    pub contacts: Vec<Contact>,
+}
+
+/// What the CCD keeps per pair between steps.
+#[derive(Clone, Debug)]
+pub(crate) struct PairState {
+    pub a: usize,
+    pub b: usize,
+    /// A lower bound on the distance at the start of the next step.
+    pub lower_bound: Option<Real>,
+    /// The last closest triangle pair.
+    pub hint: Option<(usize, usize)>,
+    /// In contact (`on_contact: Record` or `Bounce`): not re-reported until
+    /// it separates (`Bounce`: until it comes within a fraction of this
+    /// distance).
+    pub touching: Option<Touching>,
+}
+
+/// A pair in contact.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Touching {
+    /// The contact distance of its contact (re-armed beyond a multiple).
+    pub contact_distance: Real,
+    /// The distance at its contact.
+    pub distance: Real,
+}
+
+impl PairState {
+    pub fn new(a: usize, b: usize) -> PairState {
+        PairState { a, b, lower_bound: None, hint: None, touching: None }
+    }
+
+    /// What the pair's next CCD query may start from.
+    pub fn warm_start(&self) -> WarmStart {
+        WarmStart { lower_bound: self.lower_bound, hint: self.hint }
+    }
+}
+
+impl World {
+    /// The world at the scene's start. `kinematic_states`: keep a state for
+    /// kinematic bodies too (a response that can stop them needs it).
+    pub fn new(scene: &Scene, kinematic_states: bool) -> World {
+        let states: Vec<Option<RigidState>> = scene
+            .bodies
+            .iter()
+            .map(|body| {
+                let needs_state = match body.motion {
+                    BodyMotion::Integrated(_) => true,
+                    BodyMotion::Free => kinematic_states,
+                    BodyMotion::Fixed => false,
+                };
+                needs_state.then(|| RigidState {
+                    position: Point::from(body.pose.translation.vector),
+                    orientation: body.pose.rotation,
+                    velocity: body.velocity,
+                    angular_velocity: body.angular_velocity,
+                })
+            })
+            .collect();
+        let energies = scene
+            .bodies
+            .iter()
+            .zip(&states)
+            .map(|(body, state)| match (&body.motion, state.as_ref()) {
+                (BodyMotion::Integrated(dynamics), Some(state)) => {
+                    (dynamics.energy(state), dynamics.energy_scale(state).max(Real::MIN_POSITIVE))
+                }
+                _ => (0.0, 0.0),
+            })
+            .collect();
+        World {
+            states,
+            energies,
+            motions: scene.bodies.iter().map(|b| StepMotion::fixed(b.pose)).collect(),
+            pairs: Vec::new(),
+            contacts: Vec::new(),
+        }
+    }
+
+    /// Body `i` at time `s` into the current step.
+    pub fn state_at(&self, i: usize, s: Real) -> RigidState {
+        let motion = &self.motions[i];
+        let pose = motion.pose_at(s);
+        let (velocity, angular_velocity) = match &self.states[i] {
+            Some(state) => (state.velocity, state.angular_velocity),
+            None => (motion.velocity, motion.angular_velocity),
+        };
+        RigidState {
+            position: Point::from(pose.translation.vector),
+            orientation: pose.rotation,
+            velocity,
+            angular_velocity,
+        }
+    }
+
+    /// Body `i` of `scene` at time `s` into the step, for an impulse.
+    pub fn impact_body(&self, scene: &Scene, i: usize, s: Real) -> ImpactBody {
+        let body = &scene.bodies[i];
+        let state = self.state_at(i, s);
+        let pushable = matches!(body.motion, BodyMotion::Integrated(_));
+        let rotation = state.orientation.to_rotation_matrix().into_inner();
+        let inverse_inertia = match body.inertia.and_then(|inertia| inertia.try_inverse()) {
+            Some(inverse) if pushable => rotation * inverse * rotation.transpose(),
+            _ => nalgebra::Matrix3::zeros(),
+        };
+        ImpactBody {
+            center: state.position,
+            inverse_mass: if pushable { body.mass.map_or(0.0, |m| 1.0 / m) } else { 0.0 },
+            inverse_inertia,
+            velocity: state.velocity,
+            angular_velocity: state.angular_velocity,
+        }
+    }
+
+    /// Records the contact of pair `k` at `time` into the step starting at
+    /// `t0` and marks the pair touching.
+    pub fn record_contact(&mut self, k: usize, t0: Real, time: Real, result: &MeshCcdResult) {
+        let Some(closest) = result.closest else { return };
+        let pair = &mut self.pairs[k];
+        pair.touching =
+            Some(Touching { contact_distance: result.contact_distance, distance: closest.distance });
+        pair.lower_bound = None;
+        self.contacts.push(Contact {
+            time: t0 + time,
+            body_a: pair.a,
+            body_b: pair.b,
+            distance: closest.distance,
+            point_a: closest.point_a,
+            point_b: closest.point_b,
+            triangle_a: closest.triangle_a,
+            triangle_b: closest.triangle_b,
+            feature_a: closest.feature_a,
+            feature_b: closest.feature_b,
+            status: result.status,
+            contact_distance: result.contact_distance,
+        });
+    }
+}
