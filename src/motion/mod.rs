@@ -9,10 +9,13 @@
 //! integrated ([`integrate`]) with semi-implicit Euler (default), explicit
 //! Euler or RK4.
 //!
+//! Which bodies are integrated is decided in [`classify`].
+//!
 //! Within a step every body moves with constant linear velocity and
 //! constant angular velocity about its centre of mass, from the pose at the
 //! start of the step to the integrator's pose at its end ([`StepMotion`]).
 
+pub mod classify;
 mod gyroscopic;
 mod integrator;
 mod step_motion;

@@ -24,6 +24,7 @@
 //! ```
 
 mod build;
+mod build_body;
 mod error;
 pub mod file;
 

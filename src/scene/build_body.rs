@@ -1,0 +1,301 @@
+//! The bodies of a scene: meshes (shared assets), mass properties, springs
+//! and how each body moves.
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use nalgebra::{Matrix3, Quaternion, Translation3, UnitQuaternion};
+
+use super::build::{Builder, Names, Result};
+use super::file::{BodySettings, MeshSettings, OrientationSettings, SceneFile};
+use super::{Body, BodyMotion};
+use crate::math::{Point, Pose, Real, Vector};
+use crate::mesh::{self, TriMesh, MAX_ICOSPHERE_SUBDIVISIONS};
+use crate::motion::classify::{needs_integration, spin_precesses, Influences};
+use crate::motion::{Dynamics, Spring, MAX_TURN_PER_STEP};
+
+impl Builder<'_> {
+    /// Every body, and each one's centre of mass offset from its mesh's origin.
+    pub(super) fn bodies(&self, settings: &[BodySettings], base: &Path) -> Result<(Vec<Body>, Vec<Vector>)> {
+        let mut assets: HashMap<String, Arc<TriMesh>> = HashMap::new();
+        let mut bodies = Vec::with_capacity(settings.len());
+        let mut centers = Vec::with_capacity(settings.len());
+        for (i, settings) in settings.iter().enumerate() {
+            let (body, center) = self.body(i, settings, base, &mut assets)?;
+            bodies.push(body);
+            centers.push(center);
+        }
+        Ok((bodies, centers))
+    }
+
+    /// Each body's springs (attachment points relative to its centre of mass).
+    pub(super) fn springs(
+        &self,
+        file: &SceneFile,
+        names: &Names<'_>,
+        bodies: &[Body],
+        centers: &[Vector],
+    ) -> Result<Vec<Vec<Spring>>> {
+        let mut springs: Vec<Vec<Spring>> = vec![Vec::new(); bodies.len()];
+        for (k, spring) in file.springs.iter().enumerate() {
+            let field = |name: &str| format!("springs[{k}].{name}");
+            let i = self.lookup(names, field("body"), &spring.body)?;
+            let point = self.vector(&field("point"), &spring.point)? - centers[i];
+            let body = &bodies[i];
+            let settings = &file.bodies[i];
+            if settings.fixed || settings.kinematic {
+                return self.invalid(
+                    field("body"),
+                    format!("`{}` is fixed or kinematic: a spring cannot move it", body.name),
+                );
+            }
+            if body.mass.is_none() {
+                return self.invalid(
+                    field("body"),
+                    format!("`{}` needs a `mass` (or `density`) to hang on a spring", body.name),
+                );
+            }
+            if point.norm() > 0.0 && body.inertia.is_none() {
+                return self.invalid(
+                    field("point"),
+                    format!(
+                        "the attachment is off the centre of mass of `{}`, so the spring makes a torque: the body needs `inertia` or `density`",
+                        body.name
+                    ),
+                );
+            }
+            springs[i].push(Spring {
+                point,
+                anchor: Point::from(self.vector(&field("anchor"), &spring.anchor)?),
+                stiffness: self.non_negative(&field("stiffness"), spring.stiffness)?,
+                damping: self.non_negative(&field("damping"), spring.damping)?,
+                rest_length: self.non_negative(&field("rest_length"), spring.rest_length)?,
+            });
+        }
+        Ok(springs)
+    }
+
+    /// How each body moves: fixed, kinematic or free (exactly), or
+    /// integrated under what acts on it ([`crate::motion::classify`]).
+    pub(super) fn motions(
+        &self,
+        settings: &[BodySettings],
+        bodies: &mut [Body],
+        mut springs: Vec<Vec<Spring>>,
+        gravity: Vector,
+        pushed_by_contacts: bool,
+        dt: Real,
+    ) -> Result<()> {
+        for (i, body) in bodies.iter_mut().enumerate() {
+            let settings = &settings[i];
+            if pushed_by_contacts
+                && !settings.fixed
+                && !settings.kinematic
+                && (body.mass.is_none() || body.inertia.is_none())
+            {
+                return self.invalid(
+                    format!("bodies[{i}].density"),
+                    format!(
+                        "`{}` can be pushed by a bounce (`on_contact: Bounce`), so it needs a mass and an inertia: give `density`, or `mass` and `inertia` (or make it `fixed` or `kinematic`)",
+                        body.name
+                    ),
+                );
+            }
+            body.motion = if settings.fixed {
+                if body.velocity.norm() > 0.0 || body.angular_velocity.norm() > 0.0 {
+                    return self.invalid(format!("bodies[{i}].fixed"), "a fixed body cannot have a velocity");
+                }
+                BodyMotion::Fixed
+            } else if settings.kinematic {
+                BodyMotion::Free
+            } else {
+                let omega_body = body.pose.rotation.inverse_transform_vector(&body.angular_velocity);
+                let precesses = body.inertia.is_some_and(|inertia| spin_precesses(&inertia, &omega_body));
+                let influences = Influences {
+                    gravity: gravity.norm() > 0.0,
+                    springs: !springs[i].is_empty(),
+                    pushed_by_contacts,
+                };
+                if needs_integration(influences, precesses) {
+                    let turn = body.angular_velocity.norm() * dt;
+                    if turn >= MAX_TURN_PER_STEP {
+                        return self.invalid(
+                            format!("bodies[{i}].angular_velocity"),
+                            format!(
+                                "the body turns {turn:.3} rad per step (|ω| dt); an integrated body must turn less than π/2 per step: lower `dt`"
+                            ),
+                        );
+                    }
+                    BodyMotion::Integrated(Dynamics {
+                        inverse_mass: body.mass.map_or(0.0, |m| 1.0 / m),
+                        inertia: body.inertia,
+                        gravity,
+                        springs: std::mem::take(&mut springs[i]),
+                    })
+                } else {
+                    BodyMotion::Free
+                }
+            };
+        }
+        Ok(())
+    }
+
+    /// A body and the offset of its centre of mass from its mesh's origin.
+    pub(super) fn body(
+        &self,
+        i: usize,
+        settings: &BodySettings,
+        base: &Path,
+        assets: &mut HashMap<String, Arc<TriMesh>>,
+    ) -> Result<(Body, Vector)> {
+        let field = |name: &str| format!("bodies[{i}].{name}");
+        let scale = self.positive(&field("scale"), settings.scale)?;
+        let position = self.vector(&field("position"), &settings.position)?;
+        let velocity = self.vector(&field("velocity"), &settings.velocity)?;
+        let angular_velocity = self.vector(&field("angular_velocity"), &settings.angular_velocity)?;
+        let rotation = self.orientation(&field("orientation"), &settings.orientation)?;
+
+        let key = format!("{:?}|{scale:e}", settings.mesh);
+        let mesh_field = field("mesh");
+        let shape = match assets.get(&key) {
+            Some(shape) => shape.clone(),
+            None => {
+                let built = self.mesh(&mesh_field, &settings.mesh, base)?;
+                let scaled = if scale == 1.0 {
+                    built
+                } else {
+                    built.scaled(scale).or_else(|e| {
+                        self.invalid(field("scale"), format!("the scaled mesh is unusable: {e}"))
+                    })?
+                };
+                let shape = Arc::new(scaled);
+                assets.insert(key.clone(), shape.clone());
+                shape
+            }
+        };
+
+        let (mut mass, mut inertia, mut center) = (None, None, Vector::zeros());
+        if let Some(m) = settings.mass {
+            mass = Some(self.positive(&field("mass"), m)?);
+        }
+        if let Some(moments) = &settings.inertia {
+            let m = self.vector(&field("inertia"), moments)?;
+            if m.min() <= 0.0 {
+                return self.invalid(field("inertia"), "principal moments must be positive");
+            }
+            if m.x + m.y < m.z || m.y + m.z < m.x || m.z + m.x < m.y {
+                return self.invalid(
+                    field("inertia"),
+                    "no rigid body has these moments: each must be at most the sum of the other two",
+                );
+            }
+            inertia = Some(Matrix3::from_diagonal(&m));
+        }
+        let shape = match settings.density {
+            None => shape,
+            Some(density) => {
+                let density = self.positive(&field("density"), density)?;
+                if settings.mass.is_some() || settings.inertia.is_some() {
+                    return self
+                        .invalid(field("density"), "give `density`, or `mass` and `inertia`, not both");
+                }
+                let Some(props) = shape.mass_properties() else {
+                    return self.invalid(
+                        field("density"),
+                        "the mesh encloses no positive volume (open, or triangles facing inward): mass properties need a closed mesh",
+                    );
+                };
+                mass = Some(density * props.volume);
+                inertia = Some(props.inertia * density);
+                center = props.center_of_mass.coords;
+                // The recentred mesh is an asset of its own, shared likewise.
+                let centered = format!("{key}|centred");
+                assets
+                    .entry(centered)
+                    .or_insert_with(|| Arc::new(shape.recentered(&props.center_of_mass)))
+                    .clone()
+            }
+        };
+
+        let pose = Pose::from_parts(Translation3::from(position + rotation * center), rotation);
+        let body = Body {
+            name: settings.name.clone(),
+            mesh: shape,
+            pose,
+            velocity,
+            angular_velocity,
+            mass,
+            inertia,
+            motion: BodyMotion::Free,
+        };
+        Ok((body, center))
+    }
+
+    fn mesh(&self, field: &str, settings: &MeshSettings, base: &Path) -> Result<TriMesh> {
+        let sub = |name: &str| format!("{field}.{name}");
+        let built = match settings {
+            MeshSettings::Box { half_extents } => {
+                let h = self.vector(&sub("half_extents"), half_extents)?;
+                if h.min() <= 0.0 {
+                    return self.invalid(
+                        sub("half_extents"),
+                        format!("must all be positive, found {half_extents:?}"),
+                    );
+                }
+                mesh::box_mesh(&h)
+            }
+            MeshSettings::Icosphere { radius, subdivisions } => {
+                let radius = self.positive(&sub("radius"), *radius)?;
+                if *subdivisions > MAX_ICOSPHERE_SUBDIVISIONS {
+                    return self.invalid(
+                        sub("subdivisions"),
+                        format!("at most {MAX_ICOSPHERE_SUBDIVISIONS}, found {subdivisions}"),
+                    );
+                }
+                mesh::icosphere(radius, *subdivisions)
+            }
+            MeshSettings::Tetrahedron { circumradius } => {
+                mesh::tetrahedron(self.positive(&sub("circumradius"), *circumradius)?)
+            }
+            MeshSettings::Triangle { a, b, c } => mesh::single_triangle(
+                Point::from(self.vector(&sub("a"), a)?),
+                Point::from(self.vector(&sub("b"), b)?),
+                Point::from(self.vector(&sub("c"), c)?),
+            ),
+            MeshSettings::Needle { length, width } => {
+                mesh::needle(self.positive(&sub("length"), *length)?, self.positive(&sub("width"), *width)?)
+            }
+            MeshSettings::Obj { path } => {
+                return mesh::load_obj(&base.join(path)).or_else(|e| self.invalid(field, e.to_string()));
+            }
+        };
+        built.or_else(|e| self.invalid(field, e.to_string()))
+    }
+
+    fn orientation(&self, field: &str, settings: &OrientationSettings) -> Result<UnitQuaternion<Real>> {
+        match settings {
+            OrientationSettings::Identity => Ok(UnitQuaternion::identity()),
+            OrientationSettings::AxisAngle { axis, degrees } => {
+                let axis = self.vector(&format!("{field}.axis"), axis)?;
+                let degrees = self.finite(&format!("{field}.degrees"), *degrees)?;
+                if degrees == 0.0 {
+                    return Ok(UnitQuaternion::identity());
+                }
+                match nalgebra::Unit::try_new(axis, 0.0) {
+                    Some(axis) => Ok(UnitQuaternion::from_axis_angle(&axis, degrees.to_radians())),
+                    None => self.invalid(format!("{field}.axis"), "the axis must not be zero"),
+                }
+            }
+            OrientationSettings::Quaternion { w, x, y, z } => {
+                let q = Quaternion::new(*w, *x, *y, *z);
+                let norm = q.norm();
+                if !norm.is_finite() || norm == 0.0 {
+                    return self
+                        .invalid(field, format!("the quaternion ({w}, {x}, {y}, {z}) cannot be normalised"));
+                }
+                Ok(UnitQuaternion::from_quaternion(q))
+            }
+        }
+    }
+}
