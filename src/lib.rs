@@ -19,8 +19,8 @@
 //! Underneath: the distance [`kernels`] (exact triangle–triangle,
 //! point–segment by vector and Heron formulas, the seed paper's DyOP
 //! kernel, batched SIMD versions), the [`exact`] rational reference they
-//! are tested against, [`samples`] (seeded input classes shared by tests,
-//! benchmarks and the kernel [`report`]), the linear-vertex CCD queries in
+//! are tested against, `samples` (seeded input classes shared by tests,
+//! benchmarks and the kernel [`report`]; public with the `testing` feature), the linear-vertex CCD queries in
 //! [`ccd`], and [`query_file`], the reader and runner for the public CCD
 //! benchmark format.
 
@@ -38,7 +38,11 @@ pub mod query_file;
 pub mod regression;
 pub mod report;
 pub mod response;
+#[cfg(feature = "testing")]
 pub mod samples;
+#[cfg(not(feature = "testing"))]
+#[allow(dead_code)] // what the reports do not use serves the tests, behind `testing`
+pub(crate) mod samples;
 pub mod scene;
 pub mod stepper;
 pub mod trace;

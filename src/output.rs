@@ -259,6 +259,22 @@ pub fn distance_chart(result: &RunResult, log_y: bool) -> crate::plot::Chart {
     }
 }
 
+/// Writes a report file `name` into `folder` (created if needed), whole or
+/// not at all; returns its path. Every report of the CLI goes through here.
+pub fn write_report(folder: &Path, name: &str, bytes: &[u8]) -> std::io::Result<PathBuf> {
+    fs::create_dir_all(folder)?;
+    write_atomically(&folder.join(name), bytes)
+}
+
+/// Draws `chart` to `folder/name` (created if needed); returns its path.
+#[cfg(feature = "plot")]
+pub fn write_chart(folder: &Path, name: &str, chart: &crate::plot::Chart) -> std::io::Result<PathBuf> {
+    fs::create_dir_all(folder)?;
+    let path = folder.join(name);
+    crate::plot::render(chart, &path).map_err(std::io::Error::other)?;
+    Ok(path)
+}
+
 /// Writes `bytes` to a temporary file beside `path`, then renames it.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<PathBuf> {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();

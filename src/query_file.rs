@@ -1,4 +1,4 @@
-//! Reader and runner for the public CCD benchmark format (Wang et al.,
+//! Reader for the public CCD benchmark format (Wang et al.,
 //! "A Large Scale Benchmark and an Inclusion-Based Algorithm for Continuous
 //! Collision Detection", 2021; format in `shared/data/ccd-sample-queries`).
 //!
@@ -9,7 +9,8 @@
 //! `n/d` (integers beyond 64 bits). Coordinates are converted to f64
 //! exactly, or the file is rejected. Ground truth comes from the 7th column
 //! or from the `mma_bool` JSON beside the queries; exact times of impact,
-//! where known, from `derived/.../<stem>_toi.csv`.
+//! where known, from `derived/.../<stem>_toi.csv`. The runner that measures
+//! a file is [`crate::report::run_file`].
 
 use crate::ccd::{
     edge_edge_time_of_impact_detailed, vertex_face_time_of_impact_detailed, CcdOptions, CcdResult,
@@ -20,7 +21,6 @@ use num_rational::BigRational;
 use num_traits::{FromPrimitive, Signed, ToPrimitive, Zero};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
-use std::time::Instant;
 
 /// Edge–edge or vertex–face.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
@@ -340,91 +340,6 @@ fn read_derived_times(path: &Path, count: usize) -> Result<Option<Vec<Option<Rea
             .ok_or_else(|| syntax(format!("query {query} out of range ({count} queries)")))? = Some(lower);
     }
     Ok(Some(times))
-}
-
-/// What running one file gave.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FileReport {
-    /// Edge–edge or vertex–face.
-    pub kind: QueryKind,
-    /// Number of queries.
-    pub queries: usize,
-    /// Queries whose ground truth is a contact.
-    pub positives: usize,
-    /// Contacts that were reported as none (must be 0).
-    pub false_negatives: usize,
-    /// Non-contacts that were reported as contacts.
-    pub false_positives: usize,
-    /// Queries with no ground truth.
-    pub unknown_truth: usize,
-    /// Queries that ran out of iterations.
-    pub out_of_iterations: usize,
-    /// Median over repeats of the mean time per query, in microseconds.
-    pub mean_microseconds: Real,
-    /// Median over queries of the time per query (last repeat), µs.
-    pub median_microseconds: Real,
-    /// The slowest query (last repeat), µs.
-    pub max_microseconds: Real,
-    /// Positive queries with a known exact time, and how many reported
-    /// times were later than its lower bound (must be 0).
-    pub times_checked: usize,
-    /// Reported times later than `toi_f64_lo` (must be 0).
-    pub late: usize,
-}
-
-/// Runs every query of `file` `repeats` times (at least once).
-pub fn run_file(file: &QueryFile, options: &CcdOptions, repeats: usize) -> FileReport {
-    let mut means = Vec::new();
-    let mut per_query = vec![0.0; file.queries.len()];
-    let mut results = Vec::with_capacity(file.queries.len());
-    for _ in 0..repeats.max(1) {
-        results.clear();
-        let start = Instant::now();
-        for (query, time) in file.queries.iter().zip(per_query.iter_mut()) {
-            let one = Instant::now();
-            results.push(query.run(file.kind, options));
-            *time = one.elapsed().as_secs_f64() * 1e6;
-        }
-        means.push(start.elapsed().as_secs_f64() * 1e6 / file.queries.len().max(1) as Real);
-    }
-    let mut report = FileReport {
-        kind: file.kind,
-        queries: file.queries.len(),
-        positives: 0,
-        false_negatives: 0,
-        false_positives: 0,
-        unknown_truth: 0,
-        out_of_iterations: 0,
-        mean_microseconds: median(&mut means),
-        median_microseconds: median(&mut per_query.clone()),
-        max_microseconds: per_query.iter().copied().fold(0.0, Real::max),
-        times_checked: 0,
-        late: 0,
-    };
-    for (i, (query, result)) in file.queries.iter().zip(&results).enumerate() {
-        let reported = result.time_of_impact.is_some();
-        report.out_of_iterations += usize::from(result.status == crate::ccd::CcdStatus::OutOfIterations);
-        match query.truth {
-            Some(true) => {
-                report.positives += 1;
-                report.false_negatives += usize::from(!reported);
-            }
-            Some(false) => report.false_positives += usize::from(reported),
-            None => report.unknown_truth += 1,
-        }
-        if let (Some(bounds), Some(time)) = (&file.exact_time_lower_bounds, result.time_of_impact) {
-            if let Some(lower) = bounds.get(i).copied().flatten() {
-                report.times_checked += 1;
-                report.late += usize::from(time > lower);
-            }
-        }
-    }
-    report
-}
-
-fn median(values: &mut [Real]) -> Real {
-    values.sort_by(|a, b| a.total_cmp(b));
-    values.get(values.len() / 2).copied().unwrap_or(0.0)
 }
 
 /// The query files under `path` (itself if a file): every `.csv` except the

@@ -7,7 +7,8 @@
 //! and printed (each is a pair that came within the contact distance).
 
 use nearmiss::ccd::{CcdOptions, CcdStatus};
-use nearmiss::query_file::{query_files, run_file, QueryFile, QueryKind};
+use nearmiss::query_file::{query_files, QueryFile, QueryKind};
+use nearmiss::report::run_file;
 use std::path::{Path, PathBuf};
 
 /// The sample: `NEARMISS_CCD_DATA` if set, else `shared/` beside the checkout.

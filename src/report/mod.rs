@@ -1,16 +1,18 @@
 //! Reports: the kernel report (error against the exact reference beside
 //! time per query), sweeps of a scene over time steps, kernels and
-//! integrators (error against run time), the stability suite, and the seed
-//! paper's experiments.
+//! integrators (error against run time), the stability suite, the seed
+//! paper's experiments, and the CCD benchmark runner.
 
 mod kernels;
 mod paper;
 mod peer;
+mod queries;
 mod stability;
 mod sweep;
 
 pub use kernels::*;
 pub use paper::*;
 pub use peer::*;
+pub use queries::*;
 pub use stability::*;
 pub use sweep::*;

@@ -34,6 +34,25 @@ pub struct PeerComparison {
     pub parry_wall_time_s: Real,
 }
 
+/// The comparison as a Markdown table.
+pub fn peer_markdown(peer: &[PeerComparison]) -> String {
+    let time = |t: Option<Real>| t.map_or("no contact".to_string(), |t| format!("{t:.12e}"));
+    let mut out =
+        String::from("| pair | nearmiss | parry | parry query | parry s |\n|---|---|---|---|---|\n");
+    for p in peer {
+        out.push_str(&format!(
+            "| {} / {} | {} | {} | {} | {:.3} |\n",
+            p.body_a,
+            p.body_b,
+            time(p.nearmiss),
+            time(p.parry),
+            p.parry_query,
+            p.parry_wall_time_s
+        ));
+    }
+    out
+}
+
 /// Compares the run's contacts with parry's answers.
 pub fn compare_with_parry(scene: &Scene, result: &RunResult) -> Vec<PeerComparison> {
     let mut pairs: Vec<(usize, usize)> = if scene.bodies.len() == 2 {

@@ -13,6 +13,34 @@ use super::sweep::integrator_name;
 #[cfg(feature = "plot")]
 pub const DRIFT_CHART_FLOOR: Real = 1e-17;
 
+/// What the stability suite (`nearmiss stability`) runs, by default.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StabilitySuite {
+    /// The stiff-spring scene, in the suite's folder.
+    pub spring_scene: &'static str,
+    /// The long Dzhanibekov spin scene, in the suite's folder.
+    pub spin_scene: &'static str,
+    /// The ω·dt at which the spring is run: across the stability limits of
+    /// semi-implicit Euler (2) and RK4 (2√2).
+    pub spring_omega_dts: Vec<Real>,
+    /// The integrators the spring is run with.
+    pub integrators: Vec<Integrator>,
+    /// The spin's energy and momentum are sampled every this many steps.
+    pub spin_sample_every: u64,
+}
+
+impl Default for StabilitySuite {
+    fn default() -> Self {
+        StabilitySuite {
+            spring_scene: "stiff_spring.ron",
+            spin_scene: "dzhanibekov_long.ron",
+            spring_omega_dts: vec![0.1, 0.25, 0.5, 1.0, 1.5, 1.8, 1.9, 1.99, 2.01, 2.1, 2.5, 2.8, 2.85, 3.0],
+            integrators: vec![Integrator::SymplecticEuler, Integrator::ExplicitEuler, Integrator::Rk4],
+            spin_sample_every: 100,
+        }
+    }
+}
+
 /// One run of the spring sweep.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpringRow {

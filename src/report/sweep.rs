@@ -183,6 +183,32 @@ pub fn sweep(
     }
     SweepReport { scene: scene.name.clone(), reference, reference_source, rows }
 }
+/// The sweep as Markdown: the reference, then one row per setting.
+pub fn sweep_markdown(report: &SweepReport) -> String {
+    let mut out = format!(
+        "sweep of {}: reference {} ({})\n",
+        report.scene,
+        report.reference.map_or("none".into(), |r| format!("{r:.15e}")),
+        report.reference_source
+    );
+    out.push_str("| dt | kernel | integrator | steps | time of contact | error | kernel max rel. error | wall time (s) | ended |\n");
+    out.push_str("|---|---|---|---|---|---|---|---|---|\n");
+    for r in &report.rows {
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} | {:.1e} | {:.2e} | {} |\n",
+            r.setting.dt,
+            kernel_name(r.setting.kernel),
+            integrator_name(r.setting.integrator),
+            r.steps,
+            r.time.map_or("none".into(), |t| format!("{t:.12e}")),
+            r.error.map_or("-".into(), |e| format!("{e:+.3e}")),
+            r.kernel_error,
+            r.wall_time_s,
+            r.termination
+        ));
+    }
+    out
+}
 
 /// The sweep as CSV: one line per setting.
 pub fn sweep_csv(report: &SweepReport) -> String {

@@ -2,7 +2,7 @@
 //! the bodies' motion.
 //!
 //! Each step the narrow phase hands the contacts it found (pairs and their
-//! CCD results, in pair order) to the scene's [`Response`], which records
+//! CCD results, in pair order) to the scene's `Response`, which records
 //! them and may change the bodies' motion before the step ends. The
 //! responses:
 //! - `Stop` and `Record` (`record.rs`): record each contact once; `Stop`
@@ -10,10 +10,10 @@
 //!   pair in contact is re-armed once it separates).
 //! - `Bounce` (`bounce.rs`): contacts in time order, bodies stopped at their
 //!   contacts for the rest of the step and re-checked, impulses along the
-//!   contact normal ([`impulse`] maths).
+//!   contact normal (the maths in `impulse.rs`, [`apply_impulse`]).
 //!
-//! A new response is a new file implementing [`Response`] and one arm of
-//! [`for_scene`]; the stepper does not change.
+//! A new response is a new file implementing the crate's `Response` trait
+//! and one arm of `for_scene`; the stepper does not change.
 
 mod bounce;
 mod impulse;

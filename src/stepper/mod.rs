@@ -13,7 +13,7 @@
 //! 6. **observe** ([`crate::trace`]): the distance trace, when asked for.
 //!
 //! The world state (bodies' states and motions, pairs, contacts:
-//! `world.rs`) is passed to each stage; the [`Stepper`] owns only the run's
+//! `world.rs`) is passed to each stage; the `Stepper` owns only the run's
 //! set-up and scratch buffers. A scene gets only the stages it needs: fixed
 //! bodies are never integrated and a pair of fixed bodies never queried;
 //! free bodies (nothing acting on them) move exactly; there is no tree for

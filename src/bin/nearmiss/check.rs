@@ -1,0 +1,35 @@
+//! `nearmiss check`: validates scenes without running them.
+
+use crate::{load_scene, CliError, CommandResult};
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Scene files.
+    #[arg(required = true)]
+    scenes: Vec<PathBuf>,
+}
+
+pub fn main(args: Args) -> CommandResult {
+    let mut bad = false;
+    for path in &args.scenes {
+        match load_scene(path) {
+            Ok(scene) => println!(
+                "ok {}: scene `{}`, {} bodies, {} steps of dt = {}",
+                path.display(),
+                scene.name,
+                scene.bodies.len(),
+                scene.steps,
+                scene.dt
+            ),
+            Err(CliError::BadInput(message) | CliError::Failed(message)) => {
+                eprintln!("error: {message}");
+                bad = true;
+            }
+        }
+    }
+    if bad {
+        return Err(CliError::BadInput(String::new()));
+    }
+    Ok(())
+}

@@ -1,0 +1,62 @@
+//! `nearmiss run`: one scene, its outputs, optionally beside parry.
+
+use crate::progress::run_with_progress;
+use crate::{load_scene, CliError, CommandResult};
+use nearmiss::stepper::Termination;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene file (RON).
+    scene: PathBuf,
+    /// The output folder.
+    #[arg(long, default_value = "output")]
+    out: PathBuf,
+    /// Also compute each first contact with a peer library and show
+    /// both answers (`parry`).
+    #[arg(long, value_enum)]
+    compare: Option<Peer>,
+}
+
+#[derive(Copy, Clone, clap::ValueEnum)]
+enum Peer {
+    /// parry3d-f64: `cast_shapes_nonlinear` for rotating bodies, `cast_shapes` for translating ones.
+    Parry,
+}
+
+pub fn main(args: Args) -> CommandResult {
+    let scene = load_scene(&args.scene)?;
+    let result = run_with_progress(&scene);
+    let compare = args.compare.is_some();
+    let peer = if compare { nearmiss::report::compare_with_parry(&scene, &result) } else { Vec::new() };
+    let written =
+        nearmiss::output::write_outputs_with_peer(&args.out, &result, &scene, &peer).map_err(|error| {
+            CliError::BadInput(format!("cannot write to {}: {error}", args.out.join(&scene.name).display()))
+        })?;
+    println!(
+        "scene {}: {} steps of dt = {} to t = {:.9}, {:.3} s",
+        scene.name, result.steps, scene.dt, result.end_time, result.wall_time_s
+    );
+    match &result.first_contact {
+        Some(c) => println!(
+            "first contact: {} / {} at t = {:.15e}, distance {:.3e} ({:?}); {} contact(s)",
+            result.bodies[c.body_a],
+            result.bodies[c.body_b],
+            c.time,
+            c.distance,
+            c.status,
+            result.contacts.len()
+        ),
+        None => println!("no contact"),
+    }
+    if compare {
+        print!("{}", nearmiss::report::peer_markdown(&peer));
+    }
+    for file in &written {
+        println!("wrote {}", file.display());
+    }
+    if let Termination::Diverged { .. } = result.termination {
+        return Err(CliError::Failed(nearmiss::output::termination_text(&result)));
+    }
+    Ok(())
+}
