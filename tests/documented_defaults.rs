@@ -31,6 +31,8 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(scene.ccd.max_iterations, 10_000);
     assert_eq!(scene.trace.as_ref().unwrap().every, 1);
     assert_eq!(scene.bodies[0].mesh.radius(), 1.0);
+    // motion/classify.rs: a spin is steady within `64` ulps.
+    assert_eq!(nearmiss::motion::classify::STEADY_SPIN_ULPS, 64.0);
     // motion/gyroscopic.rs: at most 20 Newton iterations.
     assert_eq!(nearmiss::motion::GYROSCOPIC_MAX_ITERATIONS, 20);
     // ccd/mesh_pair.rs: "plus 8 ulps of an integrated body's coordinates".

@@ -232,3 +232,18 @@ fn approaching(step: &StepContext<'_>, k: usize, contact: &MeshCcdResult) -> boo
     let (point, normal) = contact_frame(&closest.point_a, &closest.point_b, &a, &b);
     approach_speed(&a, &b, &point, &normal) < 0.0
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stepper::Touching;
+
+    #[test]
+    fn a_bounced_pair_is_redetected_at_an_absolute_fraction_of_its_distance() {
+        let bounce = Bounce { restitution: 1.0, redetect_fraction: 0.5 };
+        let mut pair = PairState::new(0, 1);
+        assert_eq!(bounce.contact_rule(&pair), ContactRule::ScaleRelative);
+        pair.touching = Some(Touching { contact_distance: 4e-6, distance: 3e-6 });
+        assert_eq!(bounce.contact_rule(&pair), ContactRule::Absolute(1.5e-6));
+    }
+}

@@ -32,6 +32,8 @@ use std::time::Instant;
 pub(crate) use narrow::{pair_query, Found};
 pub use parameters::StepParameters;
 pub use result::{Contact, Counters, RunResult, Termination};
+#[cfg(test)]
+pub(crate) use world::Touching;
 pub(crate) use world::{PairState, World};
 
 use crate::broad_phase::{BroadPhase, SweptBox};
