@@ -8,21 +8,28 @@
 //!
 //! The pipeline: a [`scene`] (RON) is validated into bodies with shared
 //! [`mesh`] assets (BVH built once) and motion state; the [`stepper`]
-//! advances them step by step ([`motion`]: exact free motion, or
-//! semi-implicit Euler / explicit Euler / RK4 with an implicit gyroscopic
-//! step), runs conservative advancement ([`ccd::mesh_time_of_impact`]) on
-//! every pair that can touch, with the exact triangle [`kernels`] as the
-//! proximity query, and records contacts and distance traces ([`trace`]),
-//! written by [`output`]; [`regression`] checks a run against the scene's
-//! expectation.
+//! advances them step by step, one stage after another: integrate
+//! ([`motion`]: exact free motion, or semi-implicit Euler / explicit Euler /
+//! RK4 with an implicit gyroscopic step), broad phase ([`broad_phase`]),
+//! narrow phase (conservative advancement, [`ccd::mesh_time_of_impact`],
+//! with the exact triangle [`kernels`] as the proximity query and the
+//! contact distance of [`ccd::ContactContract`]), respond ([`response`]:
+//! stop, record, bounce), re-arm, observe (the distance [`trace`]); runs are
+//! written by [`output`], and [`regression`] checks a run against the
+//! scene's expectation.
 //!
 //! Underneath: the distance [`kernels`] (exact triangle–triangle,
 //! point–segment by vector and Heron formulas, the seed paper's DyOP
 //! kernel, batched SIMD versions), the [`exact`] rational reference they
 //! are tested against, `samples` (seeded input classes shared by tests,
-//! benchmarks and the kernel [`report`]; public with the `testing` feature), the linear-vertex CCD queries in
-//! [`ccd`], and [`query_file`], the reader and runner for the public CCD
-//! benchmark format.
+//! benchmarks and the kernel [`report`]; public with the `testing`
+//! feature), the linear-vertex CCD queries in [`ccd`], and [`query_file`],
+//! the reader for the public CCD benchmark format (run by
+//! [`report::run_file`]).
+//!
+//! Features: `plot` (default) draws PNG charts with plotters; `cli`
+//! (default) builds the `nearmiss` binary (clap, indicatif); `testing`
+//! makes `samples` public for the crate's tests and benchmarks.
 
 pub mod broad_phase;
 pub mod ccd;

@@ -16,7 +16,8 @@ pub struct CcdOptions {
     /// margin over rounding. For rigid mesh pairs
     /// ([`mesh_time_of_impact`](super::mesh_time_of_impact)) `S` is the sum
     /// of the meshes' radii about their centres of mass, and the floor is
-    /// taken on the pair's own scale (see that function's module).
+    /// taken on the pair's own scale (see that function's module). The
+    /// rule is computed in one place: [`ContactContract`](super::ContactContract).
     /// Default: `1e-6`.
     pub distance_tolerance: Real,
     /// An absolute gap that counts as contact (for thickness or a safety
