@@ -1,6 +1,6 @@
 //! Reader for the public CCD benchmark format (Wang et al.,
 //! "A Large Scale Benchmark and an Inclusion-Based Algorithm for Continuous
-//! Collision Detection", 2021; format in `shared/data/ccd-sample-queries`).
+//! Collision Detection", 2021; format and a vendored copy in `tests/data/ccd-sample-queries`).
 //!
 //! A query file is CSV without header, 8 rows per query (one vertex per
 //! row: `ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ...` for edge–edge,

@@ -1,4 +1,5 @@
-//! The public CCD benchmark sample (`shared/data/ccd-sample-queries`): every
+//! The public CCD benchmark sample (vendored in `tests/data/ccd-sample-queries`,
+//! with its licences and sources in its README): every
 //! handcrafted and simulation query, against Mathematica's exact ground
 //! truth and exact times of impact.
 //!
@@ -11,14 +12,14 @@ use nearmiss::query_file::{query_files, QueryFile, QueryKind};
 use nearmiss::report::run_file;
 use std::path::{Path, PathBuf};
 
-/// The sample: `NEARMISS_CCD_DATA` if set, else `shared/` beside the checkout.
+/// The sample: `NEARMISS_CCD_DATA` if set, else the copy in the repository.
 fn data() -> PathBuf {
     let path = std::env::var_os("NEARMISS_CCD_DATA")
         .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/ccd-sample-queries"));
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ccd-sample-queries"));
     assert!(
         path.is_dir(),
-        "the CCD sample is expected at {} (shared/ beside the checkout, or set NEARMISS_CCD_DATA)",
+        "the CCD sample is expected at {} (tests/data in the repository, or set NEARMISS_CCD_DATA)",
         path.display()
     );
     path
