@@ -27,7 +27,9 @@ pub struct Summary<'a> {
     pub end_time: Real,
     /// Wall-clock time of the run (not deterministic).
     pub wall_time_s: Real,
-    /// Why the run ended: `completed`, `first_contact`, or `diverged: ...`.
+    /// Why the run ended: `completed`, `first_contact`, `diverged at ...`
+    /// or `undecided at ...` (the CCD of a pair ran out of iterations: not a
+    /// contact; the run stops there).
     pub termination: String,
     /// The earliest contact or `null`.
     pub first_contact: Option<ContactJson<'a>>,
@@ -67,8 +69,15 @@ pub struct ContactJson<'a> {
     pub feature_b: String,
     /// How the CCD iteration ended.
     pub status: String,
-    /// The contact distance used.
+    /// No contact is reported farther than this.
     pub contact_distance: Real,
+    /// Every approach closer than this is reported.
+    pub guaranteed_distance: Real,
+}
+
+/// A number in the shortest form that reads back to the same `f64`.
+pub fn shortest(value: Real) -> String {
+    format!("{value:?}")
 }
 
 /// Work counters in `summary.json`.
@@ -123,6 +132,10 @@ pub fn termination_text(result: &RunResult) -> String {
         Termination::Completed => "completed".into(),
         Termination::FirstContact => "first_contact".into(),
         Termination::Diverged { step, reason, .. } => format!("diverged at step {step}: {reason}"),
+        Termination::Undecided { pair: (a, b), time, step, iterations } => format!(
+            "undecided at step {step}: the CCD of `{}` / `{}` could not decide in {iterations} iterations whether they touch after t = {} (they are apart until then; nothing later is known). Raise `ccd.max_iterations`, lower `dt`, or raise `ccd.distance_tolerance`",
+            result.bodies[*a], result.bodies[*b], crate::output::shortest(*time)
+        ),
     }
 }
 
@@ -147,6 +160,7 @@ impl<'a> Summary<'a> {
             feature_b: feature(c.feature_b),
             status: format!("{:?}", c.status),
             contact_distance: c.contact_distance,
+            guaranteed_distance: c.guaranteed_distance,
         };
         let counters = &result.counters;
         Summary {

@@ -26,13 +26,15 @@ pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
     let name = |i: usize| scene.bodies[i].name.as_str();
     let obtained = match (&result.termination, &result.first_contact) {
         (Termination::Diverged { reason, .. }, _) => format!("diverged: {reason}"),
+        (Termination::Undecided { .. }, None) => crate::output::termination_text(result),
         (_, Some(c)) => format!("contact {} / {} at t = {:.12e}", name(c.body_a), name(c.body_b), c.time),
         (_, None) => format!("no contact up to t = {:.6e}", result.end_time),
     };
     let diverged = matches!(result.termination, Termination::Diverged { .. });
+    let undecided = matches!(result.termination, Termination::Undecided { .. });
     Some(match expectation {
         Expectation::NoContact => Verdict {
-            passed: !diverged && result.first_contact.is_none(),
+            passed: !diverged && !undecided && result.first_contact.is_none(),
             expected: "no contact".into(),
             obtained,
             error: None,

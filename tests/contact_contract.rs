@@ -51,7 +51,7 @@ fn mesh_ccd_uses_the_contract_for_both_rules() {
     );
     let mut scratch = MeshCcdScratch::default();
     let relative = mesh_time_of_impact(&query, WarmStart::default(), &mut scratch);
-    let contract = ContactContract::of(&options, ContactRule::ScaleRelative, a.radius() + b.radius(), 0.0);
+    let contract = ContactContract::of(&options, ContactRule::ScaleRelative, a.radius().min(b.radius()), 0.0);
     assert_eq!(relative.contact_distance, contract.contact_distance);
     assert!(relative.closest.expect("they meet").distance <= contract.contact_distance);
 
@@ -63,13 +63,13 @@ fn mesh_ccd_uses_the_contract_for_both_rules() {
     assert!(result.time_of_impact.unwrap() <= relative.time_of_impact.unwrap());
 }
 
-/// Body `a` slides past `b` with a closest gap of 2e-4 (below the
+/// Body `a` slides past `b` with a closest gap of 1e-4 (below the
 /// contract's target, so it must be reported), vertex to vertex along `y`,
 /// where the swept boxes are tight: only the contract's box margin makes
 /// them overlap. A third, far body makes the stepper use its broad phase.
 #[test]
 fn broad_phase_margin_keeps_every_pair_the_ccd_reports() {
-    let gap = 2e-4;
+    let gap = 1e-4;
     let text = format!(
         r#"Scene(name: "pass", dt: 0.01, duration: 4.0, on_contact: Record,
             ccd: (distance_tolerance: {TOLERANCE:e}),
@@ -84,7 +84,7 @@ fn broad_phase_margin_keeps_every_pair_the_ccd_reports() {
     );
     let scene = Scene::from_ron_str(&text).unwrap();
     let (ra, rb) = (scene.bodies[0].mesh.radius(), scene.bodies[1].mesh.radius());
-    let contract = ContactContract::of(&scene.ccd, ContactRule::ScaleRelative, ra + rb, 0.0);
+    let contract = ContactContract::of(&scene.ccd, ContactRule::ScaleRelative, ra.min(rb), 0.0);
     assert!(gap < contract.target, "the pass must be one the contract reports");
     // Without the margin the swept boxes would miss each other along y.
     assert!(

@@ -40,6 +40,11 @@ fn scene_defaults_are_the_documented_ones() {
     // ccd/mesh_search.rs: the search's slack `0.1` and opening ratio `1.0`.
     assert_eq!(nearmiss::ccd::STEP_SLACK, 0.1);
     assert_eq!(nearmiss::ccd::OPEN_RATIO, 1.0);
+    // ccd/mesh_bound.rs: the spin-swept bound from `1.0` rad of turn, below `1/64` of
+    // the horizon, after `32` steps of a query.
+    assert_eq!(nearmiss::ccd::SPIN_SWEEP_MIN_TURN, 1.0);
+    assert_eq!(nearmiss::ccd::SPIN_SWEEP_MAX_RATE_FRACTION, 1.0 / 64.0);
+    assert_eq!(nearmiss::ccd::SPIN_SWEEP_AFTER_ITERATIONS, 32);
     // ccd/contact.rs: the target at `0.5` of the tolerance, box margins `2.0` x tolerance x r.
     assert_eq!(nearmiss::ccd::TARGET_FRACTION, 0.5);
     assert_eq!(nearmiss::ccd::BOX_MARGIN_TOLERANCE_FACTOR, 2.0);

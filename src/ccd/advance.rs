@@ -148,6 +148,7 @@ pub(crate) fn advance<const NA: usize, const NB: usize>(
             status: CcdStatus::NonFiniteInput,
             distance: Real::NAN,
             contact_distance: Real::NAN,
+            guaranteed_distance: Real::NAN,
             iterations: 0,
         };
     }
@@ -173,6 +174,7 @@ pub(crate) fn advance<const NA: usize, const NB: usize>(
         status,
         distance,
         contact_distance,
+        guaranteed_distance: target,
         iterations,
     };
     if pair.swept_boxes_disjoint(contact_distance)
@@ -192,6 +194,7 @@ pub(crate) fn advance<const NA: usize, const NB: usize>(
                 status,
                 distance,
                 contact_distance,
+                guaranteed_distance: target,
                 iterations: iteration,
             };
         }
@@ -213,6 +216,7 @@ pub(crate) fn advance<const NA: usize, const NB: usize>(
         status: CcdStatus::OutOfIterations,
         distance: closest(&a, &b).0,
         contact_distance,
+        guaranteed_distance: target,
         iterations: options.max_iterations,
     }
 }

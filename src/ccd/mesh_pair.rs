@@ -2,8 +2,9 @@
 //!
 //! Each body moves with constant linear velocity `v` and angular velocity
 //! `ω` about its centre of mass ([`StepMotion`]). From a time `s`, a search
-//! over both BVHs (`mesh_search.rs`, with the bounds of `mesh_bound.rs`) finds a step before which no triangle
-//! pair can come within `target`: per pair, a second-order bound of the
+//! over both BVHs (`mesh_search.rs`, with the bounds of `mesh_bound.rs`)
+//! finds a step before which no triangle pair can come within `target`:
+//! per pair, a second-order bound of the
 //! motion along the pair's own separating direction, backed by the head-on
 //! bound of every point's speed,
 //!
@@ -15,16 +16,27 @@
 //! distance `minimum_separation + tolerance` (contact, never late: every
 //! step was proven contact-free), or when the step reaches the interval's
 //! end (no contact), or after `max_iterations` steps
-//! ([`CcdStatus::OutOfIterations`]: contact reported where it stopped).
+//! ([`CcdStatus::OutOfIterations`]: undecided; the time reached so far is
+//! reported, every step before it having been proven contact-free).
 //!
+//! ## The contract
 //! The target is `minimum_separation + tolerance / 2`, as in the
-//! linear-vertex queries (the contract of `contact.rs`), so each step gains at least `tolerance / (2 L)`
-//! and rounding (a few ulps of the coordinates, far below the tolerance
-//! floor) stays on the safe side. The tolerance is `distance_tolerance ×
-//! (r_a + r_b)`: relative to the pair's size, and never below a rounding
-//! floor of 64 ulps of the pair's own scale (distances are computed in
-//! pair-relative coordinates: [`StepMotion::relative_pose`]) plus 8 ulps of
-//! an integrated body's coordinates.
+//! linear-vertex queries (the contract of `contact.rs`), so each step gains
+//! at least `tolerance / (2 L)` and rounding (a few ulps of the
+//! coordinates, far below the tolerance floor) stays on the safe side.
+//! Every approach closer than the target is reported (the
+//! `guaranteed_distance` of the result); no contact is reported farther
+//! than the contact distance `minimum_separation + tolerance`.
+//!
+//! The tolerance is `distance_tolerance × min(r_a, r_b)`: relative to the
+//! smaller body, the scale where a contact happens (a unit box on a floor of
+//! any size gets the box's tolerance). It is never below a rounding floor
+//! of 64 ulps ([`ROUNDING_FLOOR_ULPS`]) of the pair's own scale (the centres'
+//! distance, their travel and both radii: distances are computed in
+//! pair-relative coordinates, [`StepMotion::relative_pose`]) plus 8 ulps
+//! ([`INTEGRATED_JUMP_ULPS`]) of an integrated body's coordinates: far from
+//! the origin, or next to a body of 1e8, the coordinates themselves carry
+//! that much rounding.
 //!
 //! Two cheap tests come first: the bounding spheres about the centres of
 //! mass (whose distance is exact over the step, the centres moving
@@ -34,7 +46,7 @@
 
 use super::advance::ROUNDING_FLOOR_ULPS;
 use super::contact::{ContactContract, ContactRule};
-use super::mesh_bound::PairFrame;
+use super::mesh_bound::{PairFrame, SPIN_SWEEP_AFTER_ITERATIONS};
 use super::mesh_search::{Front, SearchMeshes, StepLimits, StepOutcome, StepWork};
 use super::options::{CcdOptions, CcdStatus};
 use crate::math::{Pose, Real};
@@ -72,8 +84,12 @@ pub struct MeshCcdResult {
     /// reported time (the one that stopped the search; not necessarily the
     /// closest), or, out of iterations, the closest pair there.
     pub closest: Option<MeshDistance>,
-    /// The contact distance used (`minimum_separation + tolerance`).
+    /// The contact distance used (`minimum_separation + tolerance`): no
+    /// contact is reported farther than this.
     pub contact_distance: Real,
+    /// Every approach closer than this (`minimum_separation + tolerance /
+    /// 2`, the advancement's target) is reported.
+    pub guaranteed_distance: Real,
     /// Without contact: a lower bound on the distance at the step's end,
     /// to pass to the next step as `lower_bound`.
     pub end_lower_bound: Real,
@@ -176,13 +192,15 @@ pub fn mesh_time_of_impact(
         .map(|m| m.reference.translation.vector.amax() + m.velocity.amax() * duration)
         .sum::<Real>();
     let floor = Real::EPSILON * (ROUNDING_FLOOR_ULPS * relative_size + INTEGRATED_JUMP_ULPS * jumps);
-    let contract = ContactContract::of(options, contact, ra + rb, floor);
+    // The scale where the contact happens: the smaller body.
+    let contract = ContactContract::of(options, contact, ra.min(rb), floor);
     let (contact_distance, target) = (contract.contact_distance, contract.target);
     let mut result = MeshCcdResult {
         time_of_impact: None,
         status: CcdStatus::Filtered,
         closest: None,
         contact_distance,
+        guaranteed_distance: target,
         end_lower_bound: 0.0,
         hint,
         iterations: 0,
@@ -218,9 +236,21 @@ pub fn mesh_time_of_impact(
     let mut hint = hint;
     let mut status = CcdStatus::OutOfIterations;
     for iteration in 0..options.max_iterations.max(1) {
+        if iteration == SPIN_SWEEP_AFTER_ITERATIONS {
+            // The spin-swept bounds start now: from the roots again, so that
+            // whole subtrees can be settled by them.
+            scratch.front.reset();
+        }
         let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
         let frame = PairFrame::new(pos_ab, &a.motion.rotation_at(s), &relative_velocity, &omega_a, &omega_b);
-        let limits = StepLimits { start: s, target, contact_distance, horizon: duration - s, min_step };
+        let limits = StepLimits {
+            start: s,
+            target,
+            contact_distance,
+            horizon: duration - s,
+            min_step,
+            spin_sweep: iteration >= SPIN_SWEEP_AFTER_ITERATIONS,
+        };
         result.iterations += 1;
         let outcome = scratch.front.advance(&meshes, &frame, &limits, hint, &mut work);
         match outcome {

@@ -66,6 +66,9 @@ pub(crate) struct StepLimits {
     pub horizon: Real,
     /// Node bounds below this are always opened (see the module).
     pub min_step: Real,
+    /// Whether node pairs may also be bounded by their spin-swept regions
+    /// (see [`node_pair_time`]).
+    pub spin_sweep: bool,
 }
 
 /// The two meshes of a search and the kernel their triangle pairs use.
@@ -94,7 +97,10 @@ impl Items<'_> {
     fn nodes(&self, i: u32, j: u32, needed: Real, work: &mut StepWork) -> FrontItem {
         work.node_pairs += 1;
         let (na, nb) = (&self.meshes.a.bvh().nodes()[i as usize], &self.meshes.b.bvh().nodes()[j as usize]);
-        self.item(node_pair_time(na, nb, self.frame, self.limits.target, needed), i, j, ItemKind::Nodes)
+        let limits = self.limits;
+        let sweep_horizon = if limits.spin_sweep { limits.horizon } else { 0.0 };
+        let bound = node_pair_time(na, nb, self.frame, limits.target, (needed, sweep_horizon));
+        self.item(bound, i, j, ItemKind::Nodes)
     }
 
     /// Triangle pair `(i, j)` with the cheap bound.

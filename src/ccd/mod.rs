@@ -33,9 +33,11 @@
 //!   `distance_tolerance` of [`CcdOptions`]); two primitives that pass
 //!   within that distance without touching are reported as a contact (a
 //!   false positive, within the tolerance).
-//! - A query that runs out of iterations reports contact where it stopped
-//!   ([`CcdStatus::OutOfIterations`]): conservative, possibly a false
-//!   positive.
+//! - A linear-vertex query that runs out of iterations reports contact
+//!   where it stopped ([`CcdStatus::OutOfIterations`]): conservative,
+//!   possibly a false positive. A mesh query reports the same status with
+//!   the time reached; the stepper treats it as undecided (never a contact)
+//!   and stops the run there.
 //! - A NaN or infinite coordinate gives contact at `t = 0`
 //!   ([`CcdStatus::NonFiniteInput`]), never a silent "no contact".
 
@@ -51,6 +53,7 @@ mod vertex_face;
 pub use advance::ROUNDING_FLOOR_ULPS;
 pub use contact::{box_margin, ContactContract, ContactRule, BOX_MARGIN_TOLERANCE_FACTOR, TARGET_FRACTION};
 pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
+pub use mesh_bound::{SPIN_SWEEP_AFTER_ITERATIONS, SPIN_SWEEP_MAX_RATE_FRACTION, SPIN_SWEEP_MIN_TURN};
 pub use mesh_pair::INTEGRATED_JUMP_ULPS;
 pub use mesh_pair::{
     mesh_time_of_impact, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart,

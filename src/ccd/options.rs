@@ -14,9 +14,11 @@ pub struct CcdOptions {
     /// used is never below [`ROUNDING_FLOOR_ULPS`](super::ROUNDING_FLOOR_ULPS)
     /// ulps of the largest coordinate: the conservative steps need that much
     /// margin over rounding. For rigid mesh pairs
-    /// ([`mesh_time_of_impact`](super::mesh_time_of_impact)) `S` is the sum
-    /// of the meshes' radii about their centres of mass, and the floor is
-    /// taken on the pair's own scale (see that function's module). The
+    /// ([`mesh_time_of_impact`](super::mesh_time_of_impact)) `S` is the
+    /// smaller of the meshes' radii about their centres of mass, and the
+    /// floor is taken on the pair's own scale (see that function's module).
+    /// Every approach closer than `minimum_separation +
+    /// distance_tolerance × S / 2` is reported. The
     /// rule is computed in one place: [`ContactContract`](super::ContactContract).
     /// Default: `1e-6`.
     pub distance_tolerance: Real,
@@ -67,8 +69,11 @@ pub struct CcdResult {
     /// The distance at the reported time (at `t = 1` without contact).
     pub distance: Real,
     /// The contact distance that was used: `minimum_separation +
-    /// distance_tolerance × S`.
+    /// distance_tolerance × S`; no contact is reported farther than this.
     pub contact_distance: Real,
+    /// Every approach closer than this (`minimum_separation +
+    /// distance_tolerance × S / 2`, the advancement's target) is reported.
+    pub guaranteed_distance: Real,
     /// Advancement steps taken.
     pub iterations: usize,
 }

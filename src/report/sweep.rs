@@ -177,6 +177,7 @@ pub fn sweep(
                 Termination::Diverged { reason, .. } => format!("diverged: {reason}"),
                 Termination::FirstContact => "first contact".into(),
                 Termination::Completed => "completed".into(),
+                Termination::Undecided { time, .. } => format!("undecided after t = {time:?}"),
             },
         });
         progress(k + 2, total);

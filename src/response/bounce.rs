@@ -20,7 +20,7 @@ use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 
 use super::{apply_impulse, approach_speed, contact_frame, Response, StepContext};
-use crate::ccd::{mesh_time_of_impact, ContactRule, MeshCcdResult};
+use crate::ccd::{mesh_time_of_impact, CcdStatus, ContactRule, MeshCcdResult};
 use crate::math::{Point, Real};
 use crate::motion::StepMotion;
 use crate::scene::BodyMotion;
@@ -160,7 +160,13 @@ impl Bounce {
                     let result = mesh_time_of_impact(&query, warm, step.scratch);
                     step.counters.distance_queries += result.iterations;
                     step.counters.triangle_pairs += result.triangle_pairs;
-                    if let Some(after) = result.time_of_impact {
+                    if result.status == CcdStatus::OutOfIterations {
+                        let undecided = MeshCcdResult {
+                            time_of_impact: result.time_of_impact.map(|t| time + t),
+                            ..result
+                        };
+                        step.world.note_undecided(other, &undecided);
+                    } else if let Some(after) = result.time_of_impact {
                         candidates.push(Candidate {
                             time: time + after,
                             pair: other,

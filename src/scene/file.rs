@@ -63,8 +63,9 @@ pub struct CcdSettings {
     /// The proximity kernel. Default: `Exact`.
     pub kernel: KernelSettings,
     /// Contact is declared within `minimum_separation + distance_tolerance ×
-    /// (r_a + r_b)`, `r` being each mesh's radius about its centre of mass.
-    /// Relative to the pair's size. Default: `1e-6`.
+    /// min(r_a, r_b)`, `r` being each mesh's radius about its centre of
+    /// mass; every approach within half the tolerance is reported. Relative
+    /// to the smaller body. Default: `1e-6`.
     pub distance_tolerance: f64,
     /// An absolute gap that counts as contact. Default: `0`.
     pub minimum_separation: f64,

@@ -165,6 +165,15 @@ impl<'s> Stepper<'s> {
         self.narrow_phase(world, t0, &mut found);
         let contact = self.respond(world, t0, &mut found);
         self.scratch.found = found;
+        if let Some(undecided) = world.undecided {
+            let (a, b) = undecided.pair;
+            return Err(Termination::Undecided {
+                pair: (a, b),
+                time: t0 + undecided.time,
+                step,
+                iterations: undecided.iterations,
+            });
+        }
         if contact && self.response.ends_run() {
             return Ok(StepEnd::FirstContact);
         }
@@ -197,12 +206,15 @@ impl<'s> Stepper<'s> {
     }
 
     /// The run's result after `steps` steps.
-    fn finish(mut self, world: World, steps: u64, termination: Termination, start: Instant) -> RunResult {
+    fn finish(mut self, mut world: World, steps: u64, termination: Termination, start: Instant) -> RunResult {
         let scene = self.scene;
         let end_time = match (&termination, world.contacts.first()) {
             (Termination::FirstContact, Some(contact)) => contact.time,
+            // Nothing after an undecided query is known.
+            (Termination::Undecided { time, .. }, _) => *time,
             _ => steps as Real * scene.dt,
         };
+        world.contacts.retain(|c| c.time <= end_time);
         let last_step_start = steps.saturating_sub(1) as Real * scene.dt;
         let trace = match self.trace.take() {
             Some(mut trace) => {

@@ -128,7 +128,10 @@ impl Stepper<'_> {
             pair.hint = result.hint;
             pair.lower_bound = Some(result.end_lower_bound);
             let Some(contact) = outcome.contact.take() else { continue };
-            if contact.time_of_impact.is_some() {
+            if contact.status == CcdStatus::OutOfIterations {
+                // Undecided is not contact: the run ends after this step.
+                world.note_undecided(k, &contact);
+            } else if contact.time_of_impact.is_some() {
                 found.push(Found { pair: k, result: *contact });
             }
         }

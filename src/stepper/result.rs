@@ -31,8 +31,12 @@ pub struct Contact {
     pub feature_b: Feature,
     /// How the CCD iteration ended.
     pub status: CcdStatus,
-    /// The contact distance of the pair (`minimum_separation + tolerance`).
+    /// The contact distance of the pair (`minimum_separation + tolerance`):
+    /// no contact is reported farther apart.
     pub contact_distance: Real,
+    /// Every approach of the pair closer than this (`minimum_separation +
+    /// tolerance / 2`) is reported.
+    pub guaranteed_distance: Real,
 }
 
 /// Why a run ended.
@@ -42,6 +46,19 @@ pub enum Termination {
     Completed,
     /// Stopped at the first contact (`on_contact: Stop`).
     FirstContact,
+    /// The CCD of a pair could not decide, within its iterations, whether
+    /// the pair comes into contact in a step: the run stops there (not a
+    /// contact; nothing after `time` is known).
+    Undecided {
+        /// The pair (body indices).
+        pair: (usize, usize),
+        /// Up to this time the pair was proven apart.
+        time: Real,
+        /// The step (0-based).
+        step: u64,
+        /// The iterations spent (`ccd.max_iterations`).
+        iterations: usize,
+    },
     /// A body's state stopped being usable: not finite, or turning too far
     /// in one step for the in-step motion to be defined.
     Diverged {

@@ -24,6 +24,17 @@ pub(crate) struct World {
     pub pairs: Vec<PairState>,
     /// The contacts found so far.
     pub contacts: Vec<Contact>,
+    /// A pair whose CCD could not decide (the run ends after the step).
+    pub undecided: Option<Undecided>,
+}
+
+/// A CCD query that ran out of iterations: the pair (index into `pairs`),
+/// the time into the step up to which it was proven apart, the iterations.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Undecided {
+    pub pair: (usize, usize),
+    pub time: Real,
+    pub iterations: usize,
 }
 
 /// What the CCD keeps per pair between steps.
@@ -99,6 +110,7 @@ impl World {
             motions: scene.bodies.iter().map(|b| StepMotion::fixed(b.pose)).collect(),
             pairs: Vec::new(),
             contacts: Vec::new(),
+            undecided: None,
         }
     }
 
@@ -137,6 +149,16 @@ impl World {
         }
     }
 
+    /// Notes that the query of pair `k` could not decide (the earliest such
+    /// query of a step is kept).
+    pub fn note_undecided(&mut self, k: usize, result: &MeshCcdResult) {
+        let pair = &self.pairs[k];
+        let time = result.time_of_impact.unwrap_or(0.0);
+        if self.undecided.is_none_or(|u| time < u.time) {
+            self.undecided = Some(Undecided { pair: (pair.a, pair.b), time, iterations: result.iterations });
+        }
+    }
+
     /// Records the contact of pair `k` at `time` into the step starting at
     /// `t0` and marks the pair touching.
     pub fn record_contact(&mut self, k: usize, t0: Real, time: Real, result: &MeshCcdResult) {
@@ -158,6 +180,7 @@ impl World {
             feature_b: closest.feature_b,
             status: result.status,
             contact_distance: result.contact_distance,
+            guaranteed_distance: result.guaranteed_distance,
         });
     }
 }

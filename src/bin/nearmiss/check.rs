@@ -22,7 +22,7 @@ pub fn main(args: Args) -> CommandResult {
                 scene.steps,
                 scene.dt
             ),
-            Err(CliError::BadInput(message) | CliError::Failed(message)) => {
+            Err(CliError::BadInput(message) | CliError::Failed(message) | CliError::Undecided(message)) => {
                 eprintln!("error: {message}");
                 bad = true;
             }

@@ -2,7 +2,8 @@
 //! One file per subcommand; errors become exit codes here, in one place:
 //! 0 success, 1 a check failed (a scene missed its expectation, a run
 //! diverged, a CCD query was late or missed), 2 bad input (scene, query
-//! file, arguments) or an output that could not be written.
+//! file, arguments) or an output that could not be written, 3 a run
+//! stopped because the CCD could not decide whether a pair touches.
 
 mod check;
 mod kernels;
@@ -72,6 +73,8 @@ pub enum CliError {
     BadInput(String),
     /// A check failed (exit 1); the message is printed if not empty.
     Failed(String),
+    /// A run stopped because the CCD could not decide a pair (exit 3).
+    Undecided(String),
 }
 
 /// What each subcommand returns.
@@ -100,6 +103,7 @@ fn main() -> ExitCode {
         Ok(()) => return ExitCode::SUCCESS,
         Err(CliError::BadInput(message)) => (2, message),
         Err(CliError::Failed(message)) => (1, message),
+        Err(CliError::Undecided(message)) => (3, message),
     };
     if !message.is_empty() {
         eprintln!("error: {message}");

@@ -55,8 +55,11 @@ pub fn main(args: Args) -> CommandResult {
     for file in &written {
         println!("wrote {}", file.display());
     }
-    if let Termination::Diverged { .. } = result.termination {
-        return Err(CliError::Failed(nearmiss::output::termination_text(&result)));
+    match result.termination {
+        Termination::Diverged { .. } => Err(CliError::Failed(nearmiss::output::termination_text(&result))),
+        Termination::Undecided { .. } => {
+            Err(CliError::Undecided(nearmiss::output::termination_text(&result)))
+        }
+        _ => Ok(()),
     }
-    Ok(())
 }

@@ -22,7 +22,7 @@ pub fn main(args: Args) -> CommandResult {
     for file in &files {
         let scene = match load_scene(file) {
             Ok(scene) => scene,
-            Err(CliError::BadInput(message) | CliError::Failed(message)) => {
+            Err(CliError::BadInput(message) | CliError::Failed(message) | CliError::Undecided(message)) => {
                 eprintln!("error: {message}");
                 bad += 1;
                 continue;
