@@ -154,3 +154,48 @@ fn bounce_needs_a_restitution_in_range_and_pushable_bodies_with_mass() {
         &["bodies[1].density", "mass and an inertia"],
     );
 }
+
+#[test]
+fn open_or_doubled_mesh_with_a_density_names_the_edge() {
+    // A tetrahedron missing a face, and one with a face given twice: no
+    // volume to take a mass from. (Mass and inertia would be wrong.)
+    let faces = ["f 1 3 2\nf 1 2 4\nf 1 4 3\n", "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 2 3 4\n"];
+    let expected =
+        [["open edge", "between vertices 3 and 2"], ["more than two faces", "from vertex 2 to vertex 3"]];
+    for (k, (faces, [what, edge])) in faces.iter().zip(expected).enumerate() {
+        let dir = workspace(&format!("open-mesh-{k}"));
+        std::fs::write(dir.join("tetra.obj"), format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n{faces}"))
+            .unwrap();
+        let obj = dir.join("tetra.obj");
+        let text = scene(&format!(
+            r#"bodies: [(name: "a", mesh: Obj(path: {:?}), density: 1.0)]"#,
+            obj.to_str().unwrap()
+        ));
+        assert_rejected(&format!("open-{k}"), &text, &["`bodies[0].density`", "closed", what, edge]);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+#[test]
+fn subnormal_or_huge_mass_and_inertia_are_rejected_at_load() {
+    // They loaded, then "diverged at step 0" with advice to lower dt.
+    let body = |extra: &str| {
+        scene(&format!(
+            r#"gravity: (0.0, 0.0, -9.81), bodies: [(name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), {extra})]"#
+        ))
+    };
+    assert_rejected("subnormal-mass", &body("mass: 1e-310"), &["`bodies[0].mass`", "1e-310", "normal"]);
+    assert_rejected(
+        "subnormal-inertia",
+        &body("mass: 1.0, inertia: (1e-315, 1e-315, 1e-315)"),
+        &["`bodies[0].inertia.x`", "normal"],
+    );
+    assert_rejected("huge-mass", &body("mass: 1e308"), &["`bodies[0].mass`", "between"]);
+    assert_rejected("subnormal-density", &body("density: 1e-320"), &["`bodies[0].density`"]);
+}
+
+#[test]
+fn fixed_and_kinematic_together_is_a_contradiction() {
+    let text = scene(&GOOD_BODIES.replacen("fixed: true", "fixed: true, kinematic: true", 1));
+    assert_rejected("fixed-kinematic", &text, &["`bodies[0].kinematic`", "not both"]);
+}

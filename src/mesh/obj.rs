@@ -135,7 +135,7 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
             error(line, column, source.to_string())
         }
         MeshError::Empty => error(text.lines().count().max(1), 1, "the file has no faces (`f` lines)".into()),
-        MeshError::NonFinite { .. } => ObjError::Mesh { path: path.into(), source },
+        MeshError::NonFinite { .. } | MeshError::NotClosed(_) => ObjError::Mesh { path: path.into(), source },
     })
 }
 

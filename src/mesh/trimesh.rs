@@ -26,6 +26,11 @@ pub enum MeshError {
         /// The vertex (0-based).
         vertex: usize,
     },
+    /// The surface is not closed and consistently oriented, which a volume
+    /// (mass properties from a density) needs. Vertices count from 1, as in
+    /// OBJ files.
+    #[error("the mesh is not a closed surface: {0}")]
+    NotClosed(String),
     /// A triangle has no area (repeated or exactly collinear vertices).
     #[error("triangle {triangle} is degenerate: its vertices are repeated or collinear (zero area)")]
     DegenerateTriangle {
@@ -107,8 +112,45 @@ impl TriMesh {
         self.radius
     }
 
+    /// Checks that the surface is closed and consistently oriented: every
+    /// edge is shared by exactly two triangles that run along it in
+    /// opposite directions. The error names the first edge that is not.
+    pub fn check_closed(&self) -> Result<(), MeshError> {
+        // Each directed edge (from, to) with the triangles running along it.
+        let mut runs: std::collections::HashMap<(u32, u32), Vec<usize>> = std::collections::HashMap::new();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            for k in 0..3 {
+                runs.entry((tri[k], tri[(k + 1) % 3])).or_default().push(t);
+            }
+        }
+        let mut problems: Vec<(u32, u32, String)> = Vec::new();
+        for (&(from, to), along) in &runs {
+            let (a, b) = (from + 1, to + 1);
+            let against = runs.get(&(to, from)).map_or(0, Vec::len);
+            let triangles =
+                |list: &[usize]| list.iter().map(|t| (t + 1).to_string()).collect::<Vec<_>>().join(", ");
+            if along.len() > 1 {
+                problems.push((from.min(to), from.max(to), format!(
+                    "triangles {} all run from vertex {a} to vertex {b} (an edge shared by more than two faces, a duplicated face, or faces oriented inconsistently)",
+                    triangles(along)
+                )));
+            } else if against == 0 {
+                problems.push((from.min(to), from.max(to), format!(
+                    "the edge between vertices {a} and {b} belongs to triangle {} only (an open edge: a missing face)",
+                    triangles(along)
+                )));
+            }
+        }
+        // The first by vertex numbers, so the message is the same every run.
+        match problems.into_iter().min_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1))) {
+            None => Ok(()),
+            Some((_, _, message)) => Err(MeshError::NotClosed(format!("{message}; triangles count from 1"))),
+        }
+    }
+
     /// Volume, centre of mass and inertia at unit density, if the mesh
-    /// encloses a positive volume (closed, outward-facing triangles).
+    /// encloses a positive volume (closed, outward-facing triangles; see
+    /// [`TriMesh::check_closed`]).
     pub fn mass_properties(&self) -> Option<MassProperties> {
         MassProperties::of_surface(&self.vertices, &self.triangles)
     }
@@ -151,6 +193,21 @@ fn has_zero_area(a: &Point, b: &Point, c: &Point) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn primitives_are_closed_and_a_lone_triangle_or_a_flipped_face_is_not() {
+        use crate::mesh::{box_mesh, icosphere, single_triangle, tetrahedron};
+        for mesh in [box_mesh(&Vector::new(1.0, 2.0, 3.0)), icosphere(1.0, 2), tetrahedron(1.0)] {
+            assert_eq!(mesh.unwrap().check_closed(), Ok(()));
+        }
+        let lone = single_triangle(Point::origin(), Point::new(1.0, 0.0, 0.0), Point::new(0.0, 1.0, 0.0));
+        assert!(matches!(lone.unwrap().check_closed(), Err(MeshError::NotClosed(_))));
+        let tetra = tetrahedron(1.0).unwrap();
+        let mut triangles = tetra.triangles().to_vec();
+        triangles[0].swap(1, 2);
+        let flipped = TriMesh::new(tetra.vertices().to_vec(), triangles).unwrap();
+        assert!(matches!(flipped.check_closed(), Err(MeshError::NotClosed(m)) if m.contains("all run from")));
+    }
 
     fn unit_triangle() -> Vec<Point> {
         vec![Point::new(0.0, 0.0, 0.0), Point::new(1.0, 0.0, 0.0), Point::new(0.0, 1.0, 0.0)]

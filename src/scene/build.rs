@@ -60,6 +60,26 @@ impl Builder<'_> {
         }
     }
 
+    /// A mass or a moment of inertia: positive, and both it and its inverse
+    /// normal numbers (not subnormal, not infinite), so that forces and
+    /// impulses stay finite.
+    pub(super) fn invertible(&self, field: &str, value: f64) -> Result<Real> {
+        self.positive(field, value)?;
+        // Both the value and its inverse normal numbers.
+        let (smallest, largest) = (Real::MIN_POSITIVE, 1.0 / Real::MIN_POSITIVE);
+        if (smallest..=largest).contains(&value) {
+            Ok(value)
+        } else {
+            self.invalid(
+                field,
+                format!(
+                    "{} is too small or too large for a mass or moment (it and its inverse must be normal numbers): give a value between {smallest:e} and {largest:e}",
+                    crate::output::shortest(value)
+                ),
+            )
+        }
+    }
+
     pub(super) fn non_negative(&self, field: &str, value: f64) -> Result<Real> {
         if self.finite(field, value)? >= 0.0 {
             Ok(value)

@@ -102,6 +102,12 @@ impl Builder<'_> {
                     ),
                 );
             }
+            if settings.fixed && settings.kinematic {
+                return self.invalid(
+                    format!("bodies[{i}].kinematic"),
+                    "a body is `fixed` (never moves) or `kinematic` (moves at its given velocity), not both",
+                );
+            }
             body.motion = if settings.fixed {
                 if body.velocity.norm() > 0.0 || body.angular_velocity.norm() > 0.0 {
                     return self.invalid(format!("bodies[{i}].fixed"), "a fixed body cannot have a velocity");
@@ -177,12 +183,15 @@ impl Builder<'_> {
 
         let (mut mass, mut inertia, mut center) = (None, None, Vector::zeros());
         if let Some(m) = settings.mass {
-            mass = Some(self.positive(&field("mass"), m)?);
+            mass = Some(self.invertible(&field("mass"), m)?);
         }
         if let Some(moments) = &settings.inertia {
             let m = self.vector(&field("inertia"), moments)?;
             if m.min() <= 0.0 {
                 return self.invalid(field("inertia"), "principal moments must be positive");
+            }
+            for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+                self.invertible(&format!("{}.{axis}", field("inertia")), m[k])?;
             }
             if m.x + m.y < m.z || m.y + m.z < m.x || m.z + m.x < m.y {
                 return self.invalid(
@@ -200,14 +209,24 @@ impl Builder<'_> {
                     return self
                         .invalid(field("density"), "give `density`, or `mass` and `inertia`, not both");
                 }
+                if let Err(error) = shape.check_closed() {
+                    return self.invalid(
+                        field("density"),
+                        format!("mass properties from a density need a closed mesh: {error}"),
+                    );
+                }
                 let Some(props) = shape.mass_properties() else {
                     return self.invalid(
                         field("density"),
                         "the mesh encloses no positive volume (open, or triangles facing inward): mass properties need a closed mesh",
                     );
                 };
-                mass = Some(density * props.volume);
-                inertia = Some(props.inertia * density);
+                mass = Some(self.invertible(&field("density"), density * props.volume)?);
+                let moments = props.inertia * density;
+                for k in 0..3 {
+                    self.invertible(&field("density"), moments[(k, k)])?;
+                }
+                inertia = Some(moments);
                 center = props.center_of_mass.coords;
                 // The recentred mesh is an asset of its own, shared likewise.
                 let centered = format!("{key}|centred");
