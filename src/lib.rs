@@ -34,6 +34,7 @@
 pub mod broad_phase;
 pub mod ccd;
 pub mod exact;
+pub mod input;
 pub mod kernels;
 pub mod math;
 pub mod mesh;

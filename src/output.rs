@@ -1,7 +1,16 @@
 //! What `nearmiss run` writes: `summary.json` and, when the scene asks for
-//! a trace, `trace.csv`, in `<out>/<scene name>/`. Each file is written to a
-//! temporary name in the same folder and renamed into place, so a reader
-//! never sees a half-written file.
+//! a trace, `trace.csv` (and with a plot `distance.png`), in
+//! `<out>/<scene name>/`.
+//!
+//! A run's files appear together or not at all: they are written into a
+//! fresh staging folder beside the target (`.<scene>.<pid>.tmp`, per
+//! process) and the folder is then swapped into place, so a reader never
+//! sees a half-written run, and no file of an earlier run (a `trace.csv` the
+//! new run did not write) sits beside the new ones. Files in the folder that
+//! are not a run's (a sweep's `sweep.csv`) are carried over. Staging
+//! folders left by a killed process are removed by the next run. Report
+//! files (sweeps, suites) are written one by one, each under a temporary
+//! name and renamed ([`write_report`]).
 
 use std::fs;
 use std::io::Write;
@@ -205,6 +214,9 @@ pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::
     write_outputs_with_peer(out, result, scene, &[])
 }
 
+/// The file names a run writes (and replaces as a whole).
+pub const RUN_FILES: [&str; 3] = ["summary.json", "trace.csv", "distance.png"];
+
 /// [`write_outputs`], with parry's answers in `summary.json`.
 pub fn write_outputs_with_peer(
     out: &Path,
@@ -212,24 +224,140 @@ pub fn write_outputs_with_peer(
     scene: &Scene,
     peer: &[PeerComparison],
 ) -> std::io::Result<Vec<PathBuf>> {
-    let trace = scene.trace.is_some();
+    fs::create_dir_all(out)?;
+    remove_abandoned_staging(out, &result.scene);
     let folder = out.join(&result.scene);
-    fs::create_dir_all(&folder)?;
+    let staging = out.join(format!(".{}.{}.tmp", result.scene, std::process::id()));
+    let _ = fs::remove_dir_all(&staging);
+    fs::create_dir(&staging)?;
+    let written = write_run_files(&staging, result, scene, peer)
+        .and_then(|names| {
+            carry_over(&folder, &staging)?;
+            swap_into_place(&staging, &folder, out, &result.scene)?;
+            Ok(names)
+        })
+        .inspect_err(|_| {
+            let _ = fs::remove_dir_all(&staging);
+        })?;
+    Ok(written.iter().map(|name| folder.join(name)).collect())
+}
+
+/// Writes the run's files into `folder`; returns their names.
+fn write_run_files(
+    folder: &Path,
+    result: &RunResult,
+    scene: &Scene,
+    peer: &[PeerComparison],
+) -> std::io::Result<Vec<&'static str>> {
     let mut written = Vec::new();
     let summary = Summary::with_peer(result, peer).to_json();
-    written.push(write_atomically(&folder.join("summary.json"), summary.as_bytes())?);
-    if trace {
+    write_synced(&folder.join("summary.json"), summary.as_bytes())?;
+    written.push("summary.json");
+    if scene.trace.is_some() {
         let mut csv = Vec::new();
         write_trace_csv(&result.trace, &result.bodies, &mut csv)?;
-        written.push(write_atomically(&folder.join("trace.csv"), &csv)?);
+        write_synced(&folder.join("trace.csv"), &csv)?;
+        written.push("trace.csv");
     }
     #[cfg(feature = "plot")]
     if let Some(plot) = &scene.plot {
         let path = folder.join("distance.png");
         crate::plot::render(&distance_chart(result, plot.log_y), &path).map_err(std::io::Error::other)?;
-        written.push(path);
+        written.push("distance.png");
     }
     Ok(written)
+}
+
+/// Hard-links (or copies) into `staging` every entry of the old `folder`
+/// that is not a run file, so that what else lives there survives the swap.
+fn carry_over(folder: &Path, staging: &Path) -> std::io::Result<()> {
+    let Ok(entries) = fs::read_dir(folder) else { return Ok(()) };
+    for entry in entries {
+        let entry = entry?;
+        let name = entry.file_name();
+        let target = staging.join(&name);
+        if RUN_FILES.iter().any(|run| name == *run) || target.exists() {
+            continue;
+        }
+        link_or_copy(&entry.path(), &target)?;
+    }
+    Ok(())
+}
+
+fn link_or_copy(from: &Path, to: &Path) -> std::io::Result<()> {
+    if fs::symlink_metadata(from)?.is_dir() {
+        fs::create_dir(to)?;
+        for entry in fs::read_dir(from)? {
+            let entry = entry?;
+            link_or_copy(&entry.path(), &to.join(entry.file_name()))?;
+        }
+        return Ok(());
+    }
+    fs::hard_link(from, to).or_else(|_| fs::copy(from, to).map(|_| ()))
+}
+
+/// Puts `staging` where `folder` is: the old folder is renamed aside first
+/// and removed after (two renames; retried if a concurrent run gets in
+/// between).
+fn swap_into_place(staging: &Path, folder: &Path, out: &Path, scene: &str) -> std::io::Result<()> {
+    let aside = out.join(format!(".{scene}.{}.old", std::process::id()));
+    let mut last_error = None;
+    for _ in 0..8 {
+        if folder.exists() {
+            let _ = fs::remove_dir_all(&aside);
+            if let Err(error) = fs::rename(folder, &aside) {
+                last_error = Some(error);
+                continue;
+            }
+        }
+        match fs::rename(staging, folder) {
+            Ok(()) => {
+                let _ = fs::remove_dir_all(&aside);
+                return Ok(());
+            }
+            Err(error) => last_error = Some(error),
+        }
+    }
+    Err(last_error.unwrap_or_else(|| std::io::Error::other("the output folder kept changing")))
+}
+
+/// Removes the staging folders (and set-aside old folders) of `scene` left
+/// in `out` by processes that no longer run (killed mid-write).
+fn remove_abandoned_staging(out: &Path, scene: &str) {
+    let Ok(entries) = fs::read_dir(out) else { return };
+    let prefix = format!(".{scene}.");
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let Some(rest) = name.strip_prefix(&prefix) else { continue };
+        let Some((pid, kind)) = rest.split_once('.') else { continue };
+        let Ok(pid) = pid.parse::<u32>() else { continue };
+        if (kind == "tmp" || kind == "old") && pid != std::process::id() && !process_alive(pid) {
+            let _ = fs::remove_dir_all(entry.path());
+        }
+    }
+}
+
+/// Whether process `pid` still runs (where the system says; elsewhere,
+/// assumed alive, so nothing of a running process is ever removed).
+fn process_alive(pid: u32) -> bool {
+    let proc = Path::new("/proc");
+    !proc.is_dir() || proc.join(pid.to_string()).exists()
+}
+
+/// Writes `bytes` to `path` and syncs it to disk.
+fn write_synced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut file = fs::File::create(path)?;
+    file.write_all(bytes)?;
+    file.sync_all()
+}
+
+/// Checks, before a run, that `out` can take its outputs: creates it if
+/// needed and writes (then removes) a probe file.
+pub fn check_writable(out: &Path) -> std::io::Result<()> {
+    fs::create_dir_all(out)?;
+    let probe = out.join(format!(".nearmiss-probe.{}", std::process::id()));
+    fs::write(&probe, b"")?;
+    fs::remove_file(&probe)
 }
 
 /// The distance-over-time chart of a run's trace: one line per traced pair,
@@ -240,11 +368,26 @@ pub fn distance_chart(result: &RunResult, log_y: bool) -> crate::plot::Chart {
     let mut pairs: Vec<(usize, usize)> = result.trace.iter().map(|r| r.pair).collect();
     pairs.sort_unstable();
     pairs.dedup();
+    // On a log axis a distance of 0 (touching) is drawn at the smallest
+    // positive distance of the trace, or the smallest normal number.
+    let floor = result
+        .trace
+        .iter()
+        .map(|r| r.distance)
+        .filter(|d| *d > 0.0)
+        .fold(Real::INFINITY, Real::min)
+        .clamp(Real::MIN_POSITIVE, 1.0);
+    let shown = |d: Real| if log_y { d.max(floor) } else { d };
     let series = pairs
         .iter()
         .map(|&pair| Series {
             label: format!("{} – {}", result.bodies[pair.0], result.bodies[pair.1]),
-            points: result.trace.iter().filter(|r| r.pair == pair).map(|r| (r.time, r.distance)).collect(),
+            points: result
+                .trace
+                .iter()
+                .filter(|r| r.pair == pair)
+                .map(|r| (r.time, shown(r.distance)))
+                .collect(),
             line: true,
             point_labels: Vec::new(),
         })
@@ -265,7 +408,11 @@ pub fn distance_chart(result: &RunResult, log_y: bool) -> crate::plot::Chart {
     Chart {
         title: format!("{}: distance between traced pairs", result.scene),
         x_label: "time (scene time units)".into(),
-        y_label: format!("distance (scene length units{})", if log_y { ", log scale" } else { "" }),
+        y_label: if log_y {
+            format!("distance (scene length units, log scale; 0 drawn at {floor:.0e})")
+        } else {
+            "distance (scene length units)".into()
+        },
         log_x: false,
         log_y,
         series,
@@ -293,12 +440,7 @@ pub fn write_chart(folder: &Path, name: &str, chart: &crate::plot::Chart) -> std
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<PathBuf> {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let temporary = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let mut file = fs::File::create(&temporary)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        fs::rename(&temporary, path)
-    })();
+    let result = write_synced(&temporary, bytes).and_then(|()| fs::rename(&temporary, path));
     if result.is_err() {
         let _ = fs::remove_file(&temporary);
     }

@@ -150,7 +150,9 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
     pad(&mut x0, &mut x1);
     pad(&mut y0, &mut y1);
 
-    let temporary = path.with_extension("tmp.png");
+    // Per process, so that concurrent runs into one folder never share it.
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let temporary = path.with_file_name(format!(".{name}.{}.tmp.png", std::process::id()));
     let error = |e: &dyn std::fmt::Display| PlotError::Draw {
         path: path.display().to_string(),
         message: e.to_string(),

@@ -129,8 +129,7 @@ impl QueryFile {
     /// Reads a query file; `kind` overrides the kind read from the path
     /// (an `edge-edge`/`vertex-face` folder, or an `ee`/`vf` name suffix).
     pub fn load(path: &Path, kind: Option<QueryKind>) -> Result<QueryFile, QueryFileError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| QueryFileError::Io { path: path.into(), source })?;
+        let text = read_data(path)?;
         let kind = match kind.or_else(|| kind_from_path(path)) {
             Some(kind) => kind,
             None => {
@@ -211,6 +210,12 @@ impl QueryFile {
 
 /// The kind named by the path: an `edge-edge`/`vertex-face` folder, or a
 /// file stem ending in `ee`/`vf`.
+/// A query, truth or time file as text (regular files only, bounded size).
+fn read_data(path: &Path) -> Result<String, QueryFileError> {
+    crate::input::read_text(path, crate::input::MAX_DATA_BYTES, "query file")
+        .map_err(|error| QueryFileError::Io { path: path.into(), source: error.into_io() })
+}
+
 fn kind_from_path(path: &Path) -> Option<QueryKind> {
     for component in path.components().rev() {
         match component.as_os_str().to_str() {
@@ -273,8 +278,7 @@ fn read_truth_json(path: &Path, count: usize) -> Result<Option<Vec<bool>>, Query
         return Ok(None);
     };
     let bad = |message: String| QueryFileError::File { path: json_path.clone(), message };
-    let text = std::fs::read_to_string(json_path)
-        .map_err(|source| QueryFileError::Io { path: json_path.clone(), source })?;
+    let text = read_data(json_path)?;
     let body = text.trim();
     let inner = body
         .strip_prefix('[')
@@ -320,8 +324,7 @@ fn read_derived_times(path: &Path, count: usize) -> Result<Option<Vec<Option<Rea
     if !table.is_file() {
         return Ok(None);
     }
-    let text = std::fs::read_to_string(&table)
-        .map_err(|source| QueryFileError::Io { path: table.clone(), source })?;
+    let text = read_data(&table)?;
     let mut times = vec![None; count];
     for (index, line) in text.lines().enumerate().skip(1) {
         let tokens: Vec<&str> = line.split(',').map(str::trim).collect();

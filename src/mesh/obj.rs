@@ -42,7 +42,18 @@ pub enum ObjError {
 
 /// Reads an OBJ file.
 pub fn load_obj(path: &Path) -> Result<TriMesh, ObjError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ObjError::Io { path: path.into(), source })?;
+    let text =
+        crate::input::read_text(path, crate::input::MAX_DATA_BYTES, "mesh file").map_err(
+            |error| match error {
+                crate::input::ReadError::NotUtf8 { line, column } => ObjError::Parse {
+                    path: path.into(),
+                    line,
+                    column,
+                    message: "not valid UTF-8 text".into(),
+                },
+                other => ObjError::Io { path: path.into(), source: other.into_io() },
+            },
+        )?;
     parse_obj(&text, path)
 }
 

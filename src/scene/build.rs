@@ -30,6 +30,10 @@ pub(super) struct Builder<'a> {
     source: &'a str,
 }
 
+/// The longest scene name, in bytes: it names the output folder, and file
+/// systems allow 255 bytes with room left for a temporary suffix.
+pub const MAX_NAME_BYTES: usize = 200;
+
 /// Body indices by name.
 pub(super) type Names<'f> = HashMap<&'f str, usize>;
 
@@ -116,6 +120,12 @@ impl Builder<'_> {
             Some(_) if trace.is_none() => {
                 return self.invalid("plot", "the plot draws the distance trace: add `trace: (pairs: All)`")
             }
+            Some(_) if trace.as_ref().is_some_and(|t| t.pairs.is_empty()) => {
+                return self.invalid(
+                    "plot",
+                    "the trace has no pair to draw (every pair of bodies is fixed): remove `plot`, or trace a pair that moves",
+                )
+            }
             Some(plot) => Some(super::PlotSpec { log_y: plot.log_y }),
         };
         let expect = self.expect(file.expect.as_ref(), &names)?;
@@ -139,10 +149,20 @@ impl Builder<'_> {
     }
 
     fn check_name(&self, name: &str) -> Result<()> {
-        if name.trim().is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
+        if name.trim().is_empty()
+            || name.contains(['/', '\\'])
+            || name.starts_with('.')
+            || name.chars().any(char::is_control)
+        {
             return self.invalid(
                 "name",
-                "must be a non-empty name usable as a folder name (no `/`, no leading `.`)",
+                "must be a non-empty name usable as a folder name (no `/` or `\\`, no leading `.`, no control characters)",
+            );
+        }
+        if name.len() > MAX_NAME_BYTES {
+            return self.invalid(
+                "name",
+                format!("is {} bytes long; at most {MAX_NAME_BYTES} fit in a folder name", name.len()),
             );
         }
         Ok(())

@@ -33,6 +33,7 @@ use std::sync::Arc;
 
 use nalgebra::Matrix3;
 
+pub use build::MAX_NAME_BYTES;
 pub use error::SceneError;
 pub use file::OnContact;
 pub use file::PlotSettings;
@@ -147,6 +148,12 @@ pub enum Expectation {
 }
 
 /// The steps of `dt` that cover `duration` (at least one).
+/// The most steps a run may take unless the caller allows more
+/// (`nearmiss run --max-steps`): 100 million. A scene asking for more is
+/// most likely a typo in `dt` or `duration`; at the 1,000-body box's rate it
+/// would run for days.
+pub const DEFAULT_MAX_STEPS: u64 = 100_000_000;
+
 pub(crate) fn steps_for(duration: Real, dt: Real) -> u64 {
     ((duration / dt) * (1.0 - 4.0 * Real::EPSILON)).ceil().max(1.0) as u64
 }
@@ -162,8 +169,19 @@ impl Scene {
     /// the file's folder.
     pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| SceneError::Io { path: path.display().to_string(), source })?;
+        let name = path.display().to_string();
+        let text =
+            crate::input::read_text(path, crate::input::MAX_SCENE_BYTES, "scene file").map_err(|error| {
+                match error {
+                    crate::input::ReadError::NotUtf8 { line, column } => SceneError::Syntax {
+                        path: name.clone(),
+                        line,
+                        column,
+                        message: "not valid UTF-8 text".into(),
+                    },
+                    other => SceneError::Io { path: name.clone(), source: other.into_io() },
+                }
+            })?;
         let base = path.parent().unwrap_or(Path::new("."));
         build::build(&text, &path.display().to_string(), base)
     }
@@ -177,6 +195,24 @@ impl Scene {
         scene.kernel = kernel;
         scene.integrator = integrator;
         scene
+    }
+
+    /// Checks that the run takes at most `max_steps` steps (see
+    /// [`DEFAULT_MAX_STEPS`]); the error names the field and the limit.
+    pub fn check_steps(&self, max_steps: u64) -> Result<(), SceneError> {
+        if self.steps <= max_steps {
+            return Ok(());
+        }
+        Err(SceneError::Invalid {
+            path: self.source.clone(),
+            field: "steps".into(),
+            message: format!(
+                "the run would take {} steps (duration {} / dt {}), more than the limit of {max_steps}: check `dt` and `duration`, or allow more with --max-steps",
+                self.steps,
+                crate::output::shortest(self.duration),
+                crate::output::shortest(self.dt)
+            ),
+        })
     }
 
     /// The index of the body with this name.

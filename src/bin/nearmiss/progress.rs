@@ -1,12 +1,23 @@
-//! Progress display for long runs.
+//! Progress display for long runs: a bar on a terminal; elsewhere (a log,
+//! CI) a line every few seconds with the time left.
 
 use nearmiss::scene::Scene;
 use nearmiss::stepper::RunResult;
+use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
+/// A run shows progress once it has taken this long.
+const SHOW_AFTER: Duration = Duration::from_secs(1);
+
+/// Without a terminal, a progress line this often.
+const LINE_EVERY: Duration = Duration::from_secs(5);
+
 /// Runs a scene with a progress bar on a terminal, shown once the run has
-/// taken a second.
+/// taken a second; without a terminal, a line every few seconds.
 pub fn run_with_progress(scene: &Scene) -> RunResult {
+    if !std::io::stderr().is_terminal() {
+        return run_with_lines(scene);
+    }
     let bar =
         indicatif::ProgressBar::with_draw_target(Some(scene.steps), indicatif::ProgressDrawTarget::hidden());
     bar.set_style(bar_style("{msg} [{bar:40}] {pos}/{len} steps, {eta} left"));
@@ -14,7 +25,7 @@ pub fn run_with_progress(scene: &Scene) -> RunResult {
     let start = Instant::now();
     let mut shown = false;
     let result = nearmiss::stepper::run_observed(scene, &mut |done| {
-        if !shown && start.elapsed() > Duration::from_secs(1) {
+        if !shown && start.elapsed() > SHOW_AFTER {
             shown = true;
             bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
         }
@@ -24,6 +35,33 @@ pub fn run_with_progress(scene: &Scene) -> RunResult {
     });
     bar.finish_and_clear();
     result
+}
+
+/// Progress as plain lines on stderr, every [`LINE_EVERY`].
+fn run_with_lines(scene: &Scene) -> RunResult {
+    let start = Instant::now();
+    let mut next = LINE_EVERY;
+    nearmiss::stepper::run_observed(scene, &mut |done| {
+        // Reading the clock every 64 steps keeps it off the step's cost.
+        if done % 64 != 0 {
+            return;
+        }
+        let elapsed = start.elapsed();
+        if elapsed < next {
+            return;
+        }
+        next = elapsed + LINE_EVERY;
+        let fraction = done as f64 / scene.steps.max(1) as f64;
+        let left = elapsed.as_secs_f64() * (1.0 - fraction) / fraction.max(f64::MIN_POSITIVE);
+        eprintln!(
+            "{}: {done}/{} steps ({:.1}%), {:.0} s so far, about {:.0} s left",
+            scene.name,
+            scene.steps,
+            100.0 * fraction,
+            elapsed.as_secs_f64(),
+            left
+        );
+    })
 }
 
 /// A bar of `total` units drawn with `template`.

@@ -16,6 +16,10 @@ pub struct Args {
     /// both answers (`parry`).
     #[arg(long, value_enum)]
     compare: Option<Peer>,
+    /// The most steps a run may take (a longer one is refused before it
+    /// starts: usually a typo in `dt` or `duration`).
+    #[arg(long, default_value_t = nearmiss::scene::DEFAULT_MAX_STEPS)]
+    max_steps: u64,
 }
 
 #[derive(Copy, Clone, clap::ValueEnum)]
@@ -25,7 +29,11 @@ enum Peer {
 }
 
 pub fn main(args: Args) -> CommandResult {
-    let scene = load_scene(&args.scene)?;
+    let scene = load_scene(&args.scene, args.max_steps)?;
+    // Before the run, not after it: a run is not wasted on an unusable folder.
+    nearmiss::output::check_writable(&args.out).map_err(|error| {
+        CliError::BadInput(format!("--out {}: cannot write there: {error}", args.out.display()))
+    })?;
     let result = run_with_progress(&scene);
     let compare = args.compare.is_some();
     let peer = if compare { nearmiss::report::compare_with_parry(&scene, &result) } else { Vec::new() };

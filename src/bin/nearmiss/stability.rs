@@ -4,6 +4,7 @@ use crate::progress::run_with_progress;
 use crate::{load_scene, CliError, CommandResult};
 use nearmiss::math::Real;
 use nearmiss::report::{spin_drift, spring_omega, spring_sweep, stability_markdown, StabilitySuite};
+use nearmiss::scene::DEFAULT_MAX_STEPS;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -19,8 +20,8 @@ pub struct Args {
 pub fn main(args: Args) -> CommandResult {
     let suite = StabilitySuite::default();
     let folder = &args.scenes;
-    let spring = load_scene(&folder.join(suite.spring_scene))?;
-    let spin = load_scene(&folder.join(suite.spin_scene))?;
+    let spring = load_scene(&folder.join(suite.spring_scene), DEFAULT_MAX_STEPS)?;
+    let spin = load_scene(&folder.join(suite.spin_scene), DEFAULT_MAX_STEPS)?;
     let springs = spring_sweep(&spring, &suite.spring_omega_dts, &suite.integrators);
     let drifts = spin_drift(&spin, spin.steps, suite.spin_sample_every);
     let files = nearmiss::regression::scene_files(folder)
@@ -28,7 +29,7 @@ pub fn main(args: Args) -> CommandResult {
     let mut verdicts = Vec::new();
     let mut failed = 0;
     for file in files {
-        let scene = load_scene(&file)?;
+        let scene = load_scene(&file, DEFAULT_MAX_STEPS)?;
         let result = run_with_progress(&scene);
         if let Some(v) = nearmiss::regression::verdict(&scene, &result) {
             failed += usize::from(!v.passed);

@@ -23,6 +23,10 @@ pub struct Args {
     /// The output folder.
     #[arg(long, default_value = "output")]
     out: PathBuf,
+    /// The most steps a run may take per setting (a longer one is refused
+    /// before the sweep starts).
+    #[arg(long, default_value_t = nearmiss::scene::DEFAULT_MAX_STEPS)]
+    max_steps: u64,
 }
 
 /// Parses each name of a list option; an unknown one is bad input naming
@@ -44,9 +48,18 @@ fn parse_names<T>(
 }
 
 pub fn main(args: Args) -> CommandResult {
-    let scene = load_scene(&args.scene)?;
+    let scene = load_scene(&args.scene, args.max_steps)?;
     if let Some(bad) = args.dt.iter().find(|dt| !(dt.is_finite() && **dt > 0.0)) {
         return Err(CliError::BadInput(format!("--dt: every step must be a positive number, found {bad}")));
+    }
+    for &dt in &args.dt {
+        let steps = (scene.duration / dt).ceil();
+        if steps > args.max_steps as f64 {
+            return Err(CliError::BadInput(format!(
+                "--dt: {dt:?} gives {steps:e} steps over the scene's duration {:?}, more than the limit of {} (raise it with --max-steps)",
+                scene.duration, args.max_steps
+            )));
+        }
     }
     let kernels = parse_names(
         &args.kernel,

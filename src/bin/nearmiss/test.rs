@@ -9,6 +9,10 @@ pub struct Args {
     /// Scene files or folders.
     #[arg(required = true)]
     paths: Vec<PathBuf>,
+    /// The most steps a run may take (a longer one is refused before it
+    /// starts: usually a typo in `dt` or `duration`).
+    #[arg(long, default_value_t = nearmiss::scene::DEFAULT_MAX_STEPS)]
+    max_steps: u64,
 }
 
 pub fn main(args: Args) -> CommandResult {
@@ -20,7 +24,7 @@ pub fn main(args: Args) -> CommandResult {
     }
     let (mut passed, mut failed, mut bad, mut skipped) = (0, 0, 0, 0);
     for file in &files {
-        let scene = match load_scene(file) {
+        let scene = match load_scene(file, args.max_steps) {
             Ok(scene) => scene,
             Err(CliError::BadInput(message) | CliError::Failed(message) | CliError::Undecided(message)) => {
                 eprintln!("error: {message}");
