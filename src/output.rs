@@ -242,6 +242,28 @@ pub fn write_outputs_with_peer(
     Ok(written.iter().map(|name| folder.join(name)).collect())
 }
 
+/// The first number of a run's result that is not finite (which JSON would
+/// write as `null` and CSV as `inf`), named; `None` if all are finite.
+pub fn first_non_finite(result: &RunResult) -> Option<String> {
+    let contact_numbers = |c: &Contact| {
+        [c.time, c.distance, c.contact_distance, c.guaranteed_distance]
+            .into_iter()
+            .chain(c.point_a.iter().copied())
+            .chain(c.point_b.iter().copied())
+            .collect::<Vec<Real>>()
+    };
+    if !result.end_time.is_finite() {
+        return Some("end_time".into());
+    }
+    if let Some(k) = result.contacts.iter().position(|c| contact_numbers(c).iter().any(|v| !v.is_finite())) {
+        return Some(format!("contacts[{k}]"));
+    }
+    if let Some(k) = result.trace.iter().position(|r| !r.time.is_finite() || !r.distance.is_finite()) {
+        return Some(format!("trace sample {k}"));
+    }
+    (!result.counters.max_energy_drift.is_finite()).then(|| "work.max_energy_drift".into())
+}
+
 /// Writes the run's files into `folder`; returns their names.
 fn write_run_files(
     folder: &Path,
@@ -249,6 +271,12 @@ fn write_run_files(
     scene: &Scene,
     peer: &[PeerComparison],
 ) -> std::io::Result<Vec<&'static str>> {
+    if let Some(field) = first_non_finite(result) {
+        // Never a silent null or inf in an output: nothing is written.
+        return Err(std::io::Error::other(format!(
+            "the run produced a number that is not finite ({field}); nothing was written. Please report the scene"
+        )));
+    }
     let mut written = Vec::new();
     let summary = Summary::with_peer(result, peer).to_json();
     write_synced(&folder.join("summary.json"), summary.as_bytes())?;

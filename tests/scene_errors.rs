@@ -199,3 +199,105 @@ fn fixed_and_kinematic_together_is_a_contradiction() {
     let text = scene(&GOOD_BODIES.replacen("fixed: true", "fixed: true, kinematic: true", 1));
     assert_rejected("fixed-kinematic", &text, &["`bodies[0].kinematic`", "not both"]);
 }
+
+#[test]
+fn numbers_whose_products_overflow_are_refused_with_the_range() {
+    // Sizes or coordinates near 1e154 gave `distance inf`, null distances in
+    // summary.json and inf in trace.csv; dt = 1e308 gave `end_time: null`.
+    let text = scene(&GOOD_BODIES.replace("(2.0, 0.0, 0.0)", "(1e154, 0.0, 0.0)"));
+    assert_rejected("huge-position", &text, &["`bodies[1].position.x`", "1e154", "1e30"]);
+    let text = scene(&GOOD_BODIES.replacen("(0.5, 0.5, 0.5)", "(1e200, 0.5, 0.5)", 1));
+    assert_rejected("huge-size", &text, &["`bodies[0].mesh.half_extents.x`", "1e200"]);
+    let text = format!("Scene(name: \"bad\", dt: 1e308, steps: 1, {GOOD_BODIES})");
+    // The number is printed in its shortest form, not with 309 digits.
+    assert_rejected("huge-dt", &text, &["`dt`", "1e308 is outside"]);
+    let text = scene(&GOOD_BODIES.replacen("fixed: true", "scale: 1e-40, fixed: true", 1));
+    assert_rejected("tiny-scale", &text, &["`bodies[0].scale`", "1e-30"]);
+}
+
+#[test]
+fn an_axis_or_quaternion_of_any_finite_size_is_normalised() {
+    // An axis of norm 1e200 became a zero axis (a non-unit quaternion that
+    // halved the mesh); a quaternion whose norm overflows was "cannot be
+    // normalised".
+    let with = |orientation: &str| {
+        nearmiss::scene::Scene::from_ron_str(&scene(&GOOD_BODIES.replacen(
+            "fixed: true",
+            &format!("orientation: {orientation}, fixed: true"),
+            1,
+        )))
+        .unwrap()
+        .bodies[0]
+            .pose
+            .rotation
+    };
+    let reference = with("AxisAngle(axis: (0.0, 0.0, 1.0), degrees: 30.0)");
+    for orientation in [
+        "AxisAngle(axis: (0.0, 0.0, 1e200), degrees: 30.0)",
+        "AxisAngle(axis: (0.0, 0.0, 1e-200), degrees: 30.0)",
+    ] {
+        assert!(with(orientation).angle_to(&reference) < 1e-15, "{orientation}");
+    }
+    let half = std::f64::consts::FRAC_PI_8; // 45° about z: (cos 22.5°, 0, 0, sin 22.5°)
+    let q = with(&format!(
+        "Quaternion(w: {:e}, x: 0.0, y: 0.0, z: {:e})",
+        1e300 * half.cos(),
+        1e300 * half.sin()
+    ));
+    let expected = with("AxisAngle(axis: (0.0, 0.0, 1.0), degrees: 45.0)");
+    assert!(q.angle_to(&expected) < 1e-15);
+}
+
+#[test]
+fn a_huge_obj_word_is_quoted_in_part() {
+    let dir = workspace("long-word");
+    std::fs::write(dir.join("long.obj"), format!("v 0 0 0\nv 1 0 {}\n", "x".repeat(100_000))).unwrap();
+    let text = scene(&format!(
+        r#"bodies: [(name: "a", mesh: Obj(path: {:?}))]"#,
+        dir.join("long.obj").to_str().unwrap()
+    ));
+    let error = nearmiss::scene::Scene::from_ron_str(&text).unwrap_err().to_string();
+    assert!(error.contains("(100000 characters)") && error.len() < 400, "{error}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn files_that_are_not_regular_are_refused_without_blocking() {
+    #[cfg(unix)]
+    {
+        let dir = workspace("fifo");
+        let fifo = dir.join("scene.ron");
+        let made = Command::new("mkfifo").arg(&fifo).status().is_ok_and(|s| s.success());
+        if made {
+            // Opening a FIFO without a writer would block forever.
+            let output = Command::new(env!("CARGO_BIN_EXE_nearmiss"))
+                .args(["check", fifo.to_str().unwrap()])
+                .output()
+                .unwrap();
+            assert_eq!(output.status.code(), Some(2));
+            assert!(String::from_utf8_lossy(&output.stderr).contains("not a regular file"));
+        }
+        let text = scene(r#"bodies: [(name: "a", mesh: Obj(path: "/dev/zero"))]"#);
+        if Path::new("/dev/zero").exists() {
+            assert_rejected("dev-zero", &text, &["`bodies[0].mesh`", "not a regular file"]);
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+#[test]
+fn invalid_utf8_names_line_and_column() {
+    let dir = workspace("utf8");
+    let path = dir.join("scene.ron");
+    std::fs::write(&path, b"Scene(name: \"x\",\n  dt: 0.1\xff, steps: 1, bodies: [])").unwrap();
+    let error = nearmiss::scene::Scene::load(&path).unwrap_err().to_string();
+    assert!(error.ends_with(":2:10: not valid UTF-8 text"), "{error}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn too_many_steps_are_refused_before_the_run() {
+    // `steps` had no upper bound (1e12 passed `check`).
+    let text = format!("Scene(name: \"bad\", dt: 1e-9, duration: 10.0, {GOOD_BODIES})");
+    assert_rejected("steps-limit", &text, &["`steps`", "10000000000 steps", "--max-steps"]);
+}

@@ -57,6 +57,20 @@ pub fn load_obj(path: &Path) -> Result<TriMesh, ObjError> {
     parse_obj(&text, path)
 }
 
+/// The longest part of a bad word quoted in a message, in characters.
+const EXCERPT_CHARS: usize = 40;
+
+/// `word` in backticks, or its first [`EXCERPT_CHARS`] characters and its
+/// length.
+fn excerpt(word: &str) -> String {
+    let count = word.chars().count();
+    if count <= EXCERPT_CHARS {
+        return format!("`{word}`");
+    }
+    let head: String = word.chars().take(EXCERPT_CHARS).collect();
+    format!("`{head}…` ({count} characters)")
+}
+
 /// Parses OBJ text; `path` names the source in error messages.
 pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
     let error = |line: usize, column: usize, message: String| ObjError::Parse {
@@ -91,7 +105,7 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
                             return Err(error(
                                 line,
                                 column,
-                                format!("expected a finite number, found `{word}`"),
+                                format!("expected a finite number, found {}", excerpt(word)),
                             ))
                         }
                     };
@@ -110,12 +124,19 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
                             return Err(error(
                                 line,
                                 column,
-                                format!("expected a vertex index (1-based, or negative), found `{word}`"),
+                                format!(
+                                    "expected a vertex index (1-based, or negative), found {}",
+                                    excerpt(word)
+                                ),
                             ))
                         }
                     };
                     if index < 0 || index > u32::MAX as i64 {
-                        return Err(error(line, column, format!("vertex index `{word}` is out of range")));
+                        return Err(error(
+                            line,
+                            column,
+                            format!("vertex index {} is out of range", excerpt(word)),
+                        ));
                     }
                     corners.push(index as u32);
                 }

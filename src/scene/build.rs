@@ -13,6 +13,7 @@ use crate::ccd::CcdOptions;
 use crate::kernels::PointEdgeFormula;
 use crate::math::{Real, Vector};
 use crate::mesh::DistanceKernel;
+use crate::output::shortest;
 
 /// Parses `text` (named `source` in messages; OBJ paths relative to `base`).
 pub(super) fn build(text: &str, source: &str, base: &Path) -> Result<Scene> {
@@ -29,6 +30,16 @@ pub(super) fn build(text: &str, source: &str, base: &Path) -> Result<Scene> {
 pub(super) struct Builder<'a> {
     source: &'a str,
 }
+
+/// The usable range of a scene's numbers: every coordinate, velocity,
+/// size, time and force parameter is at most this in magnitude, so that
+/// the products the kernels and mass properties form (up to fifth powers of
+/// a size) stay finite. `1e30`.
+pub const MAX_MAGNITUDE: Real = 1e30;
+
+/// The smallest positive size, time step or tolerance a scene may give (a
+/// size's square and cube stay normal numbers). `1e-30`.
+pub const MIN_MAGNITUDE: Real = 1e-30;
 
 /// The longest scene name, in bytes: it names the output folder, and file
 /// systems allow 255 bytes with room left for a temporary suffix.
@@ -48,27 +59,48 @@ impl Builder<'_> {
         })
     }
 
+    /// A finite number within the usable range `|x| ≤ MAX_MAGNITUDE`.
     pub(super) fn finite(&self, field: &str, value: f64) -> Result<Real> {
-        if value.is_finite() {
-            Ok(value)
-        } else {
-            self.invalid(field, format!("expected a finite number, found {value}"))
+        if !value.is_finite() {
+            return self.invalid(field, format!("expected a finite number, found {}", shortest(value)));
         }
+        if value.abs() > MAX_MAGNITUDE {
+            return self.invalid(
+                field,
+                format!(
+                    "{} is outside the usable range: |x| ≤ {MAX_MAGNITUDE:e} (products of coordinates must stay finite)",
+                    shortest(value)
+                ),
+            );
+        }
+        Ok(value)
     }
 
+    /// A positive number within `[MIN_MAGNITUDE, MAX_MAGNITUDE]`.
     pub(super) fn positive(&self, field: &str, value: f64) -> Result<Real> {
-        if self.finite(field, value)? > 0.0 {
-            Ok(value)
-        } else {
-            self.invalid(field, format!("must be positive, found {value}"))
+        if self.finite(field, value)? <= 0.0 {
+            return self.invalid(field, format!("must be positive, found {}", shortest(value)));
         }
+        if value < MIN_MAGNITUDE {
+            return self.invalid(
+                field,
+                format!(
+                    "{} is below the usable range: at least {MIN_MAGNITUDE:e} (squares of sizes must stay normal numbers)",
+                    shortest(value)
+                ),
+            );
+        }
+        Ok(value)
     }
 
     /// A mass or a moment of inertia: positive, and both it and its inverse
     /// normal numbers (not subnormal, not infinite), so that forces and
     /// impulses stay finite.
     pub(super) fn invertible(&self, field: &str, value: f64) -> Result<Real> {
-        self.positive(field, value)?;
+        if !(value.is_finite() && value > 0.0) {
+            return self
+                .invalid(field, format!("must be a positive finite number, found {}", shortest(value)));
+        }
         // Both the value and its inverse normal numbers.
         let (smallest, largest) = (Real::MIN_POSITIVE, 1.0 / Real::MIN_POSITIVE);
         if (smallest..=largest).contains(&value) {
@@ -88,7 +120,7 @@ impl Builder<'_> {
         if self.finite(field, value)? >= 0.0 {
             Ok(value)
         } else {
-            self.invalid(field, format!("must be zero or positive, found {value}"))
+            self.invalid(field, format!("must be zero or positive, found {}", shortest(value)))
         }
     }
 
@@ -178,8 +210,10 @@ impl Builder<'_> {
             (Some(duration), None) => {
                 let duration = self.positive("duration", duration)?;
                 if duration / dt > 1e12 {
-                    return self
-                        .invalid("duration", format!("{} steps of dt = {dt}: too many", duration / dt));
+                    return self.invalid(
+                        "duration",
+                        format!("{:e} steps of dt = {}: too many", duration / dt, shortest(dt)),
+                    );
                 }
                 Ok(super::steps_for(duration, dt))
             }
@@ -243,7 +277,10 @@ impl Builder<'_> {
                 if !(0.0..=1.0).contains(&restitution) {
                     return self.invalid(
                         "on_contact.restitution",
-                        format!("{restitution} is not a coefficient of restitution: give a number in [0, 1]"),
+                        format!(
+                            "{} is not a coefficient of restitution: give a number in [0, 1]",
+                            shortest(restitution)
+                        ),
                     );
                 }
                 Ok(true)

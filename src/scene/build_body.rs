@@ -8,14 +8,58 @@ use std::sync::Arc;
 use nalgebra::{Matrix3, Quaternion, Translation3, UnitQuaternion};
 
 use super::build::{Builder, Names, Result};
+use super::build::{MAX_MAGNITUDE, MIN_MAGNITUDE};
 use super::file::{BodySettings, MeshSettings, OrientationSettings, SceneFile};
 use super::{Body, BodyMotion};
 use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::{self, TriMesh, MAX_ICOSPHERE_SUBDIVISIONS};
 use crate::motion::classify::{needs_integration, spin_precesses, Influences};
 use crate::motion::{Dynamics, Spring, MAX_TURN_PER_STEP};
+use crate::output::shortest;
 
 impl Builder<'_> {
+    /// `components` (finite, any size) divided by their largest magnitude,
+    /// or `None` if all are zero.
+    fn direction<const N: usize>(&self, field: &str, components: [f64; N]) -> Result<Option<[Real; N]>> {
+        if let Some(bad) = components.iter().find(|c| !c.is_finite()) {
+            return self.invalid(field, format!("expected finite numbers, found {}", shortest(*bad)));
+        }
+        let largest = components.iter().fold(0.0, |m: Real, c| m.max(c.abs()));
+        Ok((largest > 0.0).then(|| components.map(|c| c / largest)))
+    }
+
+    /// A mesh whose coordinates lie in the usable range (see
+    /// [`MAX_MAGNITUDE`]) and whose extent is at least [`MIN_MAGNITUDE`].
+    fn check_mesh_range(&self, field: &str, mesh: &TriMesh) -> Result<()> {
+        let largest = mesh.vertices().iter().fold(0.0, |m: Real, v| m.max(v.coords.amax()));
+        if largest > MAX_MAGNITUDE {
+            return self.invalid(
+                field,
+                format!(
+                    "a vertex lies {} from the mesh's origin, outside the usable range {MAX_MAGNITUDE:e} (scale included)",
+                    shortest(largest)
+                ),
+            );
+        }
+        let (lo, hi) = mesh
+            .vertices()
+            .iter()
+            .fold((Vector::repeat(Real::INFINITY), Vector::repeat(Real::NEG_INFINITY)), |(lo, hi), v| {
+                (lo.inf(&v.coords), hi.sup(&v.coords))
+            });
+        let extent = (hi - lo).amax();
+        if extent < MIN_MAGNITUDE {
+            return self.invalid(
+                field,
+                format!(
+                    "the mesh is {} across, below the usable size {MIN_MAGNITUDE:e} (scale included)",
+                    shortest(extent)
+                ),
+            );
+        }
+        Ok(())
+    }
+
     /// Every body, and each one's centre of mass offset from its mesh's origin.
     pub(super) fn bodies(&self, settings: &[BodySettings], base: &Path) -> Result<(Vec<Body>, Vec<Vector>)> {
         let mut assets: HashMap<String, Arc<TriMesh>> = HashMap::new();
@@ -175,6 +219,7 @@ impl Builder<'_> {
                         self.invalid(field("scale"), format!("the scaled mesh is unusable: {e}"))
                     })?
                 };
+                self.check_mesh_range(&mesh_field, &scaled)?;
                 let shape = Arc::new(scaled);
                 assets.insert(key.clone(), shape.clone());
                 shape
@@ -296,24 +341,26 @@ impl Builder<'_> {
         match settings {
             OrientationSettings::Identity => Ok(UnitQuaternion::identity()),
             OrientationSettings::AxisAngle { axis, degrees } => {
-                let axis = self.vector(&format!("{field}.axis"), axis)?;
                 let degrees = self.finite(&format!("{field}.degrees"), *degrees)?;
+                // Only the axis's direction matters: any finite size is
+                // normalised (scaled by its largest component first, so that
+                // its square cannot overflow or underflow).
+                let components = [axis[0], axis[1], axis[2]];
+                let Some([x, y, z]) = self.direction(&format!("{field}.axis"), components)? else {
+                    return self.invalid(format!("{field}.axis"), "the axis must not be zero");
+                };
                 if degrees == 0.0 {
                     return Ok(UnitQuaternion::identity());
                 }
-                match nalgebra::Unit::try_new(axis, 0.0) {
-                    Some(axis) => Ok(UnitQuaternion::from_axis_angle(&axis, degrees.to_radians())),
-                    None => self.invalid(format!("{field}.axis"), "the axis must not be zero"),
-                }
+                let axis = nalgebra::Unit::new_normalize(Vector::new(x, y, z));
+                Ok(UnitQuaternion::from_axis_angle(&axis, degrees.to_radians()))
             }
             OrientationSettings::Quaternion { w, x, y, z } => {
-                let q = Quaternion::new(*w, *x, *y, *z);
-                let norm = q.norm();
-                if !norm.is_finite() || norm == 0.0 {
-                    return self
-                        .invalid(field, format!("the quaternion ({w}, {x}, {y}, {z}) cannot be normalised"));
+                match self.direction(field, [*w, *x, *y, *z])? {
+                    Some([w, x, y, z]) => Ok(UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z))),
+                    None => self
+                        .invalid(field, "the quaternion (0, 0, 0, 0) cannot be normalised: give a non-zero one"),
                 }
-                Ok(UnitQuaternion::from_quaternion(q))
             }
         }
     }

@@ -33,7 +33,7 @@ use std::sync::Arc;
 
 use nalgebra::Matrix3;
 
-pub use build::MAX_NAME_BYTES;
+pub use build::{MAX_MAGNITUDE, MAX_NAME_BYTES, MIN_MAGNITUDE};
 pub use error::SceneError;
 pub use file::OnContact;
 pub use file::PlotSettings;

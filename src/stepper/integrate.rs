@@ -85,7 +85,7 @@ impl Stepper<'_> {
                             let time = (step + 1) as Real * scene.dt;
                             let advice = stability_advice(dynamics, scene.integrator, scene.dt);
                             return Err(diverged(format!(
-                                "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
+                                "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time:?}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
                                 body.name
                             )));
                         }
@@ -103,15 +103,15 @@ impl Stepper<'_> {
 fn stability_advice(dynamics: &Dynamics, integrator: Integrator, dt: Real) -> String {
     let limit = |i: Integrator| dynamics.stable_step_limit(i).unwrap_or(0.0);
     match dynamics.stable_step_limit(integrator) {
-        None => format!("Lower `dt` (now {dt})."),
+        None => format!("Lower `dt` (now {dt:?})."),
         Some(_) if integrator == Integrator::ExplicitEuler => format!(
             "Explicit Euler gains energy at every step on an undamped spring, whatever `dt`: use SymplecticEuler \
-             (stable for dt < {:.4e}) or Rk4 (dt < {:.4e}); `dt` is now {dt}.",
+             (stable for dt < {:.4e}) or Rk4 (dt < {:.4e}); `dt` is now {dt:?}.",
             limit(Integrator::SymplecticEuler),
             limit(Integrator::Rk4)
         ),
         Some(largest) => format!(
-            "The largest stable dt for its springs with {integrator:?} is {largest:.4e} ({} / ω, ω = sqrt(Σk / m)); `dt` is now {dt}.",
+            "The largest stable dt for its springs with {integrator:?} is {largest:.4e} ({} / ω, ω = sqrt(Σk / m)); `dt` is now {dt:?}.",
             if integrator == Integrator::Rk4 { "2√2" } else { "2" }
         ),
     }

@@ -19,7 +19,7 @@ pub fn main(args: Args) -> CommandResult {
     for path in &args.scenes {
         match load_scene(path, args.max_steps) {
             Ok(scene) => println!(
-                "ok {}: scene `{}`, {} bodies, {} steps of dt = {}",
+                "ok {}: scene `{}`, {} bodies, {} steps of dt = {:?}",
                 path.display(),
                 scene.name,
                 scene.bodies.len(),

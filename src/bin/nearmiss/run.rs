@@ -42,7 +42,7 @@ pub fn main(args: Args) -> CommandResult {
             CliError::BadInput(format!("cannot write to {}: {error}", args.out.join(&scene.name).display()))
         })?;
     println!(
-        "scene {}: {} steps of dt = {} to t = {:.9}, {:.3} s",
+        "scene {}: {} steps of dt = {:?} to t = {:.9}, {:.3} s",
         scene.name, result.steps, scene.dt, result.end_time, result.wall_time_s
     );
     match &result.first_contact {

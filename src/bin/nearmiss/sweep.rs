@@ -50,7 +50,7 @@ fn parse_names<T>(
 pub fn main(args: Args) -> CommandResult {
     let scene = load_scene(&args.scene, args.max_steps)?;
     if let Some(bad) = args.dt.iter().find(|dt| !(dt.is_finite() && **dt > 0.0)) {
-        return Err(CliError::BadInput(format!("--dt: every step must be a positive number, found {bad}")));
+        return Err(CliError::BadInput(format!("--dt: every step must be a positive number, found {bad:?}")));
     }
     for &dt in &args.dt {
         let steps = (scene.duration / dt).ceil();
