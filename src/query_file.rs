@@ -176,6 +176,9 @@ impl QueryFile {
             };
             rows.push((index + 1, Point::new(coordinates[0], coordinates[1], coordinates[2]), truth));
         }
+        if rows.is_empty() {
+            return Err(syntax(1, 1, "no queries: the file is empty or holds only comments".into()));
+        }
         if rows.len() % 8 != 0 {
             let line = rows.last().map_or(1, |r| r.0);
             return Err(syntax(
@@ -236,14 +239,18 @@ fn kind_from_path(path: &Path) -> Option<QueryKind> {
 
 /// `n / d` as an f64, exactly, or why not.
 fn exact_f64(n: &str, d: &str) -> Result<Real, String> {
-    // Fast path: both fit in i128 and d is a power of two (every file here).
+    // Fast path: both fit in i128, d is a power of two (every file here)
+    // and n has at most 53 significant bits, so `n as f64` is exact (a
+    // wider n, such as 2^127 − 1, would round, and casting back saturates:
+    // the exact path below decides it).
     if let (Ok(n), Ok(d)) = (n.parse::<i128>(), d.parse::<i128>()) {
-        if d > 0 && d.count_ones() == 1 {
+        let significant = n.unsigned_abs() >> n.unsigned_abs().trailing_zeros().min(127);
+        if d > 0 && d.count_ones() == 1 && significant < (1u128 << 53) {
             let exponent = d.trailing_zeros() as i32;
-            let value = (n as Real) * (2.0 as Real).powi(-exponent);
-            // Exact iff scaling back recovers n (which also rules out underflow).
-            let recovered = (value * (2.0 as Real).powi(exponent)) as i128 == n;
-            if n == 0 || (value != 0.0 && value.is_finite() && recovered) {
+            let whole = n as Real;
+            let value = whole * (2.0 as Real).powi(-exponent);
+            // Exact iff scaling back recovers n (rules out underflow).
+            if n == 0 || (value != 0.0 && value * (2.0 as Real).powi(exponent) == whole) {
                 return Ok(value);
             }
         }

@@ -76,3 +76,43 @@ fn the_cli_exits_2_on_a_bad_file() {
     assert!(stderr.contains("cli-bad.csv:1:1"), "{stderr}");
     assert!(output.stdout.is_empty(), "nothing is printed before the input is checked");
 }
+
+#[test]
+fn an_empty_or_comment_only_file_is_not_a_row_of_zero_queries() {
+    assert!(error_of("empty.csv", "").contains("no queries"));
+    assert!(error_of("comments.csv", "# nothing here\n# at all\n").contains("no queries"));
+}
+
+#[test]
+fn a_numerator_that_is_no_f64_is_rejected_not_saturated() {
+    // 2^127 − 1 over 1: the old fast path rounded it to 2^127 and the
+    // saturating cast back "recovered" 2^127 − 1.
+    let row = "170141183460469231731687303715884105727,1,0,1,0,1";
+    let error = error_of("wide.csv", &rows(8, row));
+    assert!(error.contains("not exactly representable"), "{error}");
+    // 2^126 (one significant bit) is an f64 and loads.
+    let row = "85070591730234615865843651857942052864,1,0,1,0,1";
+    let file = QueryFile::load(&write("pow.csv", &rows(8, row)), Some(QueryKind::VertexFace)).expect("loads");
+    assert_eq!(file.queries[0].points[0].x, 2f64.powi(126));
+}
+
+#[test]
+fn meaningless_options_are_refused_with_their_range() {
+    let file = write("options.csv", &rows(8, GOOD_ROW));
+    for (option, value) in [
+        ("--tolerance", "NaN"),
+        ("--tolerance", "0"),
+        ("--tolerance", "inf"),
+        ("--tolerance", "1e308"),
+        ("--max-iterations", "0"),
+        ("--repeats", "0"),
+    ] {
+        let output = Command::new(env!("CARGO_BIN_EXE_nearmiss"))
+            .args(["queries", file.to_str().unwrap(), "--kind", "vf", option, value])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{option} {value}: {stderr}");
+        assert!(stderr.contains(option), "{option} {value}: {stderr}");
+    }
+}

@@ -358,8 +358,10 @@ impl Builder<'_> {
             OrientationSettings::Quaternion { w, x, y, z } => {
                 match self.direction(field, [*w, *x, *y, *z])? {
                     Some([w, x, y, z]) => Ok(UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z))),
-                    None => self
-                        .invalid(field, "the quaternion (0, 0, 0, 0) cannot be normalised: give a non-zero one"),
+                    None => self.invalid(
+                        field,
+                        "the quaternion (0, 0, 0, 0) cannot be normalised: give a non-zero one",
+                    ),
                 }
             }
         }

@@ -17,10 +17,10 @@ pub struct Args {
     /// Timed runs per file; the median is reported.
     #[arg(long, default_value_t = 3)]
     repeats: usize,
-    /// Distance tolerance, relative to each query's size.
+    /// Distance tolerance, relative to each query's size: in (0, 1).
     #[arg(long, default_value_t = CcdOptions::default().distance_tolerance)]
     tolerance: f64,
-    /// Most advancement steps per query.
+    /// Most advancement steps per query: at least 1.
     #[arg(long, default_value_t = CcdOptions::default().max_iterations)]
     max_iterations: usize,
 }
@@ -35,6 +35,20 @@ enum Kind {
 
 /// Loads every file first (bad input: exit 2, nothing run), then runs them.
 pub fn main(args: Args) -> CommandResult {
+    // A tolerance of the query's whole size or more makes every query a
+    // contact; 0 or NaN none.
+    if !(args.tolerance > 0.0 && args.tolerance < 1.0) {
+        return Err(CliError::BadInput(format!(
+            "--tolerance: {:?} is not a relative tolerance: give a number in (0, 1), such as 1e-6",
+            args.tolerance
+        )));
+    }
+    if args.max_iterations == 0 {
+        return Err(CliError::BadInput("--max-iterations: give at least 1".into()));
+    }
+    if args.repeats == 0 {
+        return Err(CliError::BadInput("--repeats: give at least 1 (the timed runs per file)".into()));
+    }
     let kind = args.kind.map(|k| match k {
         Kind::Ee => QueryKind::EdgeEdge,
         Kind::Vf => QueryKind::VertexFace,
