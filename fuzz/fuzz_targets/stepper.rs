@@ -1,0 +1,25 @@
+//! A few steps of any scene the loader accepts: never a panic, every number
+//! of the result finite, every contact within its contact distance.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use nearmiss::scene::Scene;
+
+/// The most steps (and bodies) a fuzz input may run, to keep inputs fast.
+const MAX_STEPS: u64 = 50;
+const MAX_BODIES: usize = 8;
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = std::str::from_utf8(data) else { return };
+    let Ok(mut scene) = Scene::from_ron_str(text) else { return };
+    if scene.bodies.len() > MAX_BODIES || scene.bodies.iter().any(|b| b.mesh.triangles().len() > 2000) {
+        return;
+    }
+    scene.steps = scene.steps.min(MAX_STEPS);
+    let result = nearmiss::stepper::run(&scene);
+    assert_eq!(nearmiss::output::first_non_finite(&result), None);
+    for contact in &result.contacts {
+        assert!(contact.distance <= contact.contact_distance, "{contact:?}");
+        assert!(contact.time >= 0.0 && contact.time <= result.end_time, "{contact:?}");
+    }
+});
