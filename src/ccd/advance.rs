@@ -32,6 +32,7 @@
 
 use super::contact::{ContactContract, ContactRule};
 use super::options::{CcdOptions, CcdResult, CcdStatus};
+use crate::kernels::{largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point};
 use crate::math::{Point, Real, Vector};
 
 /// Two primitives (vertex sets `A`, `B`) moving linearly over the step.
@@ -133,9 +134,43 @@ fn bounds<'p>(points: impl Iterator<Item = &'p Point>) -> (Vector, Vector) {
     })
 }
 
-/// Runs conservative advancement. `closest(a, b)` returns the distance and
-/// the closest points `(p on A, q on B)` of the primitives at one time.
+/// Runs conservative advancement. `axes(pair)` gives fixed directions to try
+/// over the whole step first; `closest(a, b)` returns the distance and the
+/// closest points `(p on A, q on B)` of the primitives at one time.
+///
+/// Inputs of any scale: outside the kernels' safe range they are normalised
+/// by a power of two (exact; times of impact do not change, distances and
+/// the absolute `minimum_separation` scale with it), see `kernels/scale.rs`.
 pub(crate) fn advance<const NA: usize, const NB: usize>(
+    pair: &LinearPair<NA, NB>,
+    options: &CcdOptions,
+    axes: impl Fn(&LinearPair<NA, NB>) -> [Vector; 2],
+    closest: impl Fn(&[Point; NA], &[Point; NB]) -> (Real, Point, Point),
+) -> CcdResult {
+    let points = pair.a_t0.iter().chain(&pair.a_t1).chain(&pair.b_t0).chain(&pair.b_t1);
+    let Some(exponent) = normalising_exponent(largest_magnitude(points)) else {
+        return advance_normalised(pair, options, &axes(pair), closest);
+    };
+    let scale = |p: Point| scale_point(&p, -exponent);
+    let scaled = LinearPair {
+        a_t0: pair.a_t0.map(scale),
+        a_t1: pair.a_t1.map(scale),
+        b_t0: pair.b_t0.map(scale),
+        b_t1: pair.b_t1.map(scale),
+    };
+    let options = CcdOptions {
+        minimum_separation: scale_by_power_of_two(options.minimum_separation, -exponent),
+        ..*options
+    };
+    let mut result = advance_normalised(&scaled, &options, &axes(&scaled), closest);
+    for value in [&mut result.distance, &mut result.contact_distance, &mut result.guaranteed_distance] {
+        *value = scale_by_power_of_two(*value, exponent);
+    }
+    result
+}
+
+/// [`advance`] on inputs in the safe range.
+fn advance_normalised<const NA: usize, const NB: usize>(
     pair: &LinearPair<NA, NB>,
     options: &CcdOptions,
     axes: &[Vector],

@@ -45,7 +45,8 @@ pub fn edge_edge_time_of_impact_detailed(
     let pair = LinearPair { a_t0: *ea_t0, a_t1: *ea_t1, b_t0: *eb_t0, b_t1: *eb_t1 };
     // Fixed axes tried over the whole step first: the edges' common normal at each end.
     let normal = |a: &[Point; 2], b: &[Point; 2]| (a[1] - a[0]).cross(&(b[1] - b[0]));
-    advance(&pair, options, &[normal(ea_t0, eb_t0), normal(ea_t1, eb_t1)], |a, b| {
+    let axes = |p: &LinearPair<2, 2>| [normal(&p.a_t0, &p.b_t0), normal(&p.a_t1, &p.b_t1)];
+    advance(&pair, options, axes, |a, b| {
         let c = segment_segment(&a[0], &a[1], &b[0], &b[1]);
         let p = a[0] + (a[1] - a[0]) * c.s;
         let q = b[0] + (b[1] - b[0]) * c.t;

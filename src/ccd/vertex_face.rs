@@ -46,7 +46,8 @@ pub fn vertex_face_time_of_impact_detailed(
     let pair = LinearPair { a_t0: *f_t0, a_t1: *f_t1, b_t0: [*v_t0], b_t1: [*v_t1] };
     // Fixed axes tried over the whole step first: the face normal at each end.
     let normal = |f: &Triangle| (f[1] - f[0]).cross(&(f[2] - f[0]));
-    advance(&pair, options, &[normal(f_t0), normal(f_t1)], |face, vertex| {
+    let axes = |p: &LinearPair<3, 1>| [normal(&p.a_t0), normal(&p.a_t1)];
+    advance(&pair, options, axes, |face, vertex| {
         let closest = point_triangle(&vertex[0], face);
         (closest.distance, closest.point, vertex[0])
     })

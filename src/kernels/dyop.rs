@@ -26,6 +26,7 @@
 //! errors are in `BENCHMARKS.md` and `tests/kernels_vs_exact.rs`.
 
 use super::point_segment::{point_segment_distance, PointEdgeFormula};
+use super::scale::{largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point};
 use crate::math::{Point, Real, Triangle};
 
 /// The seed's DyOP distance between triangles `a` and `b` (an upper bound
@@ -43,6 +44,18 @@ use crate::math::{Point, Real, Triangle};
 /// assert!(dyop_distance(&a, &c, PointEdgeFormula::Vector) > triangle_distance(&a, &c).distance);
 /// ```
 pub fn dyop_distance(a: &Triangle, b: &Triangle, formula: PointEdgeFormula) -> Real {
+    match normalising_exponent(largest_magnitude(a.iter().chain(b))) {
+        None => dyop_distance_normalised(a, b, formula),
+        // Any scale: computed at a power-of-two normalised one (exact).
+        Some(exponent) => {
+            let (a, b) = (a.map(|p| scale_point(&p, -exponent)), b.map(|p| scale_point(&p, -exponent)));
+            scale_by_power_of_two(dyop_distance_normalised(&a, &b, formula), exponent)
+        }
+    }
+}
+
+/// [`dyop_distance`] on inputs in the kernels' safe range.
+fn dyop_distance_normalised(a: &Triangle, b: &Triangle, formula: PointEdgeFormula) -> Real {
     let origin = dynamic_origin_point(a, b);
     let [a1, a2] = two_nearest(a, &origin);
     let [b1, b2] = two_nearest(b, &origin);

@@ -1,11 +1,20 @@
 //! Pure distance kernels: no allocation, no I/O, never a panic, never NaN on
 //! finite input.
 //!
-//! **Domain of the stated accuracy.** The error bounds hold for coordinates,
-//! sizes and distances between about 1e-45 and 1e45 in magnitude
-//! (`tests/scale_invariance.rs`): the kernels square and multiply lengths up
-//! to the fourth power. Beyond that an intermediate value may underflow to 0
-//! or overflow to infinity, and the answer may be 0 or infinite, but never NaN.
+//! **Domain of the stated accuracy.** Any uniform scale of the f64 range:
+//! the public kernels ([`triangle_distance`], [`point_segment_distance`],
+//! [`dyop_distance`], and the linear-vertex CCD queries) normalise inputs
+//! whose largest coordinate lies beyond `2^±SAFE_EXPONENT` by an exact power
+//! of two, compute there and scale the answer back (`scale.rs`;
+//! `tests/scale_invariance.rs` checks 2^-900 to 2^1000 against the exact
+//! reference). What no scaling fixes is a size *ratio*: the bounds hold
+//! while each triangle's (segment's) extent and the distance are at least
+//! [`MIN_RELATIVE_SIZE`] (2^-200, about 6e-61) of the largest coordinate
+//! magnitude; [`TriangleDistance::within_range`] says whether they are.
+//! Beyond it products of the small lengths leave the normal range (the
+//! answer is never NaN, and a separated pair whose distance underflows to 0
+//! is marked out of range). The batched kernels compute inputs as they
+//! are: use them within `2^±SAFE_EXPONENT`.
 //!
 //! - [`point_segment_distance`] with the three [`PointEdgeFormula`]s of the
 //!   seed paper and its critics (plus the plain cross product).
@@ -26,6 +35,7 @@ pub mod lanes;
 mod point_segment;
 mod point_triangle;
 mod refine;
+mod scale;
 mod segment_segment;
 mod separated;
 mod triangle_intersection;
@@ -41,6 +51,8 @@ pub use point_segment::{
 };
 pub use point_triangle::{point_face_interior, point_triangle, FacePlane, PointTriangle};
 pub use refine::{REFINE_BELOW_EXTENT, REFINE_TIE_BAND_ULPS};
+pub(crate) use scale::{largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point};
+pub use scale::{MIN_RELATIVE_SIZE, SAFE_EXPONENT};
 pub use segment_segment::{segment_segment, segment_segment_lanes, Edge, SegmentSegment};
 pub use triangle_intersection::triangles_intersect;
 pub use triangle_triangle::{triangle_distance, triangle_distance_with, TriangleDistance};

@@ -33,6 +33,7 @@
 use super::compensated;
 use super::dispatch::multiversioned;
 use super::lanes::V3;
+use super::scale::{largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point};
 use crate::math::{Point, Real};
 
 /// How the perpendicular distance from a point to an edge is computed.
@@ -90,7 +91,14 @@ multiversioned! {
     /// assert_eq!(point_segment_distance(&q, &a, &b, PointEdgeFormula::Heron), 5.0);
     /// ```
     pub fn point_segment_distance / point_segment_distance_with(p: &Point, a: &Point, b: &Point, formula: PointEdgeFormula) -> Real {
-        point_segment_distance_kernel(p, a, b, formula)
+        match normalising_exponent(largest_magnitude([p, a, b])) {
+            None => point_segment_distance_kernel(p, a, b, formula),
+            // Any scale: computed at a power-of-two normalised one (exact).
+            Some(exponent) => {
+                let [p, a, b] = [p, a, b].map(|q| scale_point(q, -exponent));
+                scale_by_power_of_two(point_segment_distance_kernel(&p, &a, &b, formula), exponent)
+            }
+        }
     }
 }
 

@@ -33,6 +33,9 @@ use super::feature::Feature;
 use super::lanes::V3;
 use super::point_triangle::{point_face_interior, point_triangle, FacePlane};
 use super::refine::refined_distance;
+use super::scale::{
+    largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point, MIN_RELATIVE_SIZE,
+};
 use super::segment_segment::point_on_segment;
 use super::separated::{closest_separated, local_frame, triangle_lanes, Candidate};
 use super::triangle_intersection::triangles_intersect;
@@ -51,6 +54,13 @@ pub struct TriangleDistance {
     pub feature_a: Feature,
     /// The feature of the second triangle that `point_b` lies on.
     pub feature_b: Feature,
+    /// Whether the stated accuracy holds: each triangle's extent and the
+    /// distance (unless zero) are at least [`MIN_RELATIVE_SIZE`](super::MIN_RELATIVE_SIZE)
+    /// (about 6e-61) of the largest coordinate magnitude. Any uniform scale
+    /// is fine (inputs are normalised by a power of two); `false` means a
+    /// size ratio beyond that, where products of the small lengths leave the
+    /// normal range and the distance may have lost its digits.
+    pub within_range: bool,
 }
 
 multiversioned! {
@@ -70,8 +80,37 @@ multiversioned! {
     /// assert_eq!(d.point_a, Point::new(0.2, 0.2, 0.0));
     /// ```
     pub fn triangle_distance / triangle_distance_with(a: &Triangle, b: &Triangle) -> TriangleDistance {
-        triangle_distance_kernel(a, b)
+        normalised_triangle_distance(a, b)
     }
+}
+
+/// [`triangle_distance_kernel`] behind the power-of-two normalisation of
+/// `scale.rs`, with the range check.
+#[inline(always)]
+fn normalised_triangle_distance(a: &Triangle, b: &Triangle) -> TriangleDistance {
+    let largest = largest_magnitude(a.iter().chain(b));
+    let Some(exponent) = normalising_exponent(largest) else {
+        let mut found = triangle_distance_kernel(a, b);
+        found.within_range &= within_range(a, b, found.distance, largest);
+        return found;
+    };
+    let (a, b) = (a.map(|p| scale_point(&p, -exponent)), b.map(|p| scale_point(&p, -exponent)));
+    let mut found = triangle_distance_kernel(&a, &b);
+    found.within_range &= within_range(&a, &b, found.distance, largest_magnitude(a.iter().chain(&b)));
+    found.distance = scale_by_power_of_two(found.distance, exponent);
+    found.point_a = scale_point(&found.point_a, exponent);
+    found.point_b = scale_point(&found.point_b, exponent);
+    found
+}
+
+/// Whether each triangle's extent and the distance (unless zero: touching,
+/// decided exactly) are at least `MIN_RELATIVE_SIZE` of `largest`.
+#[inline(always)]
+fn within_range(a: &Triangle, b: &Triangle, distance: Real, largest: Real) -> bool {
+    let limit = MIN_RELATIVE_SIZE * largest;
+    let extent = |t: &Triangle| (t[1] - t[0]).amax().max((t[2] - t[0]).amax()).max((t[2] - t[1]).amax());
+    let fine = |size: Real| size == 0.0 || size >= limit;
+    fine(extent(a)) && fine(extent(b)) && fine(distance)
 }
 
 /// The body of [`triangle_distance`], inlined into each instruction-set
@@ -89,6 +128,7 @@ pub(crate) fn triangle_distance_kernel(a: &Triangle, b: &Triangle) -> TriangleDi
                 point_b: common,
                 feature_a: point_triangle(&common, a).feature,
                 feature_b: point_triangle(&common, b).feature,
+                within_range: true,
             };
         }
     }
@@ -114,5 +154,7 @@ pub(crate) fn triangle_distance_kernel(a: &Triangle, b: &Triangle) -> TriangleDi
     } else {
         closest.distance_squared.sqrt()
     };
-    TriangleDistance { distance, point_a, point_b, feature_a, feature_b }
+    // Separated triangles at distance 0: the distance underflowed (the
+    // exact intersection test said they do not meet).
+    TriangleDistance { distance, point_a, point_b, feature_a, feature_b, within_range: distance > 0.0 }
 }
