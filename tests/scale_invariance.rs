@@ -167,3 +167,24 @@ fn linear_vertex_ccd_gives_the_same_times_at_every_uniform_scale() {
         }
     }
 }
+
+#[test]
+fn the_checked_kernels_refuse_ratios_beyond_the_stated_range() {
+    use nearmiss::kernels::{dyop_distance_checked, point_segment_distance_checked, MIN_RELATIVE_SIZE};
+    let (a, b) = (Point::new(0.0, 0.0, 0.0), Point::new(1.0, 0.0, 0.0));
+    for k in [-150, -199, -201, -250, -400] {
+        let gap = 2f64.powi(k);
+        let p = Point::new(0.5, gap, 0.0);
+        let found = point_segment_distance_checked(&p, &a, &b, PointEdgeFormula::Vector);
+        // Within the range: the exact distance; beyond it: None.
+        assert_eq!(found, (gap >= MIN_RELATIVE_SIZE).then_some(gap), "2^{k}");
+        let small = [
+            p,
+            p + nearmiss::math::Vector::new(gap, 0.0, 0.0),
+            p + nearmiss::math::Vector::new(0.0, gap, 0.0),
+        ];
+        let big = [a, b, Point::new(0.0, 1.0, 0.0)];
+        let dyop = dyop_distance_checked(&big, &small, PointEdgeFormula::Vector);
+        assert_eq!(dyop.is_some(), gap >= MIN_RELATIVE_SIZE, "2^{k}");
+    }
+}

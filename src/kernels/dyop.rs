@@ -26,7 +26,10 @@
 //! errors are in `BENCHMARKS.md` and `tests/kernels_vs_exact.rs`.
 
 use super::point_segment::{point_segment_distance, PointEdgeFormula};
-use super::scale::{largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point};
+use super::scale::{
+    largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point, triangle_extent,
+    MIN_RELATIVE_SIZE,
+};
 use crate::math::{Point, Real, Triangle};
 
 /// The seed's DyOP distance between triangles `a` and `b` (an upper bound
@@ -52,6 +55,25 @@ pub fn dyop_distance(a: &Triangle, b: &Triangle, formula: PointEdgeFormula) -> R
             scale_by_power_of_two(dyop_distance_normalised(&a, &b, formula), exponent)
         }
     }
+}
+
+/// [`dyop_distance`], or `None` where its accuracy is not stated: a
+/// triangle's extent or the distance (unless zero) below
+/// [`MIN_RELATIVE_SIZE`](super::MIN_RELATIVE_SIZE) of the largest
+/// coordinate magnitude (any uniform scale is fine). A distance of 0 is
+/// trusted only if the triangles truly meet (the exact intersection test of
+/// [`triangle_distance`](super::triangle_distance)).
+pub fn dyop_distance_checked(a: &Triangle, b: &Triangle, formula: PointEdgeFormula) -> Option<Real> {
+    let distance = dyop_distance(a, b, formula);
+    let limit = MIN_RELATIVE_SIZE * largest_magnitude(a.iter().chain(b));
+    let fine_size = |size: Real| size == 0.0 || size >= limit;
+    let fine_distance = if distance == 0.0 {
+        let exact = super::triangle_distance(a, b);
+        exact.distance == 0.0 && exact.within_range
+    } else {
+        distance >= limit
+    };
+    (fine_size(triangle_extent(a)) && fine_size(triangle_extent(b)) && fine_distance).then_some(distance)
 }
 
 /// [`dyop_distance`] on inputs in the kernels' safe range.

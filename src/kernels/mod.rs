@@ -10,7 +10,11 @@
 //! reference). What no scaling fixes is a size *ratio*: the bounds hold
 //! while each triangle's (segment's) extent and the distance are at least
 //! [`MIN_RELATIVE_SIZE`] (2^-200, about 6e-61) of the largest coordinate
-//! magnitude; [`TriangleDistance::within_range`] says whether they are.
+//! magnitude; [`TriangleDistance::within_range`] says whether they are, and
+//! [`point_segment_distance_checked`] and [`dyop_distance_checked`] return
+//! `None` outside. (The linear-vertex CCD stays conservative there: its
+//! tolerance never drops below 64 ulps of the largest coordinate, and the
+//! contact distance it used is in its result.)
 //! Beyond it products of the small lengths leave the normal range (the
 //! answer is never NaN, and a separated pair whose distance underflows to 0
 //! is marked out of range). The batched kernels compute inputs as they
@@ -44,10 +48,11 @@ mod triangle_triangle;
 pub use compensated::difference_of_products;
 pub use dispatch::SimdLevel;
 pub use double_double::{height_over_plane, vector_difference, DoubleDouble};
-pub use dyop::{dynamic_origin_point, dyop_distance};
+pub use dyop::{dynamic_origin_point, dyop_distance, dyop_distance_checked};
 pub use feature::Feature;
 pub use point_segment::{
-    heron_height, point_segment_distance, point_segment_distance_with, stable_heron_height, PointEdgeFormula,
+    heron_height, point_segment_distance, point_segment_distance_checked, point_segment_distance_with,
+    stable_heron_height, PointEdgeFormula,
 };
 pub use point_triangle::{point_face_interior, point_triangle, FacePlane, PointTriangle};
 pub use refine::{REFINE_BELOW_EXTENT, REFINE_TIE_BAND_ULPS};

@@ -33,7 +33,9 @@
 use super::compensated;
 use super::dispatch::multiversioned;
 use super::lanes::V3;
-use super::scale::{largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point};
+use super::scale::{
+    largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point, MIN_RELATIVE_SIZE,
+};
 use crate::math::{Point, Real};
 
 /// How the perpendicular distance from a point to an edge is computed.
@@ -100,6 +102,38 @@ multiversioned! {
             }
         }
     }
+}
+
+/// [`point_segment_distance`], or `None` where its accuracy is not stated:
+/// the segment's length or the distance (unless zero) below
+/// [`MIN_RELATIVE_SIZE`](super::MIN_RELATIVE_SIZE) of the largest
+/// coordinate magnitude (any uniform scale is fine). A distance of 0 is
+/// trusted only if the point is exactly on the segment's line (a zero cross
+/// product): otherwise it underflowed.
+///
+/// ```
+/// use nearmiss::kernels::{point_segment_distance_checked, PointEdgeFormula::Vector};
+/// use nearmiss::math::Point;
+/// let (a, b) = (Point::new(0.0, 0.0, 0.0), Point::new(2.0, 0.0, 0.0));
+/// let d = point_segment_distance_checked(&Point::new(1.0, 1e-50, 0.0), &a, &b, Vector).unwrap();
+/// assert!((d - 1e-50).abs() <= 1e-65);
+/// // 1e-300 from a segment of length 2: beyond the range (its square underflows).
+/// assert_eq!(point_segment_distance_checked(&Point::new(1.0, 1e-300, 0.0), &a, &b, Vector), None);
+/// // Exactly on it: 0, trusted.
+/// assert_eq!(point_segment_distance_checked(&Point::new(1.0, 0.0, 0.0), &a, &b, Vector), Some(0.0));
+/// ```
+pub fn point_segment_distance_checked(
+    p: &Point,
+    a: &Point,
+    b: &Point,
+    formula: PointEdgeFormula,
+) -> Option<Real> {
+    let distance = point_segment_distance(p, a, b, formula);
+    let limit = MIN_RELATIVE_SIZE * largest_magnitude([p, a, b]);
+    let length = (b - a).amax();
+    let on_line = (b - a).cross(&(p - a)) == crate::math::Vector::zeros();
+    let fine_distance = if distance == 0.0 { on_line } else { distance >= limit };
+    ((length == 0.0 || length >= limit) && fine_distance).then_some(distance)
 }
 
 /// The body of [`point_segment_distance`], inlined into each instruction-set

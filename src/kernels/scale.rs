@@ -50,6 +50,12 @@ pub(crate) fn largest_magnitude<'p>(points: impl IntoIterator<Item = &'p Point>)
     points.into_iter().fold(0.0, |m: Real, p| m.max(p.coords.amax()))
 }
 
+/// A triangle's extent: its largest edge's largest coordinate difference.
+#[inline]
+pub(crate) fn triangle_extent(t: &crate::math::Triangle) -> Real {
+    (t[1] - t[0]).amax().max((t[2] - t[0]).amax()).max((t[2] - t[1]).amax())
+}
+
 /// The exponent `e` that brings `largest` (a positive finite magnitude)
 /// into `[0.5, 1)` as `largest · 2^-e`, or `None` if `largest` is 0 or
 /// within the safe range.

@@ -34,7 +34,8 @@ use super::lanes::V3;
 use super::point_triangle::{point_face_interior, point_triangle, FacePlane};
 use super::refine::refined_distance;
 use super::scale::{
-    largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point, MIN_RELATIVE_SIZE,
+    largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point, triangle_extent,
+    MIN_RELATIVE_SIZE,
 };
 use super::segment_segment::point_on_segment;
 use super::separated::{closest_separated, local_frame, triangle_lanes, Candidate};
@@ -108,9 +109,8 @@ fn normalised_triangle_distance(a: &Triangle, b: &Triangle) -> TriangleDistance 
 #[inline(always)]
 fn within_range(a: &Triangle, b: &Triangle, distance: Real, largest: Real) -> bool {
     let limit = MIN_RELATIVE_SIZE * largest;
-    let extent = |t: &Triangle| (t[1] - t[0]).amax().max((t[2] - t[0]).amax()).max((t[2] - t[1]).amax());
     let fine = |size: Real| size == 0.0 || size >= limit;
-    fine(extent(a)) && fine(extent(b)) && fine(distance)
+    fine(triangle_extent(a)) && fine(triangle_extent(b)) && fine(distance)
 }
 
 /// The body of [`triangle_distance`], inlined into each instruction-set
