@@ -214,6 +214,10 @@ pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::
     write_outputs_with_peer(out, result, scene, &[])
 }
 
+/// How many times a run's folder swap is tried when a concurrent run into
+/// the same folder gets in between its two renames. `8`.
+pub const SWAP_ATTEMPTS: usize = 8;
+
 /// The file names a run writes (and replaces as a whole).
 pub const RUN_FILES: [&str; 3] = ["summary.json", "trace.csv", "distance.png"];
 
@@ -330,7 +334,7 @@ fn link_or_copy(from: &Path, to: &Path) -> std::io::Result<()> {
 fn swap_into_place(staging: &Path, folder: &Path, out: &Path, scene: &str) -> std::io::Result<()> {
     let aside = out.join(format!(".{scene}.{}.old", std::process::id()));
     let mut last_error = None;
-    for _ in 0..8 {
+    for _ in 0..SWAP_ATTEMPTS {
         if folder.exists() {
             let _ = fs::remove_dir_all(&aside);
             if let Err(error) = fs::rename(folder, &aside) {
