@@ -73,8 +73,8 @@ fn main() {
         .filter(|(k, a)| *a != "--steps" && (*k == 0 || args[k - 1] != "--steps"))
         .map(|(_, a)| a.parse().expect("a body count"))
         .collect();
-    println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | trace ms | candidate pairs/step | contacts |");
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | respond ms | re-arm ms | trace ms | candidate pairs/step | contacts |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
         let scene = scene(n, steps, 1);
         let result = run_with(&scene, RunOptions::default(), &mut |_| {});
@@ -82,12 +82,14 @@ fn main() {
         let c = &result.counters;
         let per_step = |seconds: f64| seconds * 1e3 / steps;
         println!(
-            "| {n} | {steps} | {:.3} | {:.0} | {:.3} | {:.3} | {:.3} | {:.3} | {:.0} | {} |",
+            "| {n} | {steps} | {:.3} | {:.0} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.0} | {} |",
             per_step(result.wall_time_s),
             steps / result.wall_time_s,
             per_step(c.integrate_s),
             per_step(c.broad_phase_s),
             per_step(c.ccd_s),
+            per_step(c.respond_s),
+            per_step(c.rearm_s),
             per_step(c.trace_s),
             c.candidate_pairs as f64 / steps,
             result.contacts.len()
