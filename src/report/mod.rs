@@ -8,6 +8,7 @@ mod paper;
 mod peer;
 mod queries;
 mod stability;
+mod suite;
 mod sweep;
 
 pub use kernels::*;
@@ -15,4 +16,5 @@ pub use paper::*;
 pub use peer::*;
 pub use queries::*;
 pub use stability::*;
+pub use suite::*;
 pub use sweep::*;

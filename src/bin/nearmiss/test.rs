@@ -1,8 +1,11 @@
-//! `nearmiss test`: every scene with an expectation, one line each.
+//! `nearmiss test`: every scene with an expectation, run in parallel, one
+//! line each in file order, a closing count line, and optionally JUnit XML
+//! and JSON reports for CI systems.
 
-use crate::progress::run_with_progress;
-use crate::{load_scene, CliError, CommandResult};
-use std::path::PathBuf;
+use crate::{CliError, CommandResult};
+use nearmiss::report::{case_line, count_line, junit_xml, run_case, suite_counts, suite_json};
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -13,6 +16,16 @@ pub struct Args {
     /// starts: usually a typo in `dt` or `duration`).
     #[arg(long, default_value_t = nearmiss::scene::DEFAULT_MAX_STEPS)]
     max_steps: u64,
+    /// Also write the results as JUnit XML to this file (GitLab, Jenkins,
+    /// GitHub: one test case per scene with expected, obtained and error).
+    #[arg(long)]
+    junit: Option<PathBuf>,
+    /// Also write the results as JSON to this file.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Scenes run at once (default: one per core).
+    #[arg(long)]
+    jobs: Option<usize>,
 }
 
 pub fn main(args: Args) -> CommandResult {
@@ -22,42 +35,40 @@ pub fn main(args: Args) -> CommandResult {
             .map_err(|error| CliError::BadInput(format!("{}: {error}", path.display())))?;
         files.extend(found);
     }
-    let (mut passed, mut failed, mut bad, mut skipped) = (0, 0, 0, 0);
-    for file in &files {
-        let scene = match load_scene(file, args.max_steps) {
-            Ok(scene) => scene,
-            Err(CliError::BadInput(message) | CliError::Failed(message) | CliError::Undecided(message)) => {
-                eprintln!("error: {message}");
-                bad += 1;
-                continue;
-            }
-        };
-        if scene.expect.is_none() {
-            skipped += 1;
-            continue;
-        }
-        let result = run_with_progress(&scene);
-        let Some(verdict) = nearmiss::regression::verdict(&scene, &result) else { continue };
-        let error = verdict.error.map_or(String::new(), |e| format!(", error {e:+.3e}"));
-        println!(
-            "{} {}: expected {}; obtained {}{error}",
-            if verdict.passed { "pass" } else { "FAIL" },
-            file.display(),
-            verdict.expected,
-            verdict.obtained
-        );
-        if verdict.passed {
-            passed += 1;
-        } else {
-            failed += 1;
+    if args.jobs == Some(0) {
+        return Err(CliError::BadInput("--jobs: give at least 1".into()));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.jobs.unwrap_or(0))
+        .build()
+        .map_err(|error| CliError::BadInput(format!("--jobs: {error}")))?;
+    // Each scene's result is the same whatever runs beside it (runs are
+    // deterministic); the lines come in file order.
+    let cases: Vec<_> =
+        pool.install(|| files.par_iter().map(|file| run_case(file, args.max_steps)).collect());
+    for line in cases.iter().filter_map(case_line) {
+        println!("{line}");
+    }
+    for (report, text) in [(&args.junit, junit_xml(&cases)), (&args.json, suite_json(&cases))] {
+        if let Some(path) = report {
+            write_beside(path, &text)?;
+            eprintln!("wrote {}", path.display());
         }
     }
-    println!("{passed} passed, {failed} failed, {bad} bad, {skipped} without expectation");
+    println!("{}", count_line(&cases));
+    let (_, failed, bad, _) = suite_counts(&cases);
     if bad > 0 {
-        Err(CliError::BadInput(String::new()))
+        Err(CliError::BadInput(format!("{bad} scene(s) could not be loaded")))
     } else if failed > 0 {
         Err(CliError::Failed(String::new()))
     } else {
         Ok(())
     }
+}
+
+/// Writes a report file whole (its folder created if needed).
+fn write_beside(path: &Path, text: &str) -> Result<(), CliError> {
+    let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    crate::write_report(folder, &name, text.as_bytes()).map(|_| ())
 }

@@ -1,0 +1,132 @@
+//! `nearmiss test` for CI systems: scenes run in parallel with their lines
+//! in file order, a closing `N passed, M failed, K skipped` line, and JUnit
+//! XML and JSON reports, read back here with an independent XML parser and
+//! serde_json.
+
+use quick_xml::events::Event;
+use quick_xml::Reader;
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::process::Command;
+
+fn workspace() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("nearmiss-test-reports-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A box falling at speed 1 onto a fixed one 1 below: contact at t = 1.
+fn scene(name: &str, expect: &str) -> String {
+    format!(
+        r#"Scene(name: "{name}", dt: 0.01, duration: 2.0, bodies: [
+            (name: "floor", mesh: Box(half_extents: (1.0, 1.0, 0.5)), position: (0.0, 0.0, -0.5), fixed: true),
+            (name: "box", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (0.0, 0.0, 1.5), velocity: (0.0, 0.0, -1.0)),
+        ]{expect})"#
+    )
+}
+
+#[test]
+fn junit_and_json_reports_carry_every_case() {
+    let dir = workspace();
+    let files = [
+        (
+            "a_pass.ron",
+            scene("pass", r#", expect: Contact(time: 1.0, tolerance: 1e-6, bodies: ("floor", "box"))"#),
+        ),
+        (
+            "b_fail.ron",
+            scene("fail", r#", expect: Contact(time: 0.5, tolerance: 1e-6, bodies: ("floor", "box"))"#),
+        ),
+        ("c_skip.ron", scene("skip", "")),
+        ("d_bad.ron", "Scene(name: \"bad\", dt: -1.0, steps: 1, bodies: [])".to_string()),
+    ];
+    for (name, text) in &files {
+        std::fs::write(dir.join(name), text).unwrap();
+    }
+    let (junit, json) = (dir.join("reports/junit.xml"), dir.join("reports/suite.json"));
+    let output = Command::new(env!("CARGO_BIN_EXE_nearmiss"))
+        .args(["test", dir.to_str().unwrap(), "--jobs", "2", "--junit"])
+        .arg(&junit)
+        .arg("--json")
+        .arg(&json)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    // A bad scene is bad input: exit 2, and it counts as failed in the line.
+    assert_eq!(output.status.code(), Some(2), "{stdout}");
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert!(
+        lines[0].starts_with("pass ") && lines[1].starts_with("FAIL ") && lines[2].starts_with("bad "),
+        "{stdout}"
+    );
+    assert_eq!(*lines.last().unwrap(), "1 passed, 2 failed, 1 skipped");
+
+    // JUnit: the suite's counts and one testcase per file, read by a parser.
+    let xml = std::fs::read_to_string(&junit).unwrap();
+    let mut reader = Reader::from_str(&xml);
+    let (mut suites, mut cases, mut inside) = (Vec::new(), Vec::new(), None::<String>);
+    loop {
+        match reader.read_event().expect("well-formed XML") {
+            Event::Eof => break,
+            Event::Start(e) | Event::Empty(e) => {
+                let attributes: HashMap<String, String> = e
+                    .attributes()
+                    .map(|a| {
+                        let a = a.unwrap();
+                        (
+                            String::from_utf8_lossy(a.key.as_ref()).into_owned(),
+                            a.normalized_value(quick_xml::XmlVersion::Explicit1_0).unwrap().into_owned(),
+                        )
+                    })
+                    .collect();
+                match e.name().as_ref() {
+                    b"testsuites" => suites.push(attributes),
+                    b"testcase" => inside = attributes.get("name").cloned(),
+                    b"failure" | b"error" | b"skipped" => cases.push((
+                        inside.clone().unwrap(),
+                        String::from_utf8_lossy(e.name().as_ref()).into_owned(),
+                    )),
+                    _ => {}
+                }
+            }
+            _ => {}
+        }
+    }
+    let root = &suites[0];
+    for (key, value) in [("tests", "4"), ("failures", "1"), ("errors", "1"), ("skipped", "1")] {
+        assert_eq!(root[key], value, "{key}");
+    }
+    assert_eq!(
+        cases,
+        [
+            ("b_fail.ron".to_string(), "failure".to_string()),
+            ("c_skip.ron".into(), "skipped".into()),
+            ("d_bad.ron".into(), "error".into())
+        ]
+    );
+    assert!(xml.contains("expected: contact floor / box at t = 5.000000000000e-1"));
+
+    // JSON: counts and the failing case's numbers.
+    let suite: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(
+        (suite["passed"].as_u64(), suite["failed"].as_u64(), suite["bad"].as_u64()),
+        (Some(1), Some(1), Some(1))
+    );
+    let fail = &suite["cases"][1];
+    assert_eq!(fail["status"], "failed");
+    // Contact at t = 1 (never late, within the contract), expected 0.5.
+    let error = fail["error"].as_f64().unwrap();
+    assert!(error > 0.49 && error <= 0.5, "{error}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_count_line_closes_a_passing_suite() {
+    let output = Command::new(env!("CARGO_BIN_EXE_nearmiss"))
+        .args(["test", concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/two_triangles.ron")])
+        .output()
+        .unwrap();
+    assert!(output.status.success());
+    assert_eq!(String::from_utf8_lossy(&output.stdout).lines().last(), Some("1 passed, 0 failed, 0 skipped"));
+}
