@@ -39,18 +39,19 @@ pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
             obtained,
             error: None,
         },
-        Expectation::Contact { time, tolerance, bodies } => {
+        Expectation::Contact { time, tolerance, bodies, recorded } => {
             let contact = result.first_contact.as_ref().filter(|_| !diverged);
             let error = contact.map(|c| c.time - time);
             let same_bodies = contact.is_some_and(|c| (c.body_a, c.body_b) == *bodies);
             Verdict {
                 passed: same_bodies && error.is_some_and(|e| e.abs() <= *tolerance),
                 expected: format!(
-                    "contact {} / {} at t = {:.12e} ± {:.1e}",
+                    "contact {} / {} at t = {:.12e} ± {:.1e}{}",
                     name(bodies.0),
                     name(bodies.1),
                     time,
-                    tolerance
+                    tolerance,
+                    if *recorded { " (recorded)" } else { "" }
                 ),
                 obtained,
                 error,
@@ -80,4 +81,103 @@ pub fn scene_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
     }
     found.sort();
     Ok(found)
+}
+
+/// A recorded expectation's tolerance is this many times the time the
+/// contact's bodies take to close its contact distance at their closing
+/// speed (the most a change within the CCD's contract can move the time).
+/// `2.0`.
+pub const RECORD_TOLERANCE_FACTOR: Real = 2.0;
+
+/// Pins the current answer of the scene at `path` as its expectation
+/// (`nearmiss test --record`): runs it to its first contact, and writes
+/// `expect: Contact(time, tolerance, bodies, recorded: true)` (or
+/// `NoContact`) into the file, marked as recorded. The tolerance is
+/// [`RECORD_TOLERANCE_FACTOR`] × contact distance / closing speed (one step
+/// `dt` if the bodies do not close). A scene whose expectation was derived
+/// (not recorded) is left alone, as is a run that diverged or could not
+/// decide. Returns what was recorded, in words.
+pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
+    use crate::scene::record::{set_expectation, RECORDED_COMMENT};
+    let text = crate::input::read_text(path, crate::input::MAX_SCENE_BYTES, "scene file")
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let scene = Scene::load(path).map_err(|e| e.to_string())?;
+    scene.check_steps(max_steps).map_err(|e| e.to_string())?;
+    let derived = match &scene.expect {
+        None => false,
+        Some(Expectation::Contact { recorded, .. }) => !recorded,
+        Some(Expectation::NoContact) => !text.contains(RECORDED_COMMENT),
+    };
+    if derived {
+        return Err(format!("{}: keeps its derived expectation (not recorded over)", path.display()));
+    }
+    let mut first_contact_only = scene.clone();
+    first_contact_only.on_contact = crate::scene::OnContact::Stop;
+    let result = crate::stepper::run(&first_contact_only);
+    if !matches!(result.termination, Termination::Completed | Termination::FirstContact) {
+        return Err(format!(
+            "{}: not recorded: {}",
+            path.display(),
+            crate::output::termination_text(&result)
+        ));
+    }
+    let name = |i: usize| scene.bodies[i].name.as_str();
+    let (value, words, intended) = match &result.first_contact {
+        None => (
+            "NoContact".to_string(),
+            format!("no contact up to t = {:?}", result.end_time),
+            Expectation::NoContact,
+        ),
+        Some(c) => {
+            // The contact points' closing speed along the contact normal,
+            // the bodies as they are at the contact.
+            let [a, b] = [c.body_a, c.body_b].map(|i| &result.final_states[i]);
+            let velocity = |s: &crate::motion::RigidState, p: &crate::math::Point| {
+                s.velocity + s.angular_velocity.cross(&(p - s.position))
+            };
+            let relative = velocity(a, &c.point_a) - velocity(b, &c.point_b);
+            let gap = c.point_b - c.point_a;
+            let closing = if gap.norm() > 0.0 { relative.dot(&gap) / gap.norm() } else { relative.norm() };
+            let tolerance =
+                if closing > 0.0 { RECORD_TOLERANCE_FACTOR * c.contact_distance / closing } else { scene.dt };
+            let value = format!(
+                "Contact(time: {:?}, tolerance: {:?}, bodies: ({:?}, {:?}), recorded: true)",
+                c.time,
+                tolerance,
+                name(c.body_a),
+                name(c.body_b)
+            );
+            let words = format!(
+                "contact {} / {} at t = {:?} ± {tolerance:.1e}",
+                name(c.body_a),
+                name(c.body_b),
+                c.time
+            );
+            let intended = Expectation::Contact {
+                time: c.time,
+                tolerance,
+                bodies: (c.body_a, c.body_b),
+                recorded: true,
+            };
+            (value, words, intended)
+        }
+    };
+    let updated = set_expectation(&text, &value).map_err(|e| format!("{}: {e}", path.display()))?;
+    // Written beside, loaded back, and only then put in place.
+    let name_of = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let staging = path.with_file_name(format!(".{name_of}.{}.record", std::process::id()));
+    std::fs::write(&staging, &updated).map_err(|e| format!("{}: {e}", staging.display()))?;
+    match Scene::load(&staging).map(|s| s.expect) {
+        Ok(Some(loaded)) if loaded == intended => {
+            std::fs::rename(&staging, path).map_err(|e| format!("{}: {e}", path.display()))?;
+            Ok(words)
+        }
+        other => {
+            let _ = std::fs::remove_file(&staging);
+            Err(format!(
+                "{}: the rewritten file did not load back as recorded ({other:?}); left unchanged",
+                path.display()
+            ))
+        }
+    }
 }

@@ -9,8 +9,8 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::process::Command;
 
-fn workspace() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("nearmiss-test-reports-{}", std::process::id()));
+fn workspace(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("nearmiss-test-reports-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
@@ -28,7 +28,7 @@ fn scene(name: &str, expect: &str) -> String {
 
 #[test]
 fn junit_and_json_reports_carry_every_case() {
-    let dir = workspace();
+    let dir = workspace("junit");
     let files = [
         (
             "a_pass.ron",
@@ -129,4 +129,43 @@ fn the_count_line_closes_a_passing_suite() {
         .unwrap();
     assert!(output.status.success());
     assert_eq!(String::from_utf8_lossy(&output.stdout).lines().last(), Some("1 passed, 0 failed, 0 skipped"));
+}
+
+#[test]
+fn record_pins_the_current_answer_and_leaves_derived_expectations_alone() {
+    let dir = workspace("record");
+    // No expectation, and a comment that must survive: the box meets the
+    // floor at t = 1 (gap 1, speed 1).
+    let fresh = dir.join("fresh.ron");
+    std::fs::write(&fresh, format!("// my scene\n{}", scene("fresh", ""))).unwrap();
+    let derived = dir.join("derived.ron");
+    let derived_text =
+        scene("derived", r#", expect: Contact(time: 1.0, tolerance: 1e-6, bodies: ("floor", "box"))"#);
+    std::fs::write(&derived, &derived_text).unwrap();
+    let output =
+        Command::new(env!("CARGO_BIN_EXE_nearmiss")).args(["test", "--record"]).arg(&dir).output().unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{stdout}{}", String::from_utf8_lossy(&output.stderr));
+    assert!(stdout.contains("recorded ") && stdout.ends_with("2 passed, 0 failed, 0 skipped\n"), "{stdout}");
+    // The derived expectation is untouched, byte for byte.
+    assert_eq!(std::fs::read_to_string(&derived).unwrap(), derived_text);
+    // The recorded one: marked, its comment kept, and its time the analytic
+    // contact within the recorded tolerance (never late).
+    let text = std::fs::read_to_string(&fresh).unwrap();
+    assert!(
+        text.starts_with("// my scene\n") && text.contains("recorded by `nearmiss test --record`"),
+        "{text}"
+    );
+    match nearmiss::scene::Scene::load(&fresh).unwrap().expect {
+        Some(nearmiss::scene::Expectation::Contact { time, tolerance, bodies: (0, 1), recorded: true }) => {
+            assert!(time <= 1.0 && 1.0 - time <= tolerance && tolerance < 1e-4, "{time} ± {tolerance}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // Recording again changes nothing but keeps one mark.
+    let output =
+        Command::new(env!("CARGO_BIN_EXE_nearmiss")).args(["test", "--record"]).arg(&fresh).output().unwrap();
+    assert!(output.status.success());
+    assert_eq!(std::fs::read_to_string(&fresh).unwrap(), text);
+    let _ = std::fs::remove_dir_all(&dir);
 }

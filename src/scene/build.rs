@@ -331,7 +331,7 @@ impl Builder<'_> {
         match expect {
             None => Ok(None),
             Some(ExpectSettings::NoContact) => Ok(Some(Expectation::NoContact)),
-            Some(ExpectSettings::Contact { time, tolerance, bodies: (a, b) }) => {
+            Some(ExpectSettings::Contact { time, tolerance, bodies: (a, b), recorded }) => {
                 let field = || "expect.bodies".to_string();
                 let (i, j) = (self.lookup(names, field(), a)?, self.lookup(names, field(), b)?);
                 if i == j {
@@ -341,6 +341,7 @@ impl Builder<'_> {
                     time: self.non_negative("expect.time", *time)?,
                     tolerance: self.non_negative("expect.tolerance", *tolerance)?,
                     bodies: (i.min(j), i.max(j)),
+                    recorded: *recorded,
                 }))
             }
         }

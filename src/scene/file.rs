@@ -331,6 +331,10 @@ pub enum ExpectSettings {
         tolerance: f64,
         /// The two bodies, in either order.
         bodies: (String, String),
+        /// `true` when the time was pinned by `nearmiss test --record` from
+        /// a run (not derived by analysis). Default: `false`.
+        #[serde(default)]
+        recorded: bool,
     },
     /// No contact during the run.
     NoContact,

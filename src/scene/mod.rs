@@ -27,6 +27,7 @@ mod build;
 mod build_body;
 mod error;
 pub mod file;
+pub mod record;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -142,6 +143,8 @@ pub enum Expectation {
         tolerance: Real,
         /// The two bodies (indices).
         bodies: (usize, usize),
+        /// Pinned from a run by `nearmiss test --record`, not derived.
+        recorded: bool,
     },
     /// Nothing touches.
     NoContact,

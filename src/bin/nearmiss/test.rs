@@ -26,6 +26,11 @@ pub struct Args {
     /// Scenes run at once (default: one per core).
     #[arg(long)]
     jobs: Option<usize>,
+    /// First pin each scene's current answer as its expectation, marked as
+    /// recorded (scenes whose expectation was derived are left alone), then
+    /// test as usual.
+    #[arg(long)]
+    record: bool,
 }
 
 pub fn main(args: Args) -> CommandResult {
@@ -42,6 +47,14 @@ pub fn main(args: Args) -> CommandResult {
         .num_threads(args.jobs.unwrap_or(0))
         .build()
         .map_err(|error| CliError::BadInput(format!("--jobs: {error}")))?;
+    if args.record {
+        for file in &files {
+            match nearmiss::regression::record(file, args.max_steps) {
+                Ok(words) => println!("recorded {}: {words}", file.display()),
+                Err(message) => eprintln!("not recorded: {message}"),
+            }
+        }
+    }
     // Each scene's result is the same whatever runs beside it (runs are
     // deterministic); the lines come in file order.
     let cases: Vec<_> =
