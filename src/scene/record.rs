@@ -118,6 +118,16 @@ mod tests {
     }
 
     #[test]
+    fn look_alike_names_and_an_unnamed_struct_are_handled() {
+        // `expected_speed` is not `expect`; the struct name may be omitted.
+        let text = "(expected_speed: 1.0, name: \"s\", expect: NoContact)";
+        let out = set_expectation(text, "NoContact").unwrap();
+        assert!(out.starts_with("(expected_speed: 1.0, name: \"s\", expect: NoContact)"), "{out}");
+        let text = "(expected_speed: 1.0)";
+        assert!(set_expectation(text, "NoContact").unwrap().contains("expected_speed: 1.0,\n"));
+    }
+
+    #[test]
     fn a_missing_expect_field_is_added_before_the_closing_parenthesis() {
         let out =
             set_expectation("Scene(name: \"s\", dt: 0.1, steps: 1, bodies: [(name: \"a\")])", "NoContact")
