@@ -193,6 +193,40 @@ fn swept_support(k: &Vector, q: &Vector, radius: Real, u: &Vector) -> Real {
     c * along + c.abs() * radius + (1.0 - c * c).max(0.0).sqrt() * across
 }
 
+/// A node pair set up for its bounds, in a's frame: the node centres as
+/// offsets from their bodies' centres of mass, and the offset between them.
+struct NodePair<'n> {
+    na: &'n BvhNode,
+    nb: &'n BvhNode,
+    frame: &'n PairFrame,
+    qa: Vector,
+    qb: Vector,
+    offset: Vector,
+    length: Real,
+}
+
+impl<'n> NodePair<'n> {
+    #[inline]
+    fn new(na: &'n BvhNode, nb: &'n BvhNode, frame: &'n PairFrame) -> NodePair<'n> {
+        let qa = na.center.coords;
+        let qb = frame.rotation * nb.center.coords;
+        let offset = qb + frame.pos_ab.translation.vector - qa;
+        NodePair { na, nb, frame, qa, qb, offset, length: offset.norm() }
+    }
+
+    /// a's box support along the unit `u` of a's frame, cut by its sphere.
+    #[inline]
+    fn support_a(&self, u: &Vector) -> Real {
+        self.na.half_extents.dot(&u.abs()).min(self.na.radius)
+    }
+
+    /// b's box (turned into a's frame) support along `u`, cut by its sphere.
+    #[inline]
+    fn support_b(&self, u: &Vector) -> Real {
+        self.nb.half_extents.dot(&self.frame.rotation.tr_mul(u).abs()).min(self.nb.radius)
+    }
+}
+
 #[inline]
 fn node_pair_bounds(
     na: &BvhNode,
@@ -201,17 +235,10 @@ fn node_pair_bounds(
     target: Real,
     (needed, horizon): (Real, Real),
 ) -> NodeBounds {
-    // Node centres as offsets from their bodies' centres of mass, in a's frame.
-    let qa = na.center.coords;
-    let qb = frame.rotation * nb.center.coords;
-    let offset = qb + frame.pos_ab.translation.vector - qa;
-    let length = offset.norm();
+    let pair = NodePair::new(na, nb, frame);
+    let (qa, qb, offset, length) = (pair.qa, pair.qb, pair.offset, pair.length);
     let spheres = length - na.radius - nb.radius;
-    // Box supports along a unit direction u of a's frame (b's box turned
-    // into a's frame), cut by the spheres.
-    let support_a = |u: &Vector| na.half_extents.dot(&u.abs()).min(na.radius);
-    let support_b = |u: &Vector| nb.half_extents.dot(&frame.rotation.tr_mul(u).abs()).min(nb.radius);
-    let box_gap = |u: &Vector| offset.dot(u) - support_a(u) - support_b(u);
+    let box_gap = |u: &Vector| offset.dot(u) - pair.support_a(u) - pair.support_b(u);
     // The boxes' slab: along the line of centres, or along a face axis of
     // either box (the right axis for a flat node, a wall, whose centre line
     // is oblique), whichever separates them most.
@@ -259,7 +286,7 @@ fn node_pair_bounds(
         && rate_time < SPIN_SWEEP_MAX_RATE_FRACTION * horizon
         && (frame.spin_a + frame.spin_b) * horizon >= SPIN_SWEEP_MIN_TURN
     {
-        let (widest, _) = spin_swept_gap(na, nb, frame, horizon);
+        let (widest, _) = spin_swept_gap(&pair, horizon);
         if widest > target {
             spin_time = horizon;
         }
@@ -268,16 +295,13 @@ fn node_pair_bounds(
 }
 
 /// The widest gap over the `horizon` between the spin-swept regions of
-/// nodes `na` and `nb` (see [`node_pair_time`]), and its direction (a's
+/// the two nodes of `pair` (see [`node_pair_time`]), and its direction (a's
 /// frame, from a to b), among the centre line, both spin axes and both
 /// boxes' axes.
-fn spin_swept_gap(na: &BvhNode, nb: &BvhNode, frame: &PairFrame, horizon: Real) -> (Real, Vector) {
-    let qa = na.center.coords;
-    let qb = frame.rotation * nb.center.coords;
-    let support_a = |u: &Vector| na.half_extents.dot(&u.abs()).min(na.radius);
-    let support_b = |u: &Vector| nb.half_extents.dot(&frame.rotation.tr_mul(u).abs()).min(nb.radius);
-    let offset = qb + frame.pos_ab.translation.vector - qa;
-    let length = offset.norm();
+fn spin_swept_gap(pair: &NodePair<'_>, horizon: Real) -> (Real, Vector) {
+    let (na, nb, frame) = (pair.na, pair.nb, pair.frame);
+    let (qa, qb, offset, length) = (pair.qa, pair.qb, pair.offset, pair.length);
+    let (support_a, support_b) = (|u: &Vector| pair.support_a(u), |u: &Vector| pair.support_b(u));
     // Each body's region along u: its spin cylinder, or its box.
     let axis = |omega: &Vector, spin: Real| (spin > 0.0).then(|| omega / spin);
     let (axis_a, axis_b) = (axis(&frame.omega_a, frame.spin_a), axis(&frame.omega_b, frame.spin_b));
@@ -537,7 +561,7 @@ mod tests {
             let (nodes_a, nodes_b) = (mesh_a.bvh().nodes(), mesh_b.bvh().nodes());
             let na = nodes_a[rng.next_u64() as usize % nodes_a.len()];
             let nb = nodes_b[rng.next_u64() as usize % nodes_b.len()];
-            let (gap, direction) = spin_swept_gap(&na, &nb, &frame, horizon);
+            let (gap, direction) = spin_swept_gap(&NodePair::new(&na, &nb, &frame), horizon);
             if gap <= target {
                 continue;
             }
