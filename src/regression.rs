@@ -101,8 +101,7 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
     use crate::scene::record::{set_expectation, RECORDED_COMMENT};
     let text = crate::input::read_text(path, crate::input::MAX_SCENE_BYTES, "scene file")
         .map_err(|e| format!("{}: {e}", path.display()))?;
-    let scene = Scene::load(path).map_err(|e| e.to_string())?;
-    scene.check_steps(max_steps).map_err(|e| e.to_string())?;
+    let scene = Scene::load_within(path, max_steps).map_err(|e| e.to_string())?;
     let derived = match &scene.expect {
         None => false,
         Some(Expectation::Contact { recorded, .. }) => !recorded,

@@ -62,7 +62,7 @@ pub fn run_case(path: &Path, max_steps: u64) -> SuiteCase {
         message: None,
         wall_time_s: 0.0,
     };
-    let scene = match Scene::load(path).and_then(|scene| scene.check_steps(max_steps).map(|()| scene)) {
+    let scene = match Scene::load_within(path, max_steps) {
         Ok(scene) => scene,
         Err(error) => {
             case.message = Some(error.to_string());

@@ -200,6 +200,14 @@ impl Scene {
         scene
     }
 
+    /// [`Scene::load`], refused if the run would take more than `max_steps`
+    /// steps ([`Scene::check_steps`]).
+    pub fn load_within(path: impl AsRef<Path>, max_steps: u64) -> Result<Scene, SceneError> {
+        let scene = Scene::load(path)?;
+        scene.check_steps(max_steps)?;
+        Ok(scene)
+    }
+
     /// Checks that the run takes at most `max_steps` steps (see
     /// [`DEFAULT_MAX_STEPS`]); the error names the field and the limit.
     pub fn check_steps(&self, max_steps: u64) -> Result<(), SceneError> {

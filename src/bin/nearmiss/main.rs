@@ -114,9 +114,7 @@ fn main() -> ExitCode {
 /// Loads a scene and checks that its run takes at most `max_steps` steps;
 /// a bad one is [`CliError::BadInput`] naming the file and field.
 pub fn load_scene(path: &Path, max_steps: u64) -> Result<Scene, CliError> {
-    let scene = Scene::load(path).map_err(|error| CliError::BadInput(error.to_string()))?;
-    scene.check_steps(max_steps).map_err(|error| CliError::BadInput(error.to_string()))?;
-    Ok(scene)
+    Scene::load_within(path, max_steps).map_err(|error| CliError::BadInput(error.to_string()))
 }
 
 /// Writes a report file through the library's one writer; failure is bad

@@ -9,6 +9,10 @@ use std::time::{Duration, Instant};
 /// A run shows progress once it has taken this long.
 const SHOW_AFTER: Duration = Duration::from_secs(1);
 
+/// Progress is looked at every this many steps (the clock and the bar stay
+/// off the step's cost).
+const CHECK_EVERY_STEPS: u64 = 64;
+
 /// Without a terminal, a progress line this often.
 const LINE_EVERY: Duration = Duration::from_secs(5);
 
@@ -29,7 +33,7 @@ pub fn run_with_progress(scene: &Scene) -> RunResult {
             shown = true;
             bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
         }
-        if shown && done % 64 == 0 {
+        if shown && done % CHECK_EVERY_STEPS == 0 {
             bar.set_position(done);
         }
     });
@@ -42,8 +46,7 @@ fn run_with_lines(scene: &Scene) -> RunResult {
     let start = Instant::now();
     let mut next = LINE_EVERY;
     nearmiss::stepper::run_observed(scene, &mut |done| {
-        // Reading the clock every 64 steps keeps it off the step's cost.
-        if done % 64 != 0 {
+        if done % CHECK_EVERY_STEPS != 0 {
             return;
         }
         let elapsed = start.elapsed();
