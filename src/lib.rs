@@ -34,6 +34,8 @@
 pub mod broad_phase;
 pub mod ccd;
 pub mod exact;
+#[cfg(feature = "rapier")]
+pub mod guard;
 pub mod input;
 pub mod kernels;
 pub mod math;
@@ -42,6 +44,7 @@ pub mod motion;
 pub mod output;
 #[cfg(feature = "plot")]
 pub mod plot;
+pub mod poses;
 pub mod query_file;
 pub mod regression;
 pub mod report;

@@ -48,9 +48,24 @@ pub struct Summary<'a> {
     pub work: WorkJson,
     /// Seconds per stage (not deterministic).
     pub stage_wall_time_s: StagesJson,
+    /// Who solved the contact response (`on_contact`), and with `Simulate`
+    /// which collider shape rapier was given for each body.
+    pub response: ResponseJson,
     /// With `--compare parry`: parry's answers beside nearmiss's.
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
     pub peer: &'a [PeerComparison],
+}
+
+/// The contact response in `summary.json`.
+#[derive(Serialize)]
+pub struct ResponseJson {
+    /// `nearmiss` (Stop, Record, Bounce) or the engine that solved it
+    /// (`rapier3d-f64 0.36` under Simulate, guarded by nearmiss's CCD).
+    pub solved_by: String,
+    /// Under Simulate: body name → the shape rapier was given (`convex
+    /// hull` or `triangle mesh`).
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub colliders: std::collections::BTreeMap<String, String>,
 }
 
 /// A contact in `summary.json`.
@@ -121,6 +136,8 @@ pub struct StagesJson {
     pub rearm: Real,
     /// Trace.
     pub trace: Real,
+    /// An outside engine's steps (rapier under Simulate).
+    pub engine: Real,
 }
 
 fn point(p: &Point) -> [Real; 3] {
@@ -195,6 +212,14 @@ impl<'a> Summary<'a> {
                 respond: counters.respond_s,
                 rearm: counters.rearm_s,
                 trace: counters.trace_s,
+                engine: counters.engine_s,
+            },
+            response: match &result.solver {
+                Some(solver) => ResponseJson {
+                    solved_by: format!("{} (guarded by nearmiss)", solver.engine),
+                    colliders: result.bodies.iter().cloned().zip(solver.colliders.iter().cloned()).collect(),
+                },
+                None => ResponseJson { solved_by: "nearmiss".into(), colliders: Default::default() },
             },
             peer,
         }
@@ -219,7 +244,7 @@ pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::
 pub const SWAP_ATTEMPTS: usize = 8;
 
 /// The file names a run writes (and replaces as a whole).
-pub const RUN_FILES: [&str; 3] = ["summary.json", "trace.csv", "distance.png"];
+pub const RUN_FILES: [&str; 4] = ["summary.json", "trace.csv", "distance.png", "poses.csv"];
 
 /// [`write_outputs`], with parry's answers in `summary.json`.
 pub fn write_outputs_with_peer(
@@ -265,6 +290,12 @@ pub fn first_non_finite(result: &RunResult) -> Option<String> {
     if let Some(k) = result.trace.iter().position(|r| !r.time.is_finite() || !r.distance.is_finite()) {
         return Some(format!("trace sample {k}"));
     }
+    let pose_numbers = |r: &crate::poses::PoseRecord| {
+        r.position.iter().chain(r.orientation.coords.iter()).all(|v| v.is_finite()) && r.time.is_finite()
+    };
+    if let Some(k) = result.poses.iter().position(|r| !pose_numbers(r)) {
+        return Some(format!("pose record {k}"));
+    }
     (!result.counters.max_energy_drift.is_finite()).then(|| "work.max_energy_drift".into())
 }
 
@@ -290,6 +321,12 @@ fn write_run_files(
         write_trace_csv(&result.trace, &result.bodies, &mut csv)?;
         write_synced(&folder.join("trace.csv"), &csv)?;
         written.push("trace.csv");
+    }
+    if scene.poses.is_some() {
+        let mut csv = Vec::new();
+        crate::poses::write_poses_csv(&result.poses, &result.bodies, &mut csv)?;
+        write_synced(&folder.join("poses.csv"), &csv)?;
+        written.push("poses.csv");
     }
     #[cfg(feature = "plot")]
     if let Some(plot) = &scene.plot {

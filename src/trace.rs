@@ -7,6 +7,7 @@
 //! distance of the closest triangle pair in rational arithmetic.
 
 use std::io::Write;
+use std::sync::Arc;
 use std::time::Instant;
 
 use crate::math::Real;
@@ -32,9 +33,9 @@ pub struct TraceRecord {
 
 /// Samples a run's trace. Built only for a scene that asks for a trace.
 #[derive(Debug)]
-pub struct TraceObserver<'s> {
-    scene: &'s Scene,
-    spec: &'s TraceSpec,
+pub struct TraceObserver {
+    scene: Arc<Scene>,
+    spec: TraceSpec,
     records: Vec<TraceRecord>,
     scratch: MeshDistanceScratch,
     /// Mesh distance queries made.
@@ -43,11 +44,11 @@ pub struct TraceObserver<'s> {
     pub seconds: Real,
 }
 
-impl<'s> TraceObserver<'s> {
+impl TraceObserver {
     /// The observer of `scene`'s trace, or `None` if it asks for none.
-    pub fn of(scene: &'s Scene) -> Option<TraceObserver<'s>> {
-        scene.trace.as_ref().map(|spec| TraceObserver {
-            scene,
+    pub fn of(scene: &Arc<Scene>) -> Option<TraceObserver> {
+        scene.trace.clone().map(|spec| TraceObserver {
+            scene: Arc::clone(scene),
             spec,
             records: Vec::new(),
             scratch: MeshDistanceScratch::default(),
@@ -68,7 +69,7 @@ impl<'s> TraceObserver<'s> {
     /// their current step motions (`time` in all), after `step` steps.
     pub fn sample(&mut self, step: u64, time: Real, s: Real, motions: &[StepMotion]) {
         let clock = Instant::now();
-        let scene = self.scene;
+        let scene = &*self.scene;
         for &(a, b) in &self.spec.pairs {
             let pos_ab = StepMotion::relative_pose(&motions[a], &motions[b], s);
             let (mesh_a, mesh_b) = (&scene.bodies[a].mesh, &scene.bodies[b].mesh);

@@ -83,6 +83,37 @@ pub struct Spring {
     pub rest_length: Real,
 }
 
+impl Spring {
+    /// The force on the body in a state (centre of mass `position`,
+    /// `orientation`, `velocity`, world angular velocity `omega`) and the
+    /// attachment's arm from the centre of mass (world frame).
+    pub fn force(
+        &self,
+        position: &Point,
+        orientation: &UnitQuaternion<Real>,
+        velocity: &Vector,
+        omega: &Vector,
+    ) -> (Vector, Vector) {
+        let arm = orientation * self.point;
+        let r = position + arm - self.anchor;
+        let point_velocity = velocity + omega.cross(&arm);
+        let force = if self.rest_length == 0.0 {
+            -self.stiffness * r - self.damping * point_velocity
+        } else {
+            let length = r.norm();
+            if length > 0.0 {
+                let direction = r / length;
+                direction
+                    * (-self.stiffness * (length - self.rest_length)
+                        - self.damping * point_velocity.dot(&direction))
+            } else {
+                Vector::zeros()
+            }
+        };
+        (force, arm)
+    }
+}
+
 /// What acts on an integrated body.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Dynamics {
@@ -109,22 +140,7 @@ impl Dynamics {
         let mut force = Vector::zeros();
         let mut torque = Vector::zeros();
         for spring in &self.springs {
-            let arm = orientation * spring.point;
-            let r = position + arm - spring.anchor;
-            let point_velocity = velocity + omega.cross(&arm);
-            let f = if spring.rest_length == 0.0 {
-                -spring.stiffness * r - spring.damping * point_velocity
-            } else {
-                let length = r.norm();
-                if length > 0.0 {
-                    let direction = r / length;
-                    direction
-                        * (-spring.stiffness * (length - spring.rest_length)
-                            - spring.damping * point_velocity.dot(&direction))
-                } else {
-                    Vector::zeros()
-                }
-            };
+            let (f, arm) = spring.force(position, orientation, velocity, omega);
             force += f;
             torque += arm.cross(&f);
         }

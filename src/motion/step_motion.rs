@@ -72,6 +72,36 @@ impl StepMotion {
         }
     }
 
+    /// The motion that takes `pose_t0` to `pose_t1` in time `dt` with
+    /// constant velocities, its rotation the one of the turns that do so
+    /// (about the same axis, by the short angle plus whole turns, or the
+    /// other way round) nearest `spin × dt`: for an engine that reports its
+    /// angular velocity, so that a body turning more than π in a step is not
+    /// swept the short way round.
+    pub fn between_near(pose_t0: &Pose, pose_t1: &Pose, dt: Real, spin: &Vector) -> StepMotion {
+        let mut motion = StepMotion::between(pose_t0, pose_t1, dt);
+        let short = motion.angular_velocity * dt;
+        let want = spin * dt;
+        let angle = short.norm();
+        let tau = std::f64::consts::TAU;
+        let axis = if angle > 0.0 {
+            short / angle
+        } else if want.norm() > 0.0 {
+            want.normalize()
+        } else {
+            return motion;
+        };
+        // The turns that take pose_t0 to pose_t1: axis × (angle + 2πk).
+        let k = ((want.dot(&axis) - angle) / tau).round();
+        let turn = |k: Real| if k == 0.0 { short } else { axis * (angle + tau * k) };
+        let best = [k - 1.0, k, k + 1.0]
+            .into_iter()
+            .min_by(|&i, &j| (turn(i) - want).norm().total_cmp(&(turn(j) - want).norm()))
+            .unwrap_or(0.0);
+        motion.angular_velocity = turn(best) / dt;
+        motion
+    }
+
     /// The rotation at time `s` after the step's start.
     #[inline]
     pub fn rotation_at(&self, s: Real) -> UnitQuaternion<Real> {

@@ -16,50 +16,18 @@
 //! distance at the bounce (an absolute contact distance,
 //! [`ContactRule::Absolute`]), which is a new contact.
 
-use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashMap};
-
+use super::stop::{hold_stopped_bodies, stop_in_time_order, Stops};
 use super::{apply_impulse, approach_speed, contact_frame, Response, StepContext};
-use crate::ccd::{mesh_time_of_impact, CcdStatus, ContactRule, MeshCcdResult};
-use crate::math::{Point, Real};
-use crate::motion::StepMotion;
+use crate::ccd::{ContactRule, MeshCcdResult};
+use crate::math::Real;
 use crate::scene::BodyMotion;
-use crate::stepper::{pair_query, Found, PairState};
+use crate::stepper::{Found, PairState};
 
 /// The bounce response with its coefficient of restitution.
 pub(crate) struct Bounce {
     pub restitution: Real,
     /// The stepper's re-detection fraction (copied at construction).
     pub redetect_fraction: Real,
-}
-
-/// A candidate contact within a step.
-#[derive(Copy, Clone, Debug)]
-struct Candidate {
-    /// Time into the step.
-    time: Real,
-    /// The pair (index into `world.pairs`).
-    pair: usize,
-    /// The pair's recheck count when found (stale once it changed).
-    version: u32,
-}
-
-impl PartialEq for Candidate {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-impl Eq for Candidate {}
-impl PartialOrd for Candidate {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Candidate {
-    /// Reversed (the heap's top is the earliest; ties: the lower pair).
-    fn cmp(&self, other: &Self) -> Ordering {
-        other.time.total_cmp(&self.time).then(other.pair.cmp(&self.pair))
-    }
 }
 
 impl Response for Bounce {
@@ -84,102 +52,28 @@ impl Response for Bounce {
     }
 
     fn respond(&self, step: &mut StepContext<'_>, found: &mut Vec<Found>) -> bool {
-        let mut candidates = BinaryHeap::new();
-        let mut results = HashMap::new();
-        for Found { pair: k, result } in found.drain(..) {
-            let Some(time) = result.time_of_impact else { continue };
-            if time == 0.0 && step.world.pairs[k].touching.is_some() && !approaching(step, k, &result) {
-                // A pair that bounced and is moving apart, still within the
-                // tolerance floor of that contact at the step's start: not a
-                // new contact (taking it would hold both bodies still at
-                // every step). Approaching, it bounces again.
-                continue;
-            }
-            candidates.push(Candidate { time, pair: k, version: 0 });
-            results.insert(k, result);
-        }
-        let (committed, stopped) = self.commit_in_time_order(step, candidates, results);
+        found.retain(|Found { pair: k, result }| {
+            // A pair that bounced and is moving apart, still within the
+            // tolerance floor of that contact at the step's start: not a
+            // new contact (taking it would hold both bodies still at every
+            // step). Approaching, it bounces again.
+            let moving_apart = result.time_of_impact == Some(0.0)
+                && step.world.pairs[*k].touching.is_some()
+                && !approaching(step, *k, result);
+            !moving_apart
+        });
+        let scene = step.scene;
+        // Kinematic bodies stop too (for the rest of the step); fixed ones never move.
+        let can_stop = |i: usize| scene.bodies[i].motion != BodyMotion::Fixed;
+        let Stops { committed, stopped } =
+            stop_in_time_order(step, found, &|pair| self.contact_rule(pair), &can_stop);
         self.apply_impulses(step, &committed, &stopped);
-        move_to_step_end(step, &stopped);
+        hold_stopped_bodies(step, &stopped);
         !committed.is_empty()
     }
 }
 
 impl Bounce {
-    /// Takes the candidates in time order (see the module). Returns the
-    /// committed contacts (indices into `world.contacts`) and when each body
-    /// stopped (time into the step).
-    fn commit_in_time_order(
-        &self,
-        step: &mut StepContext<'_>,
-        mut candidates: BinaryHeap<Candidate>,
-        mut results: HashMap<usize, MeshCcdResult>,
-    ) -> (Vec<usize>, Vec<Option<Real>>) {
-        let scene = step.scene;
-        let dt = scene.dt;
-        let fixed = |i: usize| scene.bodies[i].motion == BodyMotion::Fixed;
-        let mut stopped: Vec<Option<Real>> = vec![None; scene.bodies.len()];
-        let mut versions = vec![0u32; step.world.pairs.len()];
-        let mut committed = Vec::new();
-        while let Some(candidate) = candidates.pop() {
-            let k = candidate.pair;
-            if candidate.version != versions[k] {
-                continue;
-            }
-            let Some(result) = results.remove(&k) else { continue };
-            let time = candidate.time;
-            step.world.record_contact(k, step.t0, time, &result);
-            committed.push(step.world.contacts.len() - 1);
-            let (a, b) = (step.world.pairs[k].a, step.world.pairs[k].b);
-            for body in [a, b] {
-                if fixed(body) || stopped[body].is_some() {
-                    continue;
-                }
-                stopped[body] = Some(time);
-                // Every other pair of this body: again from `time`.
-                let partners: Vec<usize> = (step.world.pairs.iter().enumerate())
-                    .filter(|&(other, pair)| other != k && (pair.a == body || pair.b == body))
-                    .map(|(other, _)| other)
-                    .collect();
-                for other in partners {
-                    let pair = step.world.pairs[other].clone();
-                    versions[other] += 1;
-                    results.remove(&other);
-                    step.world.pairs[other].lower_bound = None;
-                    if stopped[pair.a].is_some() && stopped[pair.b].is_some() {
-                        continue;
-                    }
-                    let motions = &step.world.motions;
-                    let held = |i: usize| match stopped[i] {
-                        Some(at) => StepMotion::fixed(motions[i].pose_at(at)),
-                        None => StepMotion { elapsed: motions[i].elapsed + time, ..motions[i] },
-                    };
-                    let (ma, mb) = (held(pair.a), held(pair.b));
-                    let query = pair_query(scene, &pair, [&ma, &mb], dt - time, self.contact_rule(&pair));
-                    let warm = crate::ccd::WarmStart { lower_bound: None, hint: pair.hint };
-                    let result = mesh_time_of_impact(&query, warm, step.scratch);
-                    step.counters.distance_queries += result.iterations;
-                    step.counters.triangle_pairs += result.triangle_pairs;
-                    if result.status == CcdStatus::OutOfIterations {
-                        let undecided = MeshCcdResult {
-                            time_of_impact: result.time_of_impact.map(|t| time + t),
-                            ..result
-                        };
-                        step.world.note_undecided(other, &undecided);
-                    } else if let Some(after) = result.time_of_impact {
-                        candidates.push(Candidate {
-                            time: time + after,
-                            pair: other,
-                            version: versions[other],
-                        });
-                        results.insert(other, result);
-                    }
-                }
-            }
-        }
-        (committed, stopped)
-    }
-
     /// The committed contacts' impulses in time order, at the bodies' poses
     /// at contact; the pushed bodies' states take the new velocities.
     fn apply_impulses(&self, step: &mut StepContext<'_>, committed: &[usize], stopped: &[Option<Real>]) {
@@ -199,30 +93,6 @@ impl Bounce {
                         state.angular_velocity = side.angular_velocity;
                     }
                 }
-            }
-        }
-    }
-}
-
-/// Stopped bodies stay where they stopped; kinematic bodies that did not
-/// stop reach the step's end.
-fn move_to_step_end(step: &mut StepContext<'_>, stopped: &[Option<Real>]) {
-    let (scene, world) = (step.scene, &mut *step.world);
-    for (i, at) in stopped.iter().enumerate() {
-        let Some(at) = *at else { continue };
-        let pose = world.motions[i].pose_at(at);
-        if let Some(state) = world.states[i].as_mut() {
-            state.position = Point::from(pose.translation.vector);
-            state.orientation = pose.rotation;
-        }
-        world.motions[i] = StepMotion::fixed(pose);
-    }
-    for (i, body) in scene.bodies.iter().enumerate() {
-        if body.motion == BodyMotion::Free && stopped[i].is_none() {
-            if let Some(state) = world.states[i].as_mut() {
-                let pose = world.motions[i].pose_at(scene.dt);
-                state.position = Point::from(pose.translation.vector);
-                state.orientation = pose.rotation;
             }
         }
     }

@@ -9,21 +9,27 @@
 //!   keeps the earliest and ends the run, `Record` lets bodies move on (a
 //!   pair in contact is re-armed once it separates).
 //! - `Bounce` (`bounce.rs`): contacts in time order, bodies stopped at their
-//!   contacts for the rest of the step and re-checked, impulses along the
-//!   contact normal (the maths in `impulse.rs`, [`apply_impulse`]).
+//!   contacts for the rest of the step and re-checked (`stop.rs`), impulses
+//!   along the contact normal (the maths in `impulse.rs`, [`apply_impulse`]).
+//! - `Simulate`'s clamp (`clamp.rs`): rapier moved the bodies; contacts in
+//!   time order, dynamic bodies held at their contacts (`stop.rs`), the
+//!   velocities left to rapier ([`crate::guard`]).
 //!
 //! A new response is a new file implementing the crate's `Response` trait
 //! and one arm of `for_scene`; the stepper does not change.
 
 mod bounce;
+mod clamp;
 mod impulse;
 mod record;
+mod stop;
 
+pub(crate) use clamp::Clamp;
 pub use impulse::{apply_impulse, approach_speed, contact_frame, ImpactBody};
 
 use crate::ccd::{ContactRule, MeshCcdScratch};
 use crate::math::Real;
-use crate::scene::{OnContact, Scene};
+use crate::scene::{BodyMotion, OnContact, Scene};
 use crate::stepper::{Counters, Found, PairState, World};
 
 /// What a response may read and change during a step.
@@ -66,6 +72,13 @@ pub(crate) trait Response: Sync {
         false
     }
 
+    /// The distance beyond which a touching pair whose contact had
+    /// `contact_distance` is armed again. Default: `factor` (the stepper's
+    /// [`rearm_distance_factor`](crate::stepper::StepParameters)) times it.
+    fn rearm_distance(&self, contact_distance: Real, factor: Real) -> Real {
+        factor * contact_distance
+    }
+
     /// Whether the run ends at the first contact. Default: no.
     fn ends_run(&self) -> bool {
         false
@@ -85,6 +98,10 @@ pub(crate) fn for_scene(scene: &Scene) -> Box<dyn Response> {
         OnContact::Bounce { restitution } => Box::new(bounce::Bounce {
             restitution,
             redetect_fraction: scene.parameters.bounce_redetect_fraction,
+        }),
+        OnContact::Simulate { .. } => Box::new(Clamp {
+            stoppable: scene.bodies.iter().map(|b| matches!(b.motion, BodyMotion::Integrated(_))).collect(),
+            separation: 0.0,
         }),
     }
 }

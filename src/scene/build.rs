@@ -45,6 +45,11 @@ pub const MIN_MAGNITUDE: Real = 1e-30;
 /// systems allow 255 bytes with room left for a temporary suffix.
 pub const MAX_NAME_BYTES: usize = 200;
 
+/// The most solver iterations per step `on_contact: Simulate` accepts
+/// (rapier's default is 4; more than this is most likely a typo, and each
+/// costs a solver pass).
+pub const MAX_SOLVER_ITERATIONS: usize = 1000;
+
 /// Body indices by name.
 pub(super) type Names<'f> = HashMap<&'f str, usize>;
 
@@ -144,9 +149,21 @@ impl Builder<'_> {
         };
         let (mut bodies, centers) = self.bodies(&file.bodies, base)?;
         let springs = self.springs(&file, &names, &bodies, &centers)?;
-        let pushed_by_contacts = self.bounce(&file.on_contact)?;
+        let pushed_by_contacts = self.response(&file.on_contact)?;
         self.motions(&file.bodies, &mut bodies, springs, gravity, pushed_by_contacts, dt)?;
+        self.materials(&file.on_contact, &file.bodies, &mut bodies)?;
+        if matches!(file.on_contact, OnContact::Simulate { .. }) {
+            self.simulate_contact_distances(&ccd, &bodies)?;
+        }
         let trace = self.trace(file.trace.as_ref(), &names, &bodies)?;
+        let poses = match &file.poses {
+            None => None,
+            Some(poses) => match poses.every {
+                Some(0) => return self.invalid("poses.every", "must be at least 1"),
+                Some(every) => Some(super::PosesSpec { every }),
+                None => Some(super::PosesSpec { every: trace.as_ref().map_or(1, |t| t.every) }),
+            },
+        };
         let plot = match &file.plot {
             None => None,
             Some(_) if trace.is_none() => {
@@ -176,6 +193,7 @@ impl Builder<'_> {
             plot,
             bodies,
             expect,
+            poses,
             parameters: Default::default(),
         })
     }
@@ -270,23 +288,110 @@ impl Builder<'_> {
         }
     }
 
-    /// Whether the response pushes bodies (`Bounce`, with its restitution checked).
-    fn bounce(&self, on_contact: &OnContact) -> Result<bool> {
+    /// Whether the response pushes bodies (`Bounce`, `Simulate`), with its
+    /// settings checked.
+    fn response(&self, on_contact: &OnContact) -> Result<bool> {
         match *on_contact {
             OnContact::Bounce { restitution } => {
-                if !(0.0..=1.0).contains(&restitution) {
+                self.restitution("on_contact.restitution", restitution)?;
+                Ok(true)
+            }
+            OnContact::Simulate { restitution, friction, solver_iterations } => {
+                if !cfg!(feature = "rapier") {
                     return self.invalid(
-                        "on_contact.restitution",
-                        format!(
-                            "{} is not a coefficient of restitution: give a number in [0, 1]",
-                            shortest(restitution)
-                        ),
+                        "on_contact",
+                        "`Simulate` solves contacts with rapier3d: build nearmiss with the `rapier` feature (on by default)",
+                    );
+                }
+                self.restitution("on_contact.restitution", restitution)?;
+                self.non_negative("on_contact.friction", friction)?;
+                if !(1..=MAX_SOLVER_ITERATIONS).contains(&solver_iterations) {
+                    return self.invalid(
+                        "on_contact.solver_iterations",
+                        format!("must be between 1 and {MAX_SOLVER_ITERATIONS}, found {solver_iterations}"),
                     );
                 }
                 Ok(true)
             }
             _ => Ok(false),
         }
+    }
+
+    /// Under `Simulate`, each body's contact distance must be below rapier's
+    /// prediction distance, so that rapier's solver sees the pairs the
+    /// guard stops.
+    fn simulate_contact_distances(&self, ccd: &CcdOptions, bodies: &[Body]) -> Result<()> {
+        #[cfg(feature = "rapier")]
+        {
+            let prediction = rapier3d_f64::prelude::IntegrationParameters::default().prediction_distance();
+            for (i, body) in bodies.iter().enumerate() {
+                let contract = crate::ccd::ContactContract::of(
+                    ccd,
+                    crate::ccd::ContactRule::ScaleRelative,
+                    body.mesh.radius(),
+                    0.0,
+                );
+                if contract.contact_distance >= prediction {
+                    return self.invalid(
+                        "ccd.distance_tolerance",
+                        format!(
+                            "`{}` (bodies[{i}]) would have a contact distance of {}, not below rapier's prediction distance {} under `Simulate`: rapier would not see the contacts nearmiss stops; lower `distance_tolerance` or `minimum_separation`",
+                            body.name,
+                            shortest(contract.contact_distance),
+                            shortest(prediction)
+                        ),
+                    );
+                }
+            }
+        }
+        #[cfg(not(feature = "rapier"))]
+        let _ = (ccd, bodies);
+        Ok(())
+    }
+
+    /// A coefficient of restitution, in `[0, 1]`.
+    fn restitution(&self, field: &str, restitution: Real) -> Result<Real> {
+        if (0.0..=1.0).contains(&restitution) {
+            return Ok(restitution);
+        }
+        self.invalid(
+            field,
+            format!("{} is not a coefficient of restitution: give a number in [0, 1]", shortest(restitution)),
+        )
+    }
+
+    /// Each body's contact material under `Simulate` (refused elsewhere:
+    /// no other response uses it).
+    fn materials(
+        &self,
+        on_contact: &OnContact,
+        settings: &[BodySettings],
+        bodies: &mut [Body],
+    ) -> Result<()> {
+        for (i, (settings, body)) in settings.iter().zip(bodies.iter_mut()).enumerate() {
+            let OnContact::Simulate { restitution, friction, .. } = *on_contact else {
+                for (field, given) in [("friction", settings.friction), ("restitution", settings.restitution)]
+                {
+                    if given.is_some() {
+                        return self.invalid(
+                            format!("bodies[{i}].{field}"),
+                            format!("`{field}` is a material of `on_contact: Simulate` (rapier's contact solver); no other response uses it"),
+                        );
+                    }
+                }
+                continue;
+            };
+            let friction = match settings.friction {
+                Some(own) => self.non_negative(&format!("bodies[{i}].friction"), own)?,
+                None => friction,
+            };
+            let restitution = match settings.restitution {
+                Some(own) => self.restitution(&format!("bodies[{i}].restitution"), own)?,
+                None => restitution,
+            };
+            body.material = Some(super::Material { friction, restitution });
+        }
+        Ok(())
     }
 
     /// The traced pairs and cadence.

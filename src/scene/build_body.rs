@@ -141,7 +141,7 @@ impl Builder<'_> {
                 return self.invalid(
                     format!("bodies[{i}].density"),
                     format!(
-                        "`{}` can be pushed by a bounce (`on_contact: Bounce`), so it needs a mass and an inertia: give `density`, or `mass` and `inertia` (or make it `fixed` or `kinematic`)",
+                        "`{}` can be pushed by contacts (`on_contact: Bounce` or `Simulate`), so it needs a mass and an inertia: give `density`, or `mass` and `inertia` (or make it `fixed` or `kinematic`)",
                         body.name
                     ),
                 );
@@ -292,6 +292,8 @@ impl Builder<'_> {
             mass,
             inertia,
             motion: BodyMotion::Free,
+            kinematic: settings.kinematic,
+            material: None,
         };
         Ok((body, center))
     }

@@ -54,6 +54,20 @@ pub struct SceneFile {
     /// What `nearmiss test` checks.
     #[serde(default)]
     pub expect: Option<ExpectSettings>,
+    /// The bodies' poses over time (`poses.csv`); none by default.
+    #[serde(default)]
+    pub poses: Option<PosesSettings>,
+}
+
+/// The pose record of a run (`poses.csv`: step, time, body, position,
+/// orientation quaternion).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PosesSettings {
+    /// Record every this many steps (and at the first and last step).
+    /// Default: the trace's cadence when there is a trace, otherwise 1.
+    #[serde(default)]
+    pub every: Option<u64>,
 }
 
 /// CCD settings of a scene.
@@ -142,6 +156,44 @@ pub enum OnContact {
         /// The coefficient of restitution, in `[0, 1]`.
         restitution: f64,
     },
+    /// Rigid-body dynamics by rapier3d (resting contact, friction,
+    /// stacking), guarded by nearmiss: each step rapier moves and solves the
+    /// bodies, then nearmiss sweeps every pair from the step's start poses to
+    /// rapier's end poses and moves bodies that would come into contact back
+    /// to their time of contact (poses clamped, velocities left to rapier's
+    /// contact solver on the next step). A contact is reported once, when a
+    /// pair comes into contact; pairs in contact are rapier's to hold and
+    /// are armed again once they separate. Every body that is neither fixed
+    /// nor kinematic needs a mass and an inertia (`density`, or `mass` and
+    /// `inertia`). Needs the `rapier` feature (on by default).
+    Simulate {
+        /// The coefficient of restitution of every body (a body's own
+        /// `restitution` overrides it), in `[0, 1]`; rapier averages the
+        /// two bodies' values. Default: 0.
+        #[serde(default)]
+        restitution: f64,
+        /// The friction coefficient of every body (a body's own `friction`
+        /// overrides it), at least 0; rapier averages the two bodies'
+        /// values. Default: 0.5 (rapier's).
+        #[serde(default = "default_friction")]
+        friction: f64,
+        /// Rapier's solver iterations per step. Default: 4 (rapier's).
+        #[serde(default = "default_solver_iterations")]
+        solver_iterations: usize,
+    },
+}
+
+/// Rapier's default friction coefficient.
+pub const DEFAULT_FRICTION: f64 = 0.5;
+/// Rapier's default number of solver iterations.
+pub const DEFAULT_SOLVER_ITERATIONS: usize = 4;
+
+fn default_friction() -> f64 {
+    DEFAULT_FRICTION
+}
+
+fn default_solver_iterations() -> usize {
+    DEFAULT_SOLVER_ITERATIONS
 }
 
 /// Which pairs are traced, how often.
@@ -241,6 +293,14 @@ pub struct BodySettings {
     /// Keeps its velocities whatever acts on it. Default: false.
     #[serde(default)]
     pub kinematic: bool,
+    /// Its friction coefficient under `on_contact: Simulate` (overrides the
+    /// scene's). Default: the scene's.
+    #[serde(default)]
+    pub friction: Option<f64>,
+    /// Its coefficient of restitution under `on_contact: Simulate`
+    /// (overrides the scene's). Default: the scene's.
+    #[serde(default)]
+    pub restitution: Option<f64>,
 }
 
 fn unit_scale() -> f64 {

@@ -34,7 +34,7 @@ use std::sync::Arc;
 
 use nalgebra::Matrix3;
 
-pub use build::{MAX_MAGNITUDE, MAX_NAME_BYTES, MIN_MAGNITUDE};
+pub use build::{MAX_MAGNITUDE, MAX_NAME_BYTES, MAX_SOLVER_ITERATIONS, MIN_MAGNITUDE};
 pub use error::SceneError;
 pub use file::OnContact;
 pub use file::PlotSettings;
@@ -75,6 +75,8 @@ pub struct Scene {
     pub bodies: Vec<Body>,
     /// The expectation `nearmiss test` checks.
     pub expect: Option<Expectation>,
+    /// The pose record (`poses.csv`), if asked for.
+    pub poses: Option<PosesSpec>,
     /// The stepper's parameters (not part of the file format: defaults).
     pub parameters: crate::stepper::StepParameters,
 }
@@ -99,6 +101,27 @@ pub struct Body {
     pub inertia: Option<Matrix3<Real>>,
     /// How the body moves.
     pub motion: BodyMotion,
+    /// Moves at its given velocities whatever acts on it (`kinematic: true`).
+    pub kinematic: bool,
+    /// Its contact material under `on_contact: Simulate` (the scene's,
+    /// or the body's own); `None` under the other responses.
+    pub material: Option<Material>,
+}
+
+/// A body's contact material (`on_contact: Simulate`).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Friction coefficient (at least 0).
+    pub friction: Real,
+    /// Coefficient of restitution, in `[0, 1]`.
+    pub restitution: Real,
+}
+
+/// The pose record of a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PosesSpec {
+    /// Record every this many steps (and the first and last).
+    pub every: u64,
 }
 
 /// How a body moves.

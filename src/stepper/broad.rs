@@ -4,6 +4,7 @@
 //! starts fresh, and a pair that left the set was apart for a whole step,
 //! so it is re-armed.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use super::world::{PairState, World};
@@ -13,12 +14,13 @@ use crate::ccd::box_margin;
 use crate::math::Real;
 use crate::scene::BodyMotion;
 
-impl Stepper<'_> {
+impl Stepper {
     /// Replaces `world.pairs` by the pairs of this step's swept boxes.
     pub(super) fn broad_phase(&mut self, world: &mut World) {
         let clock = Instant::now();
         if let Some(broad) = self.broad.as_mut() {
-            let scene = self.scene;
+            let scene = Arc::clone(&self.scene);
+            let scene = &*scene;
             let boxes = &mut self.scratch.boxes;
             boxes.clear();
             for (body, motion) in scene.bodies.iter().zip(&world.motions) {
@@ -38,7 +40,10 @@ impl Stepper<'_> {
             world.pairs.reserve(candidates.len());
             let mut next_old = 0;
             for (a, b) in candidates.into_iter().filter(|&(a, b)| !(fixed(a) && fixed(b))) {
-                while old.get(next_old).is_some_and(|p| (p.a, p.b) < (a, b)) {
+                while let Some(gone) = old.get(next_old).filter(|p| (p.a, p.b) < (a, b)) {
+                    if gone.touching.is_some() {
+                        world.separated.push((gone.a, gone.b));
+                    }
                     next_old += 1;
                 }
                 match old.get(next_old) {
@@ -49,6 +54,8 @@ impl Stepper<'_> {
                     _ => world.pairs.push(PairState::new(a, b)),
                 }
             }
+            let gone = old[next_old.min(old.len())..].iter().filter(|p| p.touching.is_some());
+            world.separated.extend(gone.map(|p| (p.a, p.b)));
             old.clear();
             self.scratch.spare_pairs = old;
         }

@@ -16,7 +16,7 @@ use crate::scene::{Body, BodyMotion};
 /// The integrated states of a step and whether their solve converged.
 pub(crate) type Advanced = Vec<Option<(RigidState, bool)>>;
 
-impl Stepper<'_> {
+impl Stepper {
     /// Moves every body's motion to the step starting at `t0` (step number
     /// `step`), checked for divergence.
     pub(super) fn integrate(&mut self, world: &mut World, step: u64, t0: Real) -> Result<(), Termination> {
@@ -35,7 +35,7 @@ impl Stepper<'_> {
         step: u64,
         t0: Real,
     ) -> Result<(), Termination> {
-        let (scene, parameters, counters) = (self.scene, &self.parameters, &mut self.counters);
+        let (scene, parameters, counters) = (&*self.scene, &self.parameters, &mut self.counters);
         // Bounces move energy between bodies: the check is per body, so a
         // response that exchanges momentum turns it off.
         let check_energy = !self.response.exchanges_momentum();

@@ -27,11 +27,12 @@ mod rearm;
 mod result;
 mod world;
 
+use std::sync::Arc;
 use std::time::Instant;
 
 pub(crate) use narrow::{pair_query, Found};
 pub use parameters::StepParameters;
-pub use result::{Contact, Counters, RunResult, Termination};
+pub use result::{Contact, Counters, RunResult, Solver, Termination};
 #[cfg(test)]
 pub(crate) use world::Touching;
 pub(crate) use world::{PairState, World};
@@ -39,6 +40,7 @@ pub(crate) use world::{PairState, World};
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;
 use crate::math::Real;
+use crate::poses::PoseObserver;
 use crate::response::{Response, StepContext};
 use crate::scene::Scene;
 use crate::trace::TraceObserver;
@@ -73,15 +75,38 @@ pub fn run_observed(scene: &Scene, observer: &mut dyn FnMut(u64)) -> RunResult {
 
 /// Runs a scene with options.
 pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64)) -> RunResult {
+    #[cfg(feature = "rapier")]
+    if let crate::scene::OnContact::Simulate { .. } = scene.on_contact {
+        // The scene loader checked what the guard needs (meshes, contact
+        // distances below rapier's prediction distance): an error here is
+        // a scene built by hand, reported as the run's end.
+        return crate::guard::simulate::run(scene, options, observer).unwrap_or_else(|error| RunResult {
+            scene: scene.name.clone(),
+            bodies: scene.bodies.iter().map(|b| b.name.clone()).collect(),
+            steps: 0,
+            end_time: 0.0,
+            wall_time_s: 0.0,
+            first_contact: None,
+            contacts: Vec::new(),
+            trace: Vec::new(),
+            poses: Vec::new(),
+            solver: None,
+            termination: Termination::Diverged {
+                body: 0,
+                step: 0,
+                reason: format!("rapier could not be set up: {error}"),
+            },
+            counters: Counters::default(),
+            final_states: Vec::new(),
+        });
+    }
     let start = Instant::now();
-    let mut stepper = Stepper::new(scene, options);
+    let mut stepper = Stepper::new(Arc::new(scene.clone()), options);
     let mut world = World::new(scene, stepper.response.stops_kinematic_bodies());
     if stepper.broad.is_none() {
         world.pairs = scene.movable_pairs().into_iter().map(|(a, b)| PairState::new(a, b)).collect();
     }
-    if let Some(trace) = stepper.trace.as_mut() {
-        trace.sample(0, 0.0, 0.0, &world.motions);
-    }
+    stepper.observe_start(&world);
     let mut termination = Termination::Completed;
     let mut steps = 0;
     for step in 0..scene.steps {
@@ -102,14 +127,14 @@ pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64
 }
 
 /// How a step ended, when the run goes on or stops at a contact.
-enum StepEnd {
+pub(crate) enum StepEnd {
     Continue,
     FirstContact,
 }
 
 /// A run's set-up and scratch buffers (the world state is passed in).
-struct Stepper<'s> {
-    scene: &'s Scene,
+pub(crate) struct Stepper {
+    scene: Arc<Scene>,
     parameters: StepParameters,
     options: RunOptions,
     /// What happens at contact.
@@ -117,7 +142,9 @@ struct Stepper<'s> {
     /// The broad phase, for scenes of more than two bodies.
     broad: Option<BroadPhase>,
     /// The trace, when the scene asks for one.
-    trace: Option<TraceObserver<'s>>,
+    trace: Option<TraceObserver>,
+    /// The pose record, when the scene asks for one.
+    poses: Option<PoseObserver>,
     scratch: Scratch,
     counters: Counters,
 }
@@ -142,17 +169,28 @@ struct Scratch {
     advanced: integrate::Advanced,
 }
 
-impl<'s> Stepper<'s> {
-    fn new(scene: &'s Scene, options: RunOptions) -> Stepper<'s> {
+impl Stepper {
+    fn new(scene: Arc<Scene>, options: RunOptions) -> Stepper {
+        let response = crate::response::for_scene(&scene);
+        Stepper::with_response(scene, options, response)
+    }
+
+    /// A stepper whose contacts go to `response` (the guard's clamp).
+    pub(crate) fn with_response(
+        scene: Arc<Scene>,
+        options: RunOptions,
+        response: Box<dyn Response>,
+    ) -> Stepper {
         Stepper {
-            scene,
             parameters: scene.parameters,
             options,
-            response: crate::response::for_scene(scene),
+            response,
             broad: (options.broad_phase && scene.bodies.len() > 2).then(BroadPhase::default),
-            trace: TraceObserver::of(scene),
+            trace: TraceObserver::of(&scene),
+            poses: scene.poses.as_ref().map(|spec| PoseObserver::new(spec.every, scene.steps)),
             scratch: Scratch::default(),
             counters: Counters::default(),
+            scene,
         }
     }
 
@@ -160,6 +198,16 @@ impl<'s> Stepper<'s> {
     fn step(&mut self, world: &mut World, step: u64) -> Result<StepEnd, Termination> {
         let t0 = step as Real * self.scene.dt;
         self.integrate(world, step, t0)?;
+        self.after_motion(world, step)
+    }
+
+    /// Stages 2 to 6 of step `step`, the bodies' motions over the step
+    /// already in `world.motions` (by stage 1, or by an outside engine:
+    /// [`crate::guard`]).
+    pub(crate) fn after_motion(&mut self, world: &mut World, step: u64) -> Result<StepEnd, Termination> {
+        let t0 = step as Real * self.scene.dt;
+        world.separated.clear();
+        world.held.clear();
         self.broad_phase(world);
         let mut found = std::mem::take(&mut self.scratch.found);
         self.narrow_phase(world, t0, &mut found);
@@ -187,7 +235,7 @@ impl<'s> Stepper<'s> {
     fn respond(&mut self, world: &mut World, t0: Real, found: &mut Vec<Found>) -> bool {
         let clock = Instant::now();
         let mut context = StepContext {
-            scene: self.scene,
+            scene: &self.scene,
             world,
             scratch: &mut self.scratch.ccd,
             counters: &mut self.counters,
@@ -198,16 +246,52 @@ impl<'s> Stepper<'s> {
         contact
     }
 
-    /// Stage 6: the trace after `done` steps, at `time`.
+    /// Stage 6: the trace and the poses after `done` steps, at `time`.
     fn observe(&mut self, world: &World, done: u64, time: Real) {
         if let Some(trace) = self.trace.as_mut() {
             trace.step_done(done, time, &world.motions);
         }
+        if let Some(poses) = self.poses.as_mut() {
+            poses.step_done(done, time, self.scene.dt, &world.motions);
+        }
+    }
+
+    /// The trace and the poses at the run's start.
+    pub(crate) fn observe_start(&mut self, world: &World) {
+        if let Some(trace) = self.trace.as_mut() {
+            trace.sample(0, 0.0, 0.0, &world.motions);
+        }
+        if let Some(poses) = self.poses.as_mut() {
+            poses.sample(0, 0.0, 0.0, &world.motions);
+        }
+    }
+
+    /// Whether pairs come from a broad phase (otherwise the caller sets
+    /// every movable pair once).
+    pub(crate) fn has_broad_phase(&self) -> bool {
+        self.broad.is_some()
+    }
+
+    /// The work done so far.
+    pub(crate) fn counters(&self) -> &Counters {
+        &self.counters
+    }
+
+    /// The work counters, for an outside engine's stage times.
+    pub(crate) fn counters_mut(&mut self) -> &mut Counters {
+        &mut self.counters
     }
 
     /// The run's result after `steps` steps.
-    fn finish(mut self, mut world: World, steps: u64, termination: Termination, start: Instant) -> RunResult {
-        let scene = self.scene;
+    pub(crate) fn finish(
+        mut self,
+        mut world: World,
+        steps: u64,
+        termination: Termination,
+        start: Instant,
+    ) -> RunResult {
+        let scene = Arc::clone(&self.scene);
+        let scene = &*scene;
         let end_time = match (&termination, world.contacts.first()) {
             (Termination::FirstContact, Some(contact)) => contact.time,
             // Nothing after an undecided query is known.
@@ -227,6 +311,15 @@ impl<'s> Stepper<'s> {
             }
             None => Vec::new(),
         };
+        let poses = match self.poses.take() {
+            Some(mut poses) => {
+                if termination == Termination::FirstContact {
+                    poses.sample(steps, end_time, end_time - last_step_start, &world.motions);
+                }
+                poses.into_records()
+            }
+            None => Vec::new(),
+        };
         let final_states =
             (0..scene.bodies.len()).map(|i| world.state_at(i, end_time - last_step_start)).collect();
         let mut contacts = world.contacts;
@@ -241,6 +334,8 @@ impl<'s> Stepper<'s> {
             first_contact: contacts.first().cloned(),
             contacts,
             trace,
+            poses,
+            solver: None,
             termination,
             counters: self.counters,
             final_states,

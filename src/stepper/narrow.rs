@@ -5,6 +5,7 @@
 //! spheres or the distance bound carried from its previous step.
 
 use std::cell::RefCell;
+use std::sync::Arc;
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -82,12 +83,13 @@ pub(crate) fn pair_query<'a>(
     }
 }
 
-impl Stepper<'_> {
+impl Stepper {
     /// The CCD of every pair in play over the step starting at `t0`; the
     /// contacts found go to `found`, in pair order.
     pub(super) fn narrow_phase(&mut self, world: &mut World, t0: Real, found: &mut Vec<Found>) {
         let clock = Instant::now();
-        let scene = self.scene;
+        let scene = Arc::clone(&self.scene);
+        let scene = &*scene;
         let response = &*self.response;
         // Pairs already in contact are left alone unless the response asks
         // for them (`Bounce`: for coming closer again).

@@ -3,6 +3,7 @@
 //! [`StepParameters::rearm_distance_factor`](super::StepParameters) times
 //! its contact distance is armed again.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use super::world::{Touching, World};
@@ -10,16 +11,18 @@ use super::Stepper;
 use crate::mesh::{mesh_distance_relative, DistanceSearch};
 use crate::motion::StepMotion;
 
-impl Stepper<'_> {
+impl Stepper {
     /// Re-arms the touching pairs that separated by the step's end.
     pub(super) fn rearm(&mut self, world: &mut World) {
         let clock = Instant::now();
-        let scene = self.scene;
+        let scene = Arc::clone(&self.scene);
+        let scene = &*scene;
         for pair in &mut world.pairs {
             let Some(Touching { contact_distance, .. }) = pair.touching else { continue };
             let pos_ab = StepMotion::relative_pose(&world.motions[pair.a], &world.motions[pair.b], scene.dt);
             let (mesh_a, mesh_b) = (&scene.bodies[pair.a].mesh, &scene.bodies[pair.b].mesh);
-            let rearm_distance = self.parameters.rearm_distance_factor * contact_distance;
+            let rearm_distance =
+                self.response.rearm_distance(contact_distance, self.parameters.rearm_distance_factor);
             // Only "beyond the re-arm distance?" is asked: the search may
             // stop at the first pair within it.
             let search = DistanceSearch { kernel: scene.kernel, hint: pair.hint, enough: rearm_distance };
@@ -27,6 +30,7 @@ impl Stepper<'_> {
             self.counters.distance_queries += 1;
             if d.distance > rearm_distance {
                 pair.touching = None;
+                world.separated.push((pair.a, pair.b));
                 pair.lower_bound = Some(d.distance);
             }
         }

@@ -4,7 +4,17 @@ use crate::ccd::CcdStatus;
 use crate::kernels::Feature;
 use crate::math::{Point, Real};
 use crate::motion::RigidState;
+use crate::poses::PoseRecord;
 use crate::trace::TraceRecord;
+
+/// The outside engine that solved a run's contact response.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solver {
+    /// The engine and its version (`rapier3d-f64 0.36`).
+    pub engine: String,
+    /// Per body, the collider shape the engine was given.
+    pub colliders: Vec<String>,
+}
 
 /// A contact event.
 #[derive(Clone, Debug, PartialEq)]
@@ -100,6 +110,9 @@ pub struct Counters {
     pub rearm_s: Real,
     /// Seconds spent tracing.
     pub trace_s: Real,
+    /// Seconds spent in an outside engine's steps (`on_contact: Simulate`:
+    /// rapier's dynamics and contact solving).
+    pub engine_s: Real,
 }
 
 /// The outcome of a run.
@@ -121,6 +134,11 @@ pub struct RunResult {
     pub contacts: Vec<Contact>,
     /// The distance trace (empty unless the scene asks for one).
     pub trace: Vec<TraceRecord>,
+    /// The bodies' poses (empty unless the scene asks for them).
+    pub poses: Vec<PoseRecord>,
+    /// Who solved the contact response, when an outside engine did
+    /// (`on_contact: Simulate`).
+    pub solver: Option<Solver>,
     /// Why the run ended.
     pub termination: Termination,
     /// Work and time per stage.

@@ -26,6 +26,12 @@ pub(crate) struct World {
     pub contacts: Vec<Contact>,
     /// A pair whose CCD could not decide (the run ends after the step).
     pub undecided: Option<Undecided>,
+    /// The pairs in contact that separated in the current step (re-armed,
+    /// or apart for the whole step), `(a, b)`.
+    pub separated: Vec<(usize, usize)>,
+    /// The bodies the response held at a contact in the current step, with
+    /// the time into the step they stopped at.
+    pub held: Vec<(usize, Real)>,
 }
 
 /// A CCD query that ran out of iterations: the pair (index into `pairs`),
@@ -111,6 +117,8 @@ impl World {
             pairs: Vec::new(),
             contacts: Vec::new(),
             undecided: None,
+            separated: Vec::new(),
+            held: Vec::new(),
         }
     }
 

@@ -1,0 +1,255 @@
+//! `on_contact: Simulate`: a scene run by rapier3d and guarded by a
+//! [`Guard`]. Each fixed step: the springs' forces are set from the
+//! bodies' states, rapier steps (gravity, forces, contact solving), and the
+//! guard sweeps every pair from the step's start poses to rapier's end
+//! poses, holding dynamic bodies that would come into contact at their
+//! poses at contact. The trace and the poses are the stepper's observers,
+//! run by the guard's stepper.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use rapier3d_f64::prelude::{
+    CCDSolver, ColliderSet, DefaultBroadPhase, ImpulseJointSet, IntegrationParameters, IslandManager,
+    MassProperties, MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyBuilder, RigidBodyHandle,
+    RigidBodySet, SoftBodySet,
+};
+
+use super::{collider_for, ColliderShape, Guard, GuardError};
+use crate::math::{from_parry, pose_to_parry, to_parry, vector_to_parry, Point, Real, Vector};
+use crate::motion::RigidState;
+use crate::scene::{BodyMotion, OnContact, Scene};
+use crate::stepper::{RunOptions, RunResult, Solver, Termination};
+
+/// The engine named in `summary.json`.
+pub const ENGINE: &str = "rapier3d-f64 0.36";
+
+/// A scene's bodies in rapier: the sets, the pipeline, and each scene
+/// body's handle.
+pub(crate) struct RapierScene {
+    pub bodies: RigidBodySet,
+    pub colliders: ColliderSet,
+    pub handles: Vec<RigidBodyHandle>,
+    /// The collider shape each body was given.
+    pub shapes: Vec<ColliderShape>,
+    pub parameters: IntegrationParameters,
+    pub gravity: Vector,
+    pipeline: PhysicsPipeline,
+    islands: IslandManager,
+    broad_phase: DefaultBroadPhase,
+    narrow_phase: NarrowPhase,
+    impulse_joints: ImpulseJointSet,
+    multibody_joints: MultibodyJointSet,
+    soft_bodies: SoftBodySet,
+    ccd: CCDSolver,
+}
+
+impl RapierScene {
+    /// The scene's bodies as rapier bodies: fixed, kinematic (velocity
+    /// based) or dynamic (with the scene's mass and inertia about the
+    /// centre of mass, which is the body frame's origin), each with the
+    /// collider [`collider_for`] its mesh, and the scene's materials.
+    /// `rapier_ccd`: switch rapier's own CCD on for every moving body
+    /// (`--compare rapier`).
+    pub fn build(scene: &Scene, rapier_ccd: bool) -> Result<RapierScene, GuardError> {
+        let (friction, restitution, solver_iterations) = match scene.on_contact {
+            OnContact::Simulate { friction, restitution, solver_iterations } => {
+                (friction, restitution, solver_iterations)
+            }
+            _ => (crate::scene::file::DEFAULT_FRICTION, 0.0, crate::scene::file::DEFAULT_SOLVER_ITERATIONS),
+        };
+        let mut parameters = IntegrationParameters { dt: scene.dt, ..Default::default() };
+        parameters.num_solver_iterations = solver_iterations;
+        let mut bodies = RigidBodySet::new();
+        let mut colliders = ColliderSet::new();
+        let mut handles = Vec::with_capacity(scene.bodies.len());
+        let mut shapes = Vec::with_capacity(scene.bodies.len());
+        let mut gravity = Vector::zeros();
+        for body in &scene.bodies {
+            let builder = match &body.motion {
+                BodyMotion::Fixed => RigidBodyBuilder::fixed(),
+                _ if body.kinematic => RigidBodyBuilder::kinematic_velocity_based(),
+                BodyMotion::Integrated(dynamics) => {
+                    gravity = dynamics.gravity;
+                    RigidBodyBuilder::dynamic()
+                }
+                // Nothing acts on it in the scene (`--compare rapier` of a
+                // scene under another response): dynamic, its mass from the
+                // scene or rapier's default density.
+                BodyMotion::Free => RigidBodyBuilder::dynamic(),
+            };
+            let moving = body.motion != BodyMotion::Fixed;
+            let rigid = builder
+                .pose(pose_to_parry(&body.pose))
+                .linvel(vector_to_parry(&body.velocity))
+                .angvel(vector_to_parry(&body.angular_velocity))
+                .ccd_enabled(rapier_ccd && moving)
+                .build();
+            let handle = bodies.insert(rigid);
+            let (collider, shape) = collider_for(&body.mesh)
+                .map_err(|error| GuardError::Shape { body: body.name.clone(), message: error.to_string() })?;
+            let material = body.material.unwrap_or(crate::scene::Material { friction, restitution });
+            let mut collider = collider.friction(material.friction).restitution(material.restitution);
+            if let (Some(mass), Some(inertia)) = (body.mass, body.inertia) {
+                let inertia = glam_matrix(&inertia);
+                collider = collider.mass_properties(MassProperties::with_inertia_matrix(
+                    to_parry(&Point::origin()),
+                    mass,
+                    inertia,
+                ));
+            }
+            colliders.insert_with_parent(collider.build(), handle, &mut bodies);
+            handles.push(handle);
+            shapes.push(shape);
+        }
+        Ok(RapierScene {
+            bodies,
+            colliders,
+            handles,
+            shapes,
+            parameters,
+            gravity,
+            pipeline: PhysicsPipeline::new(),
+            islands: IslandManager::new(),
+            broad_phase: DefaultBroadPhase::default(),
+            narrow_phase: NarrowPhase::new(),
+            impulse_joints: ImpulseJointSet::new(),
+            multibody_joints: MultibodyJointSet::new(),
+            soft_bodies: SoftBodySet::new(),
+            ccd: CCDSolver::new(),
+        })
+    }
+
+    /// One rapier step: the springs' forces from the bodies' states, then
+    /// `PhysicsPipeline::step`.
+    pub fn step(&mut self, scene: &Scene) {
+        for (body, handle) in scene.bodies.iter().zip(&self.handles) {
+            let BodyMotion::Integrated(dynamics) = &body.motion else { continue };
+            if dynamics.springs.is_empty() {
+                continue;
+            }
+            let Some(rigid) = self.bodies.get_mut(*handle) else { continue };
+            let state = rigid_state(rigid);
+            rigid.reset_forces(false);
+            for spring in &dynamics.springs {
+                let (force, arm) = spring.force(
+                    &state.position,
+                    &state.orientation,
+                    &state.velocity,
+                    &state.angular_velocity,
+                );
+                rigid.add_force_at_point(vector_to_parry(&force), to_parry(&(state.position + arm)), true);
+            }
+        }
+        self.pipeline.step(
+            vector_to_parry(&self.gravity),
+            &self.parameters,
+            &mut self.islands,
+            &mut self.broad_phase,
+            &mut self.narrow_phase,
+            &mut self.bodies,
+            &mut self.colliders,
+            &mut self.impulse_joints,
+            &mut self.multibody_joints,
+            &mut self.soft_bodies,
+            &mut self.ccd,
+            &(),
+            &(),
+        );
+    }
+
+    /// Body `i`'s state (its centre of mass is its frame's origin).
+    pub fn state(&self, i: usize) -> Option<RigidState> {
+        self.bodies.get(self.handles[i]).map(rigid_state)
+    }
+
+    /// Whether rapier has the two bodies' colliders in contact (a contact
+    /// point within its prediction distance).
+    pub fn in_contact(&self, a: usize, b: usize) -> bool {
+        let collider =
+            |i: usize| self.bodies.get(self.handles[i]).and_then(|body| body.colliders().first().copied());
+        let (Some(ca), Some(cb)) = (collider(a), collider(b)) else { return false };
+        self.narrow_phase.contact_pair(ca, cb).is_some_and(|pair| pair.has_any_active_contact())
+    }
+}
+
+/// A rapier body's state.
+fn rigid_state(body: &rapier3d_f64::prelude::RigidBody) -> RigidState {
+    let position = body.position();
+    let q = position.rotation;
+    RigidState {
+        position: from_parry(position.translation),
+        orientation: nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(q.w, q.x, q.y, q.z)),
+        velocity: from_parry(body.linvel()).coords,
+        angular_velocity: from_parry(body.angvel()).coords,
+    }
+}
+
+/// A nalgebra matrix as glam's.
+fn glam_matrix(m: &nalgebra::Matrix3<Real>) -> rapier3d_f64::math::Matrix {
+    rapier3d_f64::math::Matrix::from_cols(
+        to_parry(&Point::from(m.column(0).into_owned())),
+        to_parry(&Point::from(m.column(1).into_owned())),
+        to_parry(&Point::from(m.column(2).into_owned())),
+    )
+}
+
+/// Runs a `Simulate` scene (see the module); `observer` is called with the
+/// steps done after each step.
+pub(crate) fn run(
+    scene: &Scene,
+    options: RunOptions,
+    observer: &mut dyn FnMut(u64),
+) -> Result<RunResult, GuardError> {
+    let start = Instant::now();
+    let mut rapier = RapierScene::build(scene, false)?;
+    // The guard's scene: rapier moves the bodies, so none is integrated by
+    // the stepper; the dynamic ones are those contacts stop.
+    let stoppable: Vec<bool> =
+        scene.bodies.iter().map(|b| matches!(b.motion, BodyMotion::Integrated(_))).collect();
+    let mut guarded = scene.clone();
+    for body in &mut guarded.bodies {
+        if body.motion != BodyMotion::Fixed {
+            body.motion = BodyMotion::Free;
+        }
+    }
+    let centers = vec![Vector::zeros(); scene.bodies.len()];
+    let mut guard = Guard::with_scene(
+        Arc::new(guarded),
+        rapier.handles.clone(),
+        centers,
+        stoppable,
+        &rapier.parameters,
+        options.parallel,
+    )?;
+    guard.stepper.observe_start(&guard.world);
+    let mut termination = Termination::Completed;
+    let mut steps = 0;
+    for _ in 0..scene.steps {
+        steps += 1;
+        guard.before_step(&rapier.bodies);
+        let clock = Instant::now();
+        rapier.step(scene);
+        guard.stepper.counters_mut().engine_s += clock.elapsed().as_secs_f64();
+        match guard.after_step(&mut rapier.bodies) {
+            Ok(_) => observer(steps),
+            Err(GuardError::Undecided { .. }) => {
+                termination = guard.undecided.take().unwrap_or(Termination::Completed);
+                break;
+            }
+            Err(error) => return Err(error),
+        }
+    }
+    let (stepper, world) = guard.into_parts();
+    let mut result = stepper.finish(world, steps, termination, start);
+    for (i, state) in result.final_states.iter_mut().enumerate() {
+        if let Some(rapier_state) = rapier.state(i) {
+            *state = rapier_state;
+        }
+    }
+    result.solver = Some(Solver {
+        engine: ENGINE.into(),
+        colliders: rapier.shapes.iter().map(|s| s.name().to_string()).collect(),
+    });
+    Ok(result)
+}

@@ -1,0 +1,155 @@
+//! Bodies stopped at their contacts, in time order: the part that `Bounce`
+//! and `Simulate`'s clamp share.
+//!
+//! The step's contacts are taken in time order. A contact is committed only
+//! if neither body has stopped before it; each of its bodies that can stop
+//! then stops there for the rest of the step, and every other pair of theirs
+//! is queried again from that time with the stopped body held still (its
+//! earlier candidates become stale), so no body moves past a contact with a
+//! body that stopped.
+
+use std::cmp::Ordering;
+use std::collections::{BinaryHeap, HashMap};
+
+use super::StepContext;
+use crate::ccd::{mesh_time_of_impact, CcdStatus, ContactRule, MeshCcdResult, WarmStart};
+use crate::math::{Point, Real};
+use crate::motion::StepMotion;
+use crate::scene::BodyMotion;
+use crate::stepper::{pair_query, Found, PairState};
+
+/// What [`stop_in_time_order`] committed.
+pub(super) struct Stops {
+    /// The committed contacts (indices into `world.contacts`), in time order.
+    pub committed: Vec<usize>,
+    /// When each body stopped (time into the step), if it did.
+    pub stopped: Vec<Option<Real>>,
+}
+
+/// A candidate contact within a step.
+#[derive(Copy, Clone, Debug)]
+struct Candidate {
+    /// Time into the step.
+    time: Real,
+    /// The pair (index into `world.pairs`).
+    pair: usize,
+    /// The pair's recheck count when found (stale once it changed).
+    version: u32,
+}
+
+impl PartialEq for Candidate {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for Candidate {}
+impl PartialOrd for Candidate {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Candidate {
+    /// Reversed (the heap's top is the earliest; ties: the lower pair).
+    fn cmp(&self, other: &Self) -> Ordering {
+        other.time.total_cmp(&self.time).then(other.pair.cmp(&self.pair))
+    }
+}
+
+/// Commits the step's contacts `found` (drained) in time order (see the
+/// module); bodies for which `can_stop` holds stop at their contacts, and
+/// their other pairs are queried again under `rule`.
+pub(super) fn stop_in_time_order(
+    step: &mut StepContext<'_>,
+    found: &mut Vec<Found>,
+    rule: &dyn Fn(&PairState) -> ContactRule,
+    can_stop: &dyn Fn(usize) -> bool,
+) -> Stops {
+    let scene = step.scene;
+    let dt = scene.dt;
+    let mut candidates = BinaryHeap::new();
+    let mut results: HashMap<usize, MeshCcdResult> = HashMap::new();
+    for Found { pair, result } in found.drain(..) {
+        let Some(time) = result.time_of_impact else { continue };
+        candidates.push(Candidate { time, pair, version: 0 });
+        results.insert(pair, result);
+    }
+    let mut stopped: Vec<Option<Real>> = vec![None; scene.bodies.len()];
+    let mut versions = vec![0u32; step.world.pairs.len()];
+    let mut committed = Vec::new();
+    while let Some(candidate) = candidates.pop() {
+        let k = candidate.pair;
+        if candidate.version != versions[k] {
+            continue;
+        }
+        let Some(result) = results.remove(&k) else { continue };
+        let time = candidate.time;
+        step.world.record_contact(k, step.t0, time, &result);
+        committed.push(step.world.contacts.len() - 1);
+        let (a, b) = (step.world.pairs[k].a, step.world.pairs[k].b);
+        for body in [a, b] {
+            if !can_stop(body) || stopped[body].is_some() {
+                continue;
+            }
+            stopped[body] = Some(time);
+            // Every other pair of this body: again from `time`.
+            let partners: Vec<usize> = (step.world.pairs.iter().enumerate())
+                .filter(|&(other, pair)| other != k && (pair.a == body || pair.b == body))
+                .map(|(other, _)| other)
+                .collect();
+            for other in partners {
+                let pair = step.world.pairs[other].clone();
+                versions[other] += 1;
+                results.remove(&other);
+                step.world.pairs[other].lower_bound = None;
+                if stopped[pair.a].is_some() && stopped[pair.b].is_some() {
+                    continue;
+                }
+                let motions = &step.world.motions;
+                let held = |i: usize| match stopped[i] {
+                    Some(at) => StepMotion::fixed(motions[i].pose_at(at)),
+                    None => StepMotion { elapsed: motions[i].elapsed + time, ..motions[i] },
+                };
+                let (ma, mb) = (held(pair.a), held(pair.b));
+                let query = pair_query(scene, &pair, [&ma, &mb], dt - time, rule(&pair));
+                let warm = WarmStart { lower_bound: None, hint: pair.hint };
+                let result = mesh_time_of_impact(&query, warm, step.scratch);
+                step.counters.distance_queries += result.iterations;
+                step.counters.triangle_pairs += result.triangle_pairs;
+                if result.status == CcdStatus::OutOfIterations {
+                    let undecided =
+                        MeshCcdResult { time_of_impact: result.time_of_impact.map(|t| time + t), ..result };
+                    step.world.note_undecided(other, &undecided);
+                } else if let Some(after) = result.time_of_impact {
+                    candidates.push(Candidate { time: time + after, pair: other, version: versions[other] });
+                    results.insert(other, result);
+                }
+            }
+        }
+    }
+    Stops { committed, stopped }
+}
+
+/// Stopped bodies stay where they stopped for the rest of the step (their
+/// motion and, where the stepper keeps one, their state); kinematic bodies
+/// with a state that did not stop reach the step's end.
+pub(super) fn hold_stopped_bodies(step: &mut StepContext<'_>, stopped: &[Option<Real>]) {
+    let (scene, world) = (step.scene, &mut *step.world);
+    for (i, at) in stopped.iter().enumerate() {
+        let Some(at) = *at else { continue };
+        let pose = world.motions[i].pose_at(at);
+        if let Some(state) = world.states[i].as_mut() {
+            state.position = Point::from(pose.translation.vector);
+            state.orientation = pose.rotation;
+        }
+        world.motions[i] = StepMotion::fixed(pose);
+    }
+    for (i, body) in scene.bodies.iter().enumerate() {
+        if body.motion == BodyMotion::Free && stopped[i].is_none() {
+            if let Some(state) = world.states[i].as_mut() {
+                let pose = world.motions[i].pose_at(scene.dt);
+                state.position = Point::from(pose.translation.vector);
+                state.orientation = pose.rotation;
+            }
+        }
+    }
+}
