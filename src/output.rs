@@ -54,6 +54,18 @@ pub struct Summary<'a> {
     /// With `--compare parry`: parry's answers beside nearmiss's.
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
     pub peer: &'a [PeerComparison],
+    /// With `--compare rapier`: rapier's outcome per pair beside nearmiss's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rapier: Option<serde_json::Value>,
+}
+
+/// The peers' answers a run is written with (`--compare`).
+#[derive(Clone, Debug, Default)]
+pub struct Peers<'a> {
+    /// parry's first contacts.
+    pub parry: &'a [PeerComparison],
+    /// rapier's outcome per pair, as JSON (`nearmiss::guard::RapierPair` rows).
+    pub rapier: Option<serde_json::Value>,
 }
 
 /// The contact response in `summary.json`.
@@ -222,6 +234,7 @@ impl<'a> Summary<'a> {
                 None => ResponseJson { solved_by: "nearmiss".into(), colliders: Default::default() },
             },
             peer,
+            rapier: None,
         }
     }
 
@@ -236,7 +249,7 @@ impl<'a> Summary<'a> {
 /// Writes the run's files into `<out>/<scene>/` and returns their paths:
 /// `summary.json`, and as the scene asks `trace.csv` and `distance.png`.
 pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::Result<Vec<PathBuf>> {
-    write_outputs_with_peer(out, result, scene, &[])
+    write_outputs_with_peer(out, result, scene, &Peers::default())
 }
 
 /// How many times a run's folder swap is tried when a concurrent run into
@@ -246,12 +259,12 @@ pub const SWAP_ATTEMPTS: usize = 8;
 /// The file names a run writes (and replaces as a whole).
 pub const RUN_FILES: [&str; 4] = ["summary.json", "trace.csv", "distance.png", "poses.csv"];
 
-/// [`write_outputs`], with parry's answers in `summary.json`.
+/// [`write_outputs`], with the peers' answers in `summary.json`.
 pub fn write_outputs_with_peer(
     out: &Path,
     result: &RunResult,
     scene: &Scene,
-    peer: &[PeerComparison],
+    peers: &Peers<'_>,
 ) -> std::io::Result<Vec<PathBuf>> {
     fs::create_dir_all(out)?;
     remove_abandoned_staging(out, &result.scene);
@@ -259,7 +272,7 @@ pub fn write_outputs_with_peer(
     let staging = out.join(format!(".{}.{}.tmp", result.scene, std::process::id()));
     let _ = fs::remove_dir_all(&staging);
     fs::create_dir(&staging)?;
-    let written = write_run_files(&staging, result, scene, peer)
+    let written = write_run_files(&staging, result, scene, peers)
         .and_then(|names| {
             carry_over(&folder, &staging)?;
             swap_into_place(&staging, &folder, out, &result.scene)?;
@@ -304,7 +317,7 @@ fn write_run_files(
     folder: &Path,
     result: &RunResult,
     scene: &Scene,
-    peer: &[PeerComparison],
+    peers: &Peers<'_>,
 ) -> std::io::Result<Vec<&'static str>> {
     if let Some(field) = first_non_finite(result) {
         // Never a silent null or inf in an output: nothing is written.
@@ -313,7 +326,8 @@ fn write_run_files(
         )));
     }
     let mut written = Vec::new();
-    let summary = Summary::with_peer(result, peer).to_json();
+    let summary =
+        Summary { rapier: peers.rapier.clone(), ..Summary::with_peer(result, peers.parry) }.to_json();
     write_synced(&folder.join("summary.json"), summary.as_bytes())?;
     written.push("summary.json");
     if scene.trace.is_some() {

@@ -48,8 +48,11 @@
 //! pose to its end pose (the turn nearest rapier's angular velocity). The
 //! scene runner's `on_contact: Simulate` is built on the same type.
 
+mod compare;
 mod shapes;
 pub(crate) mod simulate;
+
+pub use compare::{compare_with_rapier, rapier_markdown, RapierPair, PENETRATION_LIMIT_FACTOR};
 
 use std::sync::Arc;
 

@@ -50,10 +50,14 @@ pub fn is_convex(mesh: &TriMesh) -> bool {
 }
 
 /// The collider rapier is given for `mesh` (vertices in the body frame):
-/// its convex hull where the mesh is convex, otherwise the triangle mesh.
-pub fn collider_for(mesh: &TriMesh) -> Result<(ColliderBuilder, ColliderShape), GuardError> {
+/// its convex hull where the mesh is convex (unless `triangle_mesh`),
+/// otherwise the triangle mesh.
+pub fn collider_for(
+    mesh: &TriMesh,
+    triangle_mesh: bool,
+) -> Result<(ColliderBuilder, ColliderShape), GuardError> {
     let points: Vec<_> = mesh.vertices().iter().map(to_parry).collect();
-    if is_convex(mesh) {
+    if !triangle_mesh && is_convex(mesh) {
         if let Some(hull) = ColliderBuilder::convex_hull(&points) {
             return Ok((hull, ColliderShape::ConvexHull));
         }

@@ -17,7 +17,7 @@ use rapier3d_f64::prelude::{
 
 use super::{collider_for, ColliderShape, Guard, GuardError};
 use crate::math::{from_parry, pose_to_parry, to_parry, vector_to_parry, Point, Real, Vector};
-use crate::motion::RigidState;
+use crate::motion::{RigidState, StepMotion};
 use crate::scene::{BodyMotion, OnContact, Scene};
 use crate::stepper::{RunOptions, RunResult, Solver, Termination};
 
@@ -60,6 +60,9 @@ impl RapierScene {
         };
         let mut parameters = IntegrationParameters { dt: scene.dt, ..Default::default() };
         parameters.num_solver_iterations = solver_iterations;
+        // A scene's velocities are what it says: no speed cap (rapier's
+        // default caps bodies at 400 units per second).
+        parameters.normalized_max_linear_velocity = Real::MAX;
         let mut bodies = RigidBodySet::new();
         let mut colliders = ColliderSet::new();
         let mut handles = Vec::with_capacity(scene.bodies.len());
@@ -68,7 +71,8 @@ impl RapierScene {
         for body in &scene.bodies {
             let builder = match &body.motion {
                 BodyMotion::Fixed => RigidBodyBuilder::fixed(),
-                _ if body.kinematic => RigidBodyBuilder::kinematic_velocity_based(),
+                // Driven along its exact motion (`step` sets each next pose).
+                _ if body.kinematic => RigidBodyBuilder::kinematic_position_based(),
                 BodyMotion::Integrated(dynamics) => {
                     gravity = dynamics.gravity;
                     RigidBodyBuilder::dynamic()
@@ -84,11 +88,19 @@ impl RapierScene {
                 .linvel(vector_to_parry(&body.velocity))
                 .angvel(vector_to_parry(&body.angular_velocity))
                 .ccd_enabled(rapier_ccd && moving)
+                .soft_ccd_prediction(if rapier_ccd && moving { body.mesh.radius() } else { 0.0 })
+                // A scene's spin is what it says (rapier caps it at about
+                // 45° a step by default).
+                .allow_fast_rotation(true)
                 .build();
             let handle = bodies.insert(rigid);
-            let (collider, shape) = collider_for(&body.mesh)
+            let material = body.material.unwrap_or(crate::scene::Material {
+                friction,
+                restitution,
+                triangle_mesh: false,
+            });
+            let (collider, shape) = collider_for(&body.mesh, material.triangle_mesh)
                 .map_err(|error| GuardError::Shape { body: body.name.clone(), message: error.to_string() })?;
-            let material = body.material.unwrap_or(crate::scene::Material { friction, restitution });
             let mut collider = collider.friction(material.friction).restitution(material.restitution);
             if let (Some(mass), Some(inertia)) = (body.mass, body.inertia) {
                 let inertia = glam_matrix(&inertia);
@@ -120,10 +132,19 @@ impl RapierScene {
         })
     }
 
-    /// One rapier step: the springs' forces from the bodies' states, then
+    /// Rapier's step `step` (0-based): kinematic bodies' next poses on their
+    /// exact motions, the springs' forces from the bodies' states, then
     /// `PhysicsPipeline::step`.
-    pub fn step(&mut self, scene: &Scene) {
+    pub fn step(&mut self, scene: &Scene, step: u64) {
+        let end = (step + 1) as Real * scene.dt;
         for (body, handle) in scene.bodies.iter().zip(&self.handles) {
+            if body.kinematic {
+                if let Some(rigid) = self.bodies.get_mut(*handle) {
+                    let motion = StepMotion::free(&body.pose, body.velocity, body.angular_velocity, 0.0);
+                    rigid.set_next_kinematic_position(pose_to_parry(&motion.pose_at(end)));
+                }
+                continue;
+            }
             let BodyMotion::Integrated(dynamics) = &body.motion else { continue };
             if dynamics.springs.is_empty() {
                 continue;
@@ -161,6 +182,20 @@ impl RapierScene {
     /// Body `i`'s state (its centre of mass is its frame's origin).
     pub fn state(&self, i: usize) -> Option<RigidState> {
         self.bodies.get(self.handles[i]).map(rigid_state)
+    }
+
+    /// The depth by which the two bodies' colliders overlap (parry's
+    /// contact query, independent of rapier's narrow phase): 0 when apart,
+    /// `None` where parry cannot measure the pair of shapes.
+    pub fn penetration(&self, a: usize, b: usize) -> Option<Real> {
+        let collider = |i: usize| {
+            let body = self.bodies.get(self.handles[i])?;
+            self.colliders.get(*body.colliders().first()?)
+        };
+        let (ca, cb) = (collider(a)?, collider(b)?);
+        let contact =
+            parry3d_f64::query::contact(ca.position(), ca.shape(), cb.position(), cb.shape(), 0.0).ok()?;
+        Some(contact.map_or(0.0, |c| (-c.dist).max(0.0)))
     }
 
     /// Whether rapier has the two bodies' colliders in contact (a contact
@@ -229,7 +264,7 @@ pub(crate) fn run(
         steps += 1;
         guard.before_step(&rapier.bodies);
         let clock = Instant::now();
-        rapier.step(scene);
+        rapier.step(scene, steps - 1);
         guard.stepper.counters_mut().engine_s += clock.elapsed().as_secs_f64();
         match guard.after_step(&mut rapier.bodies) {
             Ok(_) => observer(steps),

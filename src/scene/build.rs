@@ -5,8 +5,8 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::file::{
-    BodySettings, CcdSettings, ExpectSettings, FormulaSettings, KernelSettings, OnContact, SceneFile,
-    TracePairs, TraceSettings, Triple,
+    BodySettings, CcdSettings, ColliderSettings, ExpectSettings, FormulaSettings, KernelSettings, OnContact,
+    SceneFile, TracePairs, TraceSettings, Triple,
 };
 use super::{Body, BodyMotion, Expectation, Scene, SceneError, TraceSpec};
 use crate::ccd::CcdOptions;
@@ -389,7 +389,8 @@ impl Builder<'_> {
                 Some(own) => self.restitution(&format!("bodies[{i}].restitution"), own)?,
                 None => restitution,
             };
-            body.material = Some(super::Material { friction, restitution });
+            let triangle_mesh = settings.collider == ColliderSettings::TriMesh;
+            body.material = Some(super::Material { friction, restitution, triangle_mesh });
         }
         Ok(())
     }

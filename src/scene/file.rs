@@ -301,6 +301,22 @@ pub struct BodySettings {
     /// (overrides the scene's). Default: the scene's.
     #[serde(default)]
     pub restitution: Option<f64>,
+    /// The collider rapier is given under `on_contact: Simulate`. Default:
+    /// `Auto` (the convex hull of a convex mesh, the same solid; the
+    /// triangle mesh otherwise).
+    #[serde(default)]
+    pub collider: ColliderSettings,
+}
+
+/// The collider shape rapier is given for a body (`on_contact: Simulate`).
+#[derive(Copy, Clone, Debug, Default, Deserialize, PartialEq, Eq)]
+pub enum ColliderSettings {
+    /// The convex hull where the mesh is convex, else the triangle mesh.
+    #[default]
+    Auto,
+    /// The triangle mesh, convex or not (what rapier applications do with
+    /// meshes; rapier never sweeps it: the guard does).
+    TriMesh,
 }
 
 fn unit_scale() -> f64 {

@@ -115,6 +115,8 @@ pub struct Material {
     pub friction: Real,
     /// Coefficient of restitution, in `[0, 1]`.
     pub restitution: Real,
+    /// Give rapier the triangle mesh even where the mesh is convex.
+    pub triangle_mesh: bool,
 }
 
 /// The pose record of a run.

@@ -12,8 +12,10 @@ pub struct Args {
     /// The output folder.
     #[arg(long, default_value = "output")]
     out: PathBuf,
-    /// Also compute each first contact with a peer library and show
-    /// both answers (`parry`).
+    /// Also run the scene with a peer library and show both answers:
+    /// `parry` (each first contact by parry's casts) or `rapier` (the scene
+    /// in rapier alone with its CCD on: its first contacts, and whether it
+    /// let pairs pass through or intersect).
     #[arg(long, value_enum)]
     compare: Option<Peer>,
     /// The most steps a run may take (a longer one is refused before it
@@ -26,6 +28,9 @@ pub struct Args {
 enum Peer {
     /// parry3d-f64: `cast_shapes_nonlinear` for rotating bodies, `cast_shapes` for translating ones.
     Parry,
+    /// rapier3d-f64 alone, its CCD on for every moving body.
+    #[cfg(feature = "rapier")]
+    Rapier,
 }
 
 pub fn main(args: Args) -> CommandResult {
@@ -35,10 +40,25 @@ pub fn main(args: Args) -> CommandResult {
         CliError::BadInput(format!("--out {}: cannot write there: {error}", args.out.display()))
     })?;
     let result = run_with_progress(&scene);
-    let compare = args.compare.is_some();
-    let peer = if compare { nearmiss::report::compare_with_parry(&scene, &result) } else { Vec::new() };
+    let parry = match args.compare {
+        Some(Peer::Parry) => nearmiss::report::compare_with_parry(&scene, &result),
+        _ => Vec::new(),
+    };
+    let mut peers = nearmiss::output::Peers { parry: &parry, rapier: None };
+    let mut table = (!parry.is_empty()).then(|| nearmiss::report::peer_markdown(&parry));
+    #[cfg(feature = "rapier")]
+    if let Some(Peer::Rapier) = args.compare {
+        let mut first = std::collections::BTreeMap::new();
+        for c in &result.contacts {
+            first.entry((c.body_a.min(c.body_b), c.body_a.max(c.body_b))).or_insert(c.time);
+        }
+        let rows = nearmiss::guard::compare_with_rapier(&scene, &first)
+            .map_err(|error| CliError::Failed(format!("rapier could not run the scene: {error}")))?;
+        table = Some(nearmiss::guard::rapier_markdown(&rows));
+        peers.rapier = serde_json::to_value(&rows).ok();
+    }
     let written =
-        nearmiss::output::write_outputs_with_peer(&args.out, &result, &scene, &peer).map_err(|error| {
+        nearmiss::output::write_outputs_with_peer(&args.out, &result, &scene, &peers).map_err(|error| {
             CliError::BadInput(format!("cannot write to {}: {error}", args.out.join(&scene.name).display()))
         })?;
     println!(
@@ -57,8 +77,8 @@ pub fn main(args: Args) -> CommandResult {
         ),
         None => println!("no contact"),
     }
-    if compare {
-        print!("{}", nearmiss::report::peer_markdown(&peer));
+    if let Some(table) = table {
+        print!("{table}");
     }
     for file in &written {
         println!("wrote {}", file.display());

@@ -1,0 +1,159 @@
+//! `nearmiss run --compare rapier`: the same scene in rapier alone, its own
+//! CCD on for every moving body (`ccd_enabled` and soft CCD with a
+//! prediction of the body's radius), beside nearmiss's run.
+//!
+//! Per pair: the first contact as rapier sees it (the end time of the first
+//! step after which rapier has an active contact between the two), and
+//! whether rapier let the pair pass through or intersect, judged
+//! independently of rapier's narrow phase:
+//! - **passed through**: in some step, nearmiss's CCD of rapier's own motion
+//!   (a guard that watches and never clamps) finds the pair touching, yet
+//!   rapier had no contact between them at the step's start or end;
+//! - **intersected**: parry's contact query between the two colliders at a
+//!   step's end finds them deeper than [`PENETRATION_LIMIT_FACTOR`] times
+//!   rapier's allowed linear error.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use super::simulate::RapierScene;
+use super::{Guard, GuardEvent};
+use crate::math::Real;
+use crate::scene::{BodyMotion, Scene};
+
+/// How deep, in multiples of rapier's allowed linear error
+/// (`normalized_allowed_linear_error` × length unit, 0.001 by default), a
+/// pair may overlap at a step's end before it counts as intersecting: 2.
+/// rapier's soft contacts settle under load a little beyond the allowed
+/// error (a stack of five unit boxes: 1.92e-3 at the default 0.001).
+pub const PENETRATION_LIMIT_FACTOR: Real = 2.0;
+
+/// rapier's outcome for one pair.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RapierPair {
+    /// First body's name.
+    pub body_a: String,
+    /// Second body's name.
+    pub body_b: String,
+    /// nearmiss's first contact of the pair (`null`: none).
+    pub nearmiss: Option<Real>,
+    /// rapier's first contact: the end of the first step after which it has
+    /// an active contact between them (`null`: none).
+    pub rapier: Option<Real>,
+    /// The first step's start time in which rapier let them pass through
+    /// (see the module), if any.
+    pub passed_through_at: Option<Real>,
+    /// The deepest overlap at a step's end (parry's contact depth; 0 when
+    /// never overlapping, `null` where parry cannot measure the shapes).
+    pub max_penetration: Option<Real>,
+    /// Whether that exceeds the limit (see the module).
+    pub intersected: bool,
+    /// rapier's verdict in words: `held`, `passed through`, `intersected`,
+    /// `no contact`.
+    pub verdict: String,
+}
+
+/// Runs `scene` in rapier alone and compares each pair with nearmiss's
+/// first contacts (`nearmiss_first`: per pair `(a, b)` with `a < b`).
+pub fn compare_with_rapier(
+    scene: &Scene,
+    nearmiss_first: &BTreeMap<(usize, usize), Real>,
+) -> Result<Vec<RapierPair>, super::GuardError> {
+    let mut rapier = RapierScene::build(scene, true)?;
+    let allowed = rapier.parameters.allowed_linear_error();
+    // A guard that watches rapier's motion and never moves a body.
+    let mut watched = scene.clone();
+    for body in &mut watched.bodies {
+        if body.motion != BodyMotion::Fixed {
+            body.motion = BodyMotion::Free;
+        }
+    }
+    let watched = std::sync::Arc::new(watched);
+    let stoppable = vec![false; scene.bodies.len()];
+    let centers = vec![crate::math::Vector::zeros(); scene.bodies.len()];
+    let mut guard =
+        Guard::with_scene(watched, rapier.handles.clone(), centers, stoppable, &rapier.parameters, true)?;
+    let pairs = scene.movable_pairs();
+    let mut rows: BTreeMap<(usize, usize), (Option<Real>, Option<Real>, Option<Real>)> =
+        pairs.iter().map(|&p| (p, (None, None, Some(0.0)))).collect();
+    let mut touching_before: Vec<bool> = pairs.iter().map(|&(a, b)| rapier.in_contact(a, b)).collect();
+    for step in 0..scene.steps {
+        guard.before_step(&rapier.bodies);
+        rapier.step(scene, step);
+        let end = (step + 1) as Real * scene.dt;
+        let crossed: Vec<(usize, usize)> = match guard.after_step(&mut rapier.bodies) {
+            Ok(events) => events
+                .iter()
+                .filter_map(|event| match event {
+                    GuardEvent::Started { contact, .. } => Some((contact.body_a, contact.body_b)),
+                    GuardEvent::Stopped { .. } => None,
+                })
+                .collect(),
+            // Undecided: nothing is claimed about this step.
+            Err(_) => Vec::new(),
+        };
+        for (k, &(a, b)) in pairs.iter().enumerate() {
+            let row = rows.get_mut(&(a, b)).expect("every pair has a row");
+            let touching = rapier.in_contact(a, b);
+            if touching && row.0.is_none() {
+                row.0 = Some(end);
+            }
+            if crossed.contains(&(a, b)) && !touching && !touching_before[k] && row.1.is_none() {
+                row.1 = Some(end - scene.dt);
+            }
+            touching_before[k] = touching;
+            row.2 = match (row.2, rapier.penetration(a, b)) {
+                (Some(deepest), Some(depth)) => Some(deepest.max(depth)),
+                _ => None,
+            };
+        }
+    }
+    Ok(pairs
+        .iter()
+        .map(|&(a, b)| {
+            let (first, passed, penetration) = rows[&(a, b)];
+            let intersected = penetration.is_some_and(|d| d > PENETRATION_LIMIT_FACTOR * allowed);
+            let verdict = if passed.is_some() {
+                "passed through"
+            } else if intersected {
+                "intersected"
+            } else if first.is_some() {
+                "held"
+            } else {
+                "no contact"
+            };
+            RapierPair {
+                body_a: scene.bodies[a].name.clone(),
+                body_b: scene.bodies[b].name.clone(),
+                nearmiss: nearmiss_first.get(&(a, b)).copied(),
+                rapier: first,
+                passed_through_at: passed,
+                max_penetration: penetration,
+                intersected,
+                verdict: verdict.into(),
+            }
+        })
+        .collect())
+}
+
+/// The comparison as a Markdown table.
+pub fn rapier_markdown(rows: &[RapierPair]) -> String {
+    let time = |t: Option<Real>| t.map_or("no contact".to_string(), |t| format!("{t:.9}"));
+    let mut out = String::from(
+        "| pair | nearmiss first contact | rapier first contact | rapier | deepest overlap |\n|---|---|---|---|---|\n",
+    );
+    for row in rows {
+        let depth = row.max_penetration.map_or("not measured".to_string(), |d| format!("{d:.3e}"));
+        out.push_str(&format!(
+            "| {} / {} | {} | {} | {} | {} |\n",
+            row.body_a,
+            row.body_b,
+            time(row.nearmiss),
+            time(row.rapier),
+            row.verdict,
+            depth
+        ));
+    }
+    out
+}

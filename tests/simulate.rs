@@ -1,0 +1,279 @@
+//! `on_contact: Simulate` (issue 14 §1): rapier3d solves, nearmiss guards.
+//!
+//! Expected values come from analysis (fall times, v²/(2µg), the bullet's
+//! and the blade's contact times) and from an independent gap: after every
+//! step, parry's contact query between the two bodies' convex hulls at the
+//! recorded poses (`poses.csv`'s records), whose depth must stay within
+//! rapier's allowed penetration.
+#![cfg(feature = "rapier")]
+
+use nearmiss::math::{pose_to_parry, to_parry, Pose, Real};
+use nearmiss::poses::PoseRecord;
+use nearmiss::scene::Scene;
+use nearmiss::stepper::{run, RunResult, Termination};
+use parry3d_f64::shape::ConvexPolyhedron;
+
+/// The overlap allowed after a step: rapier's allowed linear error
+/// (`normalized_allowed_linear_error` × length unit, defaults 0.001 × 1)
+/// times the factor its soft contacts settle to under load
+/// ([`nearmiss::guard::PENETRATION_LIMIT_FACTOR`]).
+const ALLOWED_PENETRATION: Real = nearmiss::guard::PENETRATION_LIMIT_FACTOR * 1e-3;
+
+fn simulate(text: &str) -> (Scene, RunResult) {
+    let scene = Scene::from_ron_str(text).unwrap_or_else(|e| panic!("{e}"));
+    let result = run(&scene);
+    assert_eq!(result.termination, Termination::Completed, "{:?}", result.termination);
+    (scene, result)
+}
+
+/// Each step's pose of each body, from the result's records.
+fn poses_by_step(result: &RunResult, bodies: usize) -> Vec<Vec<PoseRecord>> {
+    let mut steps: Vec<Vec<PoseRecord>> = Vec::new();
+    for record in &result.poses {
+        if record.body == 0 {
+            steps.push(Vec::with_capacity(bodies));
+        }
+        steps.last_mut().expect("body 0 first").push(*record);
+    }
+    steps
+}
+
+/// The deepest penetration of any pair of (convex) bodies over the run, by
+/// parry's contact query at each recorded step: the independent gap check.
+fn deepest_penetration(scene: &Scene, result: &RunResult) -> Real {
+    let hulls: Vec<ConvexPolyhedron> = scene
+        .bodies
+        .iter()
+        .map(|b| {
+            let points: Vec<_> = b.mesh.vertices().iter().map(to_parry).collect();
+            ConvexPolyhedron::from_convex_hull(&points).expect("convex hull")
+        })
+        .collect();
+    let mut deepest: Real = 0.0;
+    for step in poses_by_step(result, scene.bodies.len()) {
+        let pose = |r: &PoseRecord| {
+            pose_to_parry(&Pose::from_parts(nalgebra::Translation3::from(r.position.coords), r.orientation))
+        };
+        for i in 0..step.len() {
+            for j in i + 1..step.len() {
+                let contact =
+                    parry3d_f64::query::contact(&pose(&step[i]), &hulls[i], &pose(&step[j]), &hulls[j], 0.0)
+                        .expect("supported shapes");
+                if let Some(contact) = contact {
+                    deepest = deepest.max(-contact.dist);
+                }
+            }
+        }
+    }
+    deepest
+}
+
+#[test]
+fn a_ball_bouncing_with_restitution_half_comes_to_rest_with_a_handful_of_contacts() {
+    // An icosphere (radius 0.5, its lowest vertices at z_low below its
+    // centre) dropped from rest onto a floor: first contact after a fall of
+    // h = 8 - z_low, at t = sqrt(2h/g) (rapier's semi-implicit Euler falls
+    // ahead of the parabola by at most one step).
+    let (scene, result) = simulate(
+        r#"Scene(
+            name: "ball", dt: 0.004166666666666667, duration: 10.0,
+            gravity: (0.0, 0.0, -9.81),
+            on_contact: Simulate(restitution: 0.5),
+            poses: (every: 1),
+            bodies: [
+                (name: "floor", mesh: Box(half_extents: (5.0, 5.0, 0.5)), position: (0.0, 0.0, -0.5), fixed: true),
+                (name: "ball", mesh: Icosphere(radius: 0.5, subdivisions: 2), position: (0.0, 0.0, 8.5), density: 1000.0),
+            ],
+        )"#,
+    );
+    let lowest = scene.bodies[1].mesh.vertices().iter().map(|v| v.z).fold(Real::INFINITY, Real::min);
+    let fall = 8.5 + lowest;
+    let analytic = (2.0 * fall / 9.81).sqrt();
+    let first = result.first_contact.as_ref().expect("the ball reaches the floor");
+    assert!((first.time - analytic).abs() <= scene.dt, "first contact {} vs {analytic}", first.time);
+    assert!(
+        (2..=10).contains(&result.contacts.len()),
+        "{} contacts: a ball coming to rest bounces a few times, not a contact per step",
+        result.contacts.len()
+    );
+    let last = result.final_states[1];
+    assert!(last.velocity.norm() < 1e-3, "at rest: {}", last.velocity.norm());
+    assert!((last.position.z + lowest).abs() <= 1e-3, "resting height {}", last.position.z);
+    let deepest = deepest_penetration(&scene, &result);
+    assert!(deepest <= ALLOWED_PENETRATION, "penetration {deepest}");
+    assert_eq!(result.solver.as_ref().map(|s| s.colliders.clone()), Some(vec!["convex hull".into(); 2]));
+}
+
+#[test]
+fn a_stack_of_five_boxes_stands_for_ten_seconds() {
+    let boxes: String = (0..5)
+        .map(|k| {
+            format!(
+                r#"(name: "box{k}", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (0.0, 0.0, {}), density: 1.0),"#,
+                0.5 + k as Real
+            )
+        })
+        .collect();
+    let (scene, result) = simulate(&format!(
+        r#"Scene(
+            name: "stack", dt: 0.016666666666666666, duration: 10.0,
+            gravity: (0.0, 0.0, -9.81),
+            on_contact: Simulate(),
+            poses: (every: 1),
+            bodies: [
+                (name: "floor", mesh: Box(half_extents: (5.0, 5.0, 0.5)), position: (0.0, 0.0, -0.5), fixed: true),
+                {boxes}
+            ],
+        )"#
+    ));
+    // Drift: every box within 1% of its size (1) of where it started, at
+    // every step.
+    for step in poses_by_step(&result, scene.bodies.len()) {
+        for record in &step[1..] {
+            let start = scene.bodies[record.body].pose.translation.vector;
+            let drift = (record.position.coords - start).norm();
+            assert!(drift < 0.01, "box {} drifted {drift} by t = {}", record.body, record.time);
+        }
+    }
+    // Touching from the start: each pair reported once, at time 0.
+    assert!(result.contacts.iter().all(|c| c.time == 0.0), "{:?}", result.contacts);
+    assert_eq!(result.contacts.len(), 5);
+    let deepest = deepest_penetration(&scene, &result);
+    assert!(deepest <= ALLOWED_PENETRATION, "penetration {deepest}");
+}
+
+#[test]
+fn a_box_sliding_with_friction_stops_where_v_squared_over_2_mu_g_says() {
+    // v0 = 4, µ = 0.5 on both (rapier averages: 0.5), g = 9.81: the box
+    // slides d = v0² / (2 µ g) = 1.6310 before stopping. rapier's friction
+    // is solved with its contact (in the same iterations), applied from
+    // the step's velocity: measured within 2% of d (see the closing note).
+    let (scene, result) = simulate(
+        r#"Scene(
+            name: "slide", dt: 0.004166666666666667, duration: 2.0,
+            gravity: (0.0, 0.0, -9.81),
+            on_contact: Simulate(friction: 0.5),
+            poses: (every: 1),
+            bodies: [
+                (name: "floor", mesh: Box(half_extents: (10.0, 10.0, 0.5)), position: (0.0, 0.0, -0.5), fixed: true),
+                (name: "box", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (0.0, 0.0, 0.5), velocity: (4.0, 0.0, 0.0), density: 1.0),
+            ],
+        )"#,
+    );
+    let expected = 4.0 * 4.0 / (2.0 * 0.5 * 9.81);
+    let last = result.final_states[1];
+    assert!(last.velocity.norm() < 1e-6, "stopped: {}", last.velocity.norm());
+    let error = (last.position.x - expected).abs() / expected;
+    assert!(error < 0.02, "slid {} against {expected} (relative error {error})", last.position.x);
+    assert!(deepest_penetration(&scene, &result) <= ALLOWED_PENETRATION);
+}
+
+#[test]
+fn a_mesh_bullet_at_1000_units_per_second_stops_at_a_1_mm_plate() {
+    // The shipped bullet scene's geometry (scenes/bullet_plate.ron) under
+    // Simulate, the bullet given to rapier as a triangle mesh (as rapier
+    // applications give meshes; rapier never sweeps it): contact when
+    // 25 − 0.01 − 1000 t = 0.0005, t = 0.0249895; the bullet is held there
+    // (never below the plate's top face) and rapier's solver stops it.
+    let (scene, result) = simulate(
+        r#"Scene(
+            name: "bullet", dt: 0.01, duration: 0.1,
+            ccd: (distance_tolerance: 1e-9),
+            on_contact: Simulate(),
+            poses: (every: 1),
+            bodies: [
+                (name: "plate", mesh: Box(half_extents: (1.0, 1.0, 0.0005)), fixed: true),
+                (name: "bullet", mesh: Icosphere(radius: 0.01, subdivisions: 2), position: (0.0, 0.0, 25.0),
+                 velocity: (0.0, 0.0, -1000.0), density: 7800.0, collider: TriMesh),
+            ],
+        )"#,
+    );
+    let first = result.first_contact.as_ref().expect("the bullet hits the plate");
+    let speed = 1000.0;
+    assert!(first.time <= 0.0249895 + 1e-15, "never late: {}", first.time);
+    assert!(0.0249895 - first.time <= first.contact_distance / speed + 1e-12, "{}", first.time);
+    for record in result.poses.iter().filter(|r| r.body == 1) {
+        assert!(
+            record.position.z - 0.01 >= 0.0005 - ALLOWED_PENETRATION,
+            "below the plate at t = {}",
+            record.time
+        );
+    }
+    assert!(deepest_penetration(&scene, &result) <= ALLOWED_PENETRATION);
+}
+
+#[test]
+fn the_spinning_blade_hits_the_probe_at_its_analytic_time() {
+    // scenes/spinning_blade.ron under Simulate (the blade kinematic, driven
+    // by rapier): t = (π/3 − asin(0.025)) / 10, early by at most the
+    // contact distance over the face's normal speed.
+    let text = std::fs::read_to_string("scenes/spinning_blade.ron").expect("shipped scene");
+    let text = text
+        .replace(
+            "ccd: (distance_tolerance: 1e-9),",
+            "ccd: (distance_tolerance: 1e-9),\n    on_contact: Simulate(),",
+        )
+        .replace(
+            "angular_velocity: (0.0, 0.0, 10.0),",
+            "angular_velocity: (0.0, 0.0, 10.0),\n            kinematic: true,",
+        );
+    let scene = Scene::from_ron_str(&text).unwrap_or_else(|e| panic!("{e}"));
+    let result = run(&scene);
+    let analytic = (std::f64::consts::FRAC_PI_3 - (0.025f64).asin()) / 10.0;
+    let first = result.first_contact.as_ref().expect("the blade hits the probe");
+    assert!(first.time <= analytic + 1e-15, "never late: {} vs {analytic}", first.time);
+    assert!(analytic - first.time <= 1e-9, "{} vs {analytic}", first.time);
+}
+
+#[test]
+fn a_rapier_application_guarding_its_mesh_bullet_keeps_it_above_the_plate() {
+    // examples/guard_rapier.rs: plain rapier, a triangle-mesh bullet at
+    // 1,000 units/s, the guard around `pipeline.step`. The bullet (an
+    // icosahedron of circumradius 0.01) has its lowest vertex
+    // 0.01 φ / sqrt(1 + φ²) below its centre; the plate's top face is
+    // z = 0.0005: contact at t = (25 − 0.0005 − offset) / 1000.
+    let output = std::process::Command::new(env!("CARGO"))
+        .args(["run", "--release", "--quiet", "--example", "guard_rapier"])
+        .output()
+        .expect("cargo runs the example");
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{text}");
+    let lowest = |prefix: &str| -> Real {
+        let line = text.lines().find(|l| l.starts_with(prefix)).unwrap_or_else(|| panic!("{text}"));
+        let z = line.split("z = ").nth(1).and_then(|rest| rest.split_whitespace().next());
+        z.and_then(|z| z.parse().ok()).unwrap_or_else(|| panic!("{line}"))
+    };
+    assert!(lowest("rapier alone") < -1.0, "rapier alone lets it through:\n{text}");
+    let phi = (1.0 + 5f64.sqrt()) / 2.0;
+    let offset = 0.01 * phi / (1.0 + phi * phi).sqrt();
+    assert!(lowest("guarded") >= 0.0005 + offset - ALLOWED_PENETRATION, "held above the plate:\n{text}");
+    let line = text.lines().find(|l| l.contains("contact at t = ")).unwrap_or_else(|| panic!("{text}"));
+    let time: Real = line
+        .split("t = ")
+        .nth(1)
+        .and_then(|r| r.split_whitespace().next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    let analytic = (25.0 - 0.0005 - offset) / 1000.0;
+    assert!(time <= analytic + 1e-12 && analytic - time < 1e-9, "{time} vs {analytic}");
+}
+
+#[test]
+fn compare_rapier_says_rapier_alone_lets_the_shipped_bullet_through_and_holds_the_ball() {
+    let scene = Scene::load("scenes/bullet_guarded.ron").unwrap_or_else(|e| panic!("{e}"));
+    let result = run(&scene);
+    let first: std::collections::BTreeMap<_, _> =
+        result.contacts.iter().map(|c| ((c.body_a, c.body_b), c.time)).rev().collect();
+    let rows = nearmiss::guard::compare_with_rapier(&scene, &first).expect("rapier runs the scene");
+    assert_eq!(rows.len(), 1);
+    assert_eq!(rows[0].verdict, "passed through", "{rows:?}");
+    assert_eq!(rows[0].rapier, None);
+    // Passed in the step from 0.02 to 0.03 (the plate is reached at 0.02499).
+    assert!((rows[0].passed_through_at.expect("a step") - 0.02).abs() < 1e-12);
+    assert_eq!(rows[0].nearmiss, Some(result.contacts[0].time));
+
+    let scene = Scene::load("scenes/ball_rest.ron").unwrap_or_else(|e| panic!("{e}"));
+    let rows = nearmiss::guard::compare_with_rapier(&scene, &Default::default()).expect("rapier runs it");
+    assert_eq!(rows[0].verdict, "held", "{rows:?}");
+    assert!(rows[0].max_penetration.is_some_and(|d| d <= ALLOWED_PENETRATION));
+}
