@@ -6,18 +6,24 @@
 //! overlap) and the box grows with N^(1/3), so the density stays the same.
 //! Prints the time per step and per stage, and checks that no pair of
 //! bodies ends a run touching.
-//! Usage: `cargo run --release --example many_bodies -- 10 100 1000 [--steps 240]`.
+//! With `--simulate`: the same bodies under `on_contact: Simulate(restitution:
+//! 1.0, friction: 0.0)` (rapier3d solves, nearmiss guards), beside rapier
+//! alone on the same scene in the same run (its CCD on; convex hulls, then
+//! every body a triangle mesh), with the guard's share of each step.
+//! Usage: `cargo run --release --example many_bodies -- 10 100 1000 [--steps 240] [--simulate]`.
 use nearmiss::samples::Rng;
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{run_with, RunOptions};
 
-fn scene(bodies: usize, steps: usize, seed: u64) -> Scene {
+fn scene(bodies: usize, steps: usize, seed: u64, simulate: bool) -> Scene {
     let mut rng = Rng::new(seed);
     let per_side = (bodies as f64).cbrt().ceil() as usize;
     let cell = 1.2;
     let half = cell * per_side as f64 / 2.0;
+    let response =
+        if simulate { "Simulate(restitution: 1.0, friction: 0.0)" } else { "Bounce(restitution: 1.0)" };
     let mut text = format!(
-        "Scene(name: \"box_{bodies}\", dt: 0.004166666666666667, steps: {steps}, on_contact: Bounce(restitution: 1.0), bodies: ["
+        "Scene(name: \"box_{bodies}\", dt: 0.004166666666666667, steps: {steps}, on_contact: {response}, bodies: ["
     );
     // The walls: slabs 0.5 thick just outside the cells.
     let (t, l) = (0.25, half + 0.5);
@@ -67,16 +73,20 @@ fn main() {
         .position(|a| a == "--steps")
         .and_then(|k| args.get(k + 1))
         .map_or(240, |s| s.parse().expect("a step count"));
+    let simulate = args.iter().any(|a| a == "--simulate");
+    if simulate {
+        return simulate_beside_rapier(&args, steps);
+    }
     let counts: Vec<usize> = args
         .iter()
         .enumerate()
-        .filter(|(k, a)| *a != "--steps" && (*k == 0 || args[k - 1] != "--steps"))
+        .filter(|(k, a)| a.parse::<usize>().is_ok() && (*k == 0 || args[k - 1] != "--steps"))
         .map(|(_, a)| a.parse().expect("a body count"))
         .collect();
     println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | respond ms | re-arm ms | trace ms | candidate pairs/step | contacts |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
-        let scene = scene(n, steps, 1);
+        let scene = scene(n, steps, 1, false);
         let result = run_with(&scene, RunOptions::default(), &mut |_| {});
         let steps = result.steps as f64;
         let c = &result.counters;
@@ -114,5 +124,39 @@ fn main() {
             })
             .sum();
         eprintln!("{n} bodies: mesh assets and BVHs {mesh_bytes} bytes");
+    }
+}
+
+/// `--simulate`: nearmiss's Simulate (rapier + guard) beside rapier alone.
+fn simulate_beside_rapier(args: &[String], steps: usize) {
+    let counts: Vec<usize> = args
+        .iter()
+        .enumerate()
+        .filter(|(k, a)| a.parse::<usize>().is_ok() && (*k == 0 || args[k - 1] != "--steps"))
+        .map(|(_, a)| a.parse().expect("a body count"))
+        .collect();
+    println!("| bodies | steps | Simulate steps/s | guard share of a step | guard ms/step | rapier in Simulate ms/step | rapier alone (convex, CCD) steps/s | ratio | rapier alone (triangle meshes, CCD) steps/s | ratio | contacts |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for n in counts {
+        let scene = scene(n, steps, 1, true);
+        let result = run_with(&scene, RunOptions::default(), &mut |_| {});
+        let c = &result.counters;
+        let guard = c.broad_phase_s + c.ccd_s + c.respond_s + c.rearm_s;
+        let steps = result.steps as f64;
+        let ours = steps / result.wall_time_s;
+        let convex = nearmiss::guard::run_rapier_alone(&scene, false).expect("rapier runs");
+        let meshes = nearmiss::guard::run_rapier_alone(&scene, true).expect("rapier runs");
+        let rate = |r: &nearmiss::guard::RapierAlone| r.steps as f64 / r.wall_time_s;
+        println!(
+            "| {n} | {steps} | {ours:.0} | {:.1}% | {:.3} | {:.3} | {:.0} | {:.2} | {:.0} | {:.2} | {} |",
+            100.0 * guard / result.wall_time_s,
+            guard * 1e3 / steps,
+            c.engine_s * 1e3 / steps,
+            rate(&convex),
+            ours / rate(&convex),
+            rate(&meshes),
+            ours / rate(&meshes),
+            result.contacts.len()
+        );
     }
 }

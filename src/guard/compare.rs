@@ -75,7 +75,10 @@ pub fn compare_with_rapier(
     let mut guard =
         Guard::with_scene(watched, rapier.handles.clone(), centers, stoppable, &rapier.parameters, true)?;
     let pairs = scene.movable_pairs();
-    let mut rows: BTreeMap<(usize, usize), (Option<Real>, Option<Real>, Option<Real>)> =
+    // Per pair: rapier's first contact, the step it passed through, the
+    // deepest overlap so far.
+    type Row = (Option<Real>, Option<Real>, Option<Real>);
+    let mut rows: BTreeMap<(usize, usize), Row> =
         pairs.iter().map(|&p| (p, (None, None, Some(0.0)))).collect();
     let mut touching_before: Vec<bool> = pairs.iter().map(|&(a, b)| rapier.in_contact(a, b)).collect();
     for step in 0..scene.steps {
@@ -156,4 +159,36 @@ pub fn rapier_markdown(rows: &[RapierPair]) -> String {
         ));
     }
     out
+}
+
+/// A run of a scene in rapier alone, for speed comparisons.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct RapierAlone {
+    /// Steps run.
+    pub steps: u64,
+    /// Wall time of the steps (not the set-up), seconds.
+    pub wall_time_s: Real,
+}
+
+/// Runs `scene` in rapier alone, its CCD on for every moving body, each
+/// body given its convex hull where the mesh is convex (or, with
+/// `triangle_meshes`, every body its triangle mesh), and times the steps.
+pub fn run_rapier_alone(scene: &Scene, triangle_meshes: bool) -> Result<RapierAlone, super::GuardError> {
+    let mut scene = scene.clone();
+    if triangle_meshes {
+        for body in &mut scene.bodies {
+            let material = body.material.get_or_insert(crate::scene::Material {
+                friction: crate::scene::file::DEFAULT_FRICTION,
+                restitution: 0.0,
+                triangle_mesh: true,
+            });
+            material.triangle_mesh = true;
+        }
+    }
+    let mut rapier = RapierScene::build(&scene, true)?;
+    let clock = std::time::Instant::now();
+    for step in 0..scene.steps {
+        rapier.step(&scene, step);
+    }
+    Ok(RapierAlone { steps: scene.steps, wall_time_s: clock.elapsed().as_secs_f64() })
 }

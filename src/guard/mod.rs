@@ -52,7 +52,9 @@ mod compare;
 mod shapes;
 pub(crate) mod simulate;
 
-pub use compare::{compare_with_rapier, rapier_markdown, RapierPair, PENETRATION_LIMIT_FACTOR};
+pub use compare::{
+    compare_with_rapier, rapier_markdown, run_rapier_alone, RapierAlone, RapierPair, PENETRATION_LIMIT_FACTOR,
+};
 
 use std::sync::Arc;
 
