@@ -77,12 +77,7 @@ fn main() {
     if simulate {
         return simulate_beside_rapier(&args, steps);
     }
-    let counts: Vec<usize> = args
-        .iter()
-        .enumerate()
-        .filter(|(k, a)| a.parse::<usize>().is_ok() && (*k == 0 || args[k - 1] != "--steps"))
-        .map(|(_, a)| a.parse().expect("a body count"))
-        .collect();
+    let counts = body_counts(args.as_slice());
     println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | respond ms | re-arm ms | trace ms | candidate pairs/step | contacts |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
@@ -129,12 +124,7 @@ fn main() {
 
 /// `--simulate`: nearmiss's Simulate (rapier + guard) beside rapier alone.
 fn simulate_beside_rapier(args: &[String], steps: usize) {
-    let counts: Vec<usize> = args
-        .iter()
-        .enumerate()
-        .filter(|(k, a)| a.parse::<usize>().is_ok() && (*k == 0 || args[k - 1] != "--steps"))
-        .map(|(_, a)| a.parse().expect("a body count"))
-        .collect();
+    let counts = body_counts(args.as_slice());
     println!("| bodies | steps | Simulate steps/s | guard share of a step | guard ms/step | rapier in Simulate ms/step | rapier alone (convex, CCD) steps/s | ratio | rapier alone (triangle meshes, CCD) steps/s | ratio | contacts |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
@@ -159,4 +149,13 @@ fn simulate_beside_rapier(args: &[String], steps: usize) {
             result.contacts.len()
         );
     }
+}
+
+/// The body counts among the arguments (the numbers that are not `--steps`'s value).
+fn body_counts(args: &[String]) -> Vec<usize> {
+    args.iter()
+        .enumerate()
+        .filter(|(k, a)| a.parse::<usize>().is_ok() && (*k == 0 || args[k - 1] != "--steps"))
+        .map(|(_, a)| a.parse().expect("a body count"))
+        .collect()
 }
