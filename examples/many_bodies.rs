@@ -77,7 +77,7 @@ fn main() {
     if simulate {
         return simulate_beside_rapier(&args, steps);
     }
-    let counts = body_counts(&args[..]);
+    let counts = body_counts(&args);
     println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | respond ms | re-arm ms | trace ms | candidate pairs/step | contacts |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
@@ -124,7 +124,7 @@ fn main() {
 
 /// `--simulate`: nearmiss's Simulate (rapier + guard) beside rapier alone.
 fn simulate_beside_rapier(args: &[String], steps: usize) {
-    let counts = body_counts(&args[..]);
+    let counts = body_counts(args);
     println!("| bodies | steps | Simulate steps/s | guard share of a step | guard ms/step | rapier in Simulate ms/step | rapier alone (convex, CCD) steps/s | ratio | rapier alone (triangle meshes, CCD) steps/s | ratio | contacts |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
