@@ -142,14 +142,6 @@ pub enum GuardError {
         /// rapier's prediction distance.
         prediction: Real,
     },
-    /// rapier's step differs from the one the guard was made for.
-    #[error("rapier's step changed from {expected} to {found}: make a new guard for another dt")]
-    StepChanged {
-        /// The guard's step.
-        expected: Real,
-        /// rapier's.
-        found: Real,
-    },
     /// `after_step` without `before_step`.
     #[error("after_step was called without before_step")]
     NoStartPoses,
@@ -189,7 +181,8 @@ pub struct Guard {
 
 impl Guard {
     /// A guard of the bodies `guarded` (their colliders' triangles) for
-    /// steps of `parameters.dt`.
+    /// steps of `parameters.dt` (every step: for another dt, make another
+    /// guard).
     pub fn new(
         bodies: &RigidBodySet,
         colliders: &rapier3d_f64::prelude::ColliderSet,
