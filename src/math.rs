@@ -40,6 +40,15 @@ pub fn pose_to_parry(pose: &Pose) -> parry3d_f64::math::Pose {
     parry3d_f64::math::Pose::from_parts(parry3d_f64::math::Vector::new(t.x, t.y, t.z), rotation)
 }
 
+/// Converts parry's pose back to a nalgebra one (the quaternion taken as
+/// it is: no renormalisation, so a round trip keeps every bit).
+#[inline]
+pub fn pose_from_parry(pose: &parry3d_f64::math::Pose) -> Pose {
+    let q = pose.rotation;
+    let rotation = nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(q.w, q.x, q.y, q.z));
+    Pose::from_parts(nalgebra::Translation3::from(from_parry(pose.translation).coords), rotation)
+}
+
 /// Converts a vector to parry's.
 #[inline]
 pub fn vector_to_parry(v: &Vector) -> parry3d_f64::math::Vector {

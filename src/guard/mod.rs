@@ -58,13 +58,13 @@ pub use compare::{
 
 use std::sync::Arc;
 
-use nalgebra::{Translation3, UnitQuaternion};
+use nalgebra::Translation3;
 use rapier3d_f64::prelude::{IntegrationParameters, RigidBody, RigidBodyHandle, RigidBodySet};
 
 pub use shapes::{collider_for, is_convex, mesh_of_body, ColliderShape, CONVEXITY_TOLERANCE};
 
 use crate::ccd::CcdOptions;
-use crate::math::{from_parry, pose_to_parry, Pose, Real, Vector};
+use crate::math::{from_parry, pose_from_parry, pose_to_parry, Pose, Real, Vector};
 use crate::mesh::DistanceKernel;
 use crate::motion::StepMotion;
 use crate::response::Clamp;
@@ -374,11 +374,8 @@ impl Guard {
 
 /// The pose of a body's centre of mass (`center`, body frame).
 fn center_pose(body: &RigidBody, center: &Vector) -> Pose {
-    let position = body.position();
-    let q = position.rotation;
-    let rotation = UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(q.w, q.x, q.y, q.z));
-    let origin = from_parry(position.translation).coords;
-    Pose::from_parts(Translation3::from(origin + rotation * center), rotation)
+    let pose = pose_from_parry(body.position());
+    Pose::from_parts(Translation3::from(pose.translation.vector + pose.rotation * center), pose.rotation)
 }
 
 /// The body-frame pose whose centre of mass (`center`) is at `center_pose`.

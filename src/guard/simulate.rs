@@ -16,7 +16,9 @@ use rapier3d_f64::prelude::{
 };
 
 use super::{collider_for, ColliderShape, Guard, GuardError};
-use crate::math::{from_parry, pose_to_parry, to_parry, vector_to_parry, Point, Real, Vector};
+use crate::math::{
+    from_parry, pose_from_parry, pose_to_parry, to_parry, vector_to_parry, Point, Real, Vector,
+};
 use crate::motion::{RigidState, StepMotion};
 use crate::scene::{BodyMotion, OnContact, Scene};
 use crate::stepper::{RunOptions, RunResult, Solver, Termination};
@@ -210,11 +212,10 @@ impl RapierScene {
 
 /// A rapier body's state.
 fn rigid_state(body: &rapier3d_f64::prelude::RigidBody) -> RigidState {
-    let position = body.position();
-    let q = position.rotation;
+    let pose = pose_from_parry(body.position());
     RigidState {
-        position: from_parry(position.translation),
-        orientation: nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(q.w, q.x, q.y, q.z)),
+        position: Point::from(pose.translation.vector),
+        orientation: pose.rotation,
         velocity: from_parry(body.linvel()).coords,
         angular_velocity: from_parry(body.angvel()).coords,
     }
