@@ -38,18 +38,22 @@
 //! the origin, or next to a body of 1e8, the coordinates themselves carry
 //! that much rounding.
 //!
-//! Two cheap tests come first: the bounding spheres about the centres of
+//! Three cheap tests come first: the bounding spheres about the centres of
 //! mass (whose distance is exact over the step, the centres moving
-//! linearly), and a lower bound on the distance carried over from the
-//! previous step (`lower_bound`), which lets a far pair skip the step
+//! linearly), a lower bound on the distance carried over from the
+//! previous step (`lower_bound`), and the gap between the convex hulls of
+//! the two meshes' vertices at the step's start (GJK, `hull_gap.rs`,
+//! started from the previous step's axis), less the head-on bound of the
+//! motion over the step. Each lets a pair that stays apart skip the step
 //! without any search.
 
 use super::advance::ROUNDING_FLOOR_ULPS;
 use super::contact::{ContactContract, ContactRule};
+use super::hull_gap::hull_gap;
 use super::mesh_bound::{PairFrame, SPIN_SWEEP_AFTER_ITERATIONS};
 use super::mesh_search::{Front, SearchMeshes, StepLimits, StepOutcome, StepWork};
 use super::options::{CcdOptions, CcdStatus};
-use crate::math::{Pose, Real};
+use crate::math::{Pose, Real, Vector};
 use crate::mesh::distance::triangle_pair_distance;
 use crate::mesh::{
     mesh_distance_relative, DistanceKernel, DistanceSearch, MeshDistance, MeshDistanceScratch, TriMesh,
@@ -95,6 +99,10 @@ pub struct MeshCcdResult {
     pub end_lower_bound: Real,
     /// The last closest triangle pair, a good first guess for the next query.
     pub hint: Option<(usize, usize)>,
+    /// The direction (world frame, from `a` towards `b`) along which the
+    /// hulls' gap was measured at the step's start, a good first guess for
+    /// the next query.
+    pub axis: Option<Vector>,
     /// Advancement steps searched (0 when a filter settled the step).
     pub iterations: usize,
     /// Triangle pairs evaluated over all searches.
@@ -151,6 +159,9 @@ pub struct WarmStart {
     /// A triangle pair to seed the search (the previous query's
     /// [`MeshCcdResult::hint`]).
     pub hint: Option<(usize, usize)>,
+    /// A direction (world frame, from `a` towards `b`) to start the hulls'
+    /// gap from (the previous query's [`MeshCcdResult::axis`]).
+    pub axis: Option<Vector>,
 }
 
 /// Reusable buffers of [`mesh_time_of_impact`]: queries do not allocate
@@ -171,7 +182,7 @@ pub fn mesh_time_of_impact(
     scratch: &mut MeshCcdScratch,
 ) -> MeshCcdResult {
     let MeshCcdQuery { a, b, duration, ref options, contact, kernel } = *query;
-    let WarmStart { lower_bound, hint } = warm;
+    let WarmStart { lower_bound, hint, axis } = warm;
     let (ra, rb) = (a.mesh.radius(), b.mesh.radius());
     let speed = (a.motion.velocity - b.motion.velocity).norm()
         + a.motion.angular_velocity.norm() * ra
@@ -203,6 +214,7 @@ pub fn mesh_time_of_impact(
         guaranteed_distance: target,
         end_lower_bound: 0.0,
         hint,
+        axis,
         iterations: 0,
         triangle_pairs: 0,
         node_pairs: 0,
@@ -223,7 +235,31 @@ pub fn mesh_time_of_impact(
         result.end_lower_bound = (carried - speed * duration).max(spheres_at(duration));
         return result;
     }
-
+    // The hulls' gap at the start along a world direction n, less what the
+    // motion can close along n: the centres' approach along n and each
+    // body's turn, at most |n × ω| r (and the rounding of the gap's dot
+    // products, within the floor). GJK stops early once the head-on bound
+    // is beaten, or once the hulls come within the target.
+    let rotation_a = a.motion.rotation_at(0.0);
+    let gap = hull_gap(
+        a.mesh,
+        b.mesh,
+        &StepMotion::relative_pose(a.motion, b.motion, 0.0),
+        axis.map(|axis| rotation_a.inverse_transform_vector(&axis)),
+        (target + floor, target + floor + speed * duration),
+    );
+    if let Some(local) = gap.axis {
+        let n = rotation_a * local;
+        let closing = (a.motion.velocity - b.motion.velocity).dot(&n)
+            + n.cross(&a.motion.angular_velocity).norm() * ra
+            + n.cross(&b.motion.angular_velocity).norm() * rb;
+        result.axis = Some(n);
+        let end = gap.lower - floor - closing * duration;
+        if gap.lower - floor - closing.max(0.0) * duration > target {
+            result.end_lower_bound = end.max(spheres_at(duration));
+            return result;
+        }
+    }
     let relative_velocity = b.motion.velocity - a.motion.velocity;
     let (omega_a, omega_b) = (a.motion.angular_velocity, b.motion.angular_velocity);
     // A step shorter than this proves nothing a triangle pair outside the

@@ -44,6 +44,7 @@
 mod advance;
 mod contact;
 mod edge_edge;
+mod hull_gap;
 mod mesh_bound;
 mod mesh_pair;
 mod mesh_search;

@@ -47,6 +47,7 @@ struct OutcomeSummary {
     iterations: usize,
     triangle_pairs: usize,
     hint: Option<(usize, usize)>,
+    axis: Option<crate::math::Vector>,
     end_lower_bound: Real,
 }
 
@@ -57,6 +58,7 @@ impl From<MeshCcdResult> for PairOutcome {
                 iterations: result.iterations,
                 triangle_pairs: result.triangle_pairs,
                 hint: result.hint,
+                axis: result.axis,
                 end_lower_bound: result.end_lower_bound,
             },
             contact: result.time_of_impact.is_some().then(|| Box::new(result)),
@@ -128,6 +130,7 @@ impl Stepper {
             self.counters.triangle_pairs += result.triangle_pairs;
             self.counters.pairs_culled += usize::from(result.iterations == 0);
             pair.hint = result.hint;
+            pair.axis = result.axis;
             pair.lower_bound = Some(result.end_lower_bound);
             let Some(contact) = outcome.contact.take() else { continue };
             if contact.status == CcdStatus::OutOfIterations {

@@ -5,7 +5,7 @@
 
 use super::result::Contact;
 use crate::ccd::{MeshCcdResult, WarmStart};
-use crate::math::{Point, Real};
+use crate::math::{Point, Real, Vector};
 use crate::motion::{RigidState, StepMotion};
 use crate::response::ImpactBody;
 use crate::scene::{BodyMotion, Scene};
@@ -52,6 +52,8 @@ pub(crate) struct PairState {
     pub lower_bound: Option<Real>,
     /// The last closest triangle pair.
     pub hint: Option<(usize, usize)>,
+    /// The last direction of the hulls' gap (world frame).
+    pub axis: Option<Vector>,
     /// In contact (`on_contact: Record` or `Bounce`): not re-reported until
     /// it separates (`Bounce`: until it comes within a fraction of this
     /// distance).
@@ -69,12 +71,12 @@ pub(crate) struct Touching {
 
 impl PairState {
     pub fn new(a: usize, b: usize) -> PairState {
-        PairState { a, b, lower_bound: None, hint: None, touching: None }
+        PairState { a, b, lower_bound: None, hint: None, axis: None, touching: None }
     }
 
     /// What the pair's next CCD query may start from.
     pub fn warm_start(&self) -> WarmStart {
-        WarmStart { lower_bound: self.lower_bound, hint: self.hint }
+        WarmStart { lower_bound: self.lower_bound, hint: self.hint, axis: self.axis }
     }
 }
 

@@ -1,0 +1,370 @@
+//! A lower bound on the distance between two meshes from the convex hulls
+//! of their vertices, by GJK (Gilbert–Johnson–Keerthi): the cheap test that
+//! lets a pair whose meshes stay apart over a step skip the BVH search.
+//!
+//! ## Why it is a bound whatever GJK does
+//! A mesh lies inside the convex hull of its vertices, so two meshes are at
+//! least as far apart as their hulls, and for any unit direction `n` the
+//! hulls are at least
+//!
+//! ```text
+//! gap(n) = min_b n·b − max_a n·a
+//! ```
+//!
+//! apart (the gap between their shadows on `n`). The maxima are taken over
+//! every vertex (no hull is built), so each `gap(n)` holds exactly, up to
+//! the rounding of the dot products. GJK only proposes the directions: each
+//! iteration's direction towards the closest point of its simplex; the
+//! bound is the best gap seen. For convex meshes (boxes, icospheres) GJK
+//! converges to the meshes' own distance; for others, to their hulls'.
+//!
+//! The search stops as soon as it has what the caller needs: a gap above
+//! `enough` (the pair can be skipped), or a point of the hulls' difference
+//! within `close` of the origin (the hulls come that close, so no
+//! direction can prove more than `close`), or converged.
+
+use crate::math::{Pose, Real, Vector};
+use crate::mesh::TriMesh;
+
+/// GJK iterations at most. A warm-started query takes one to three; 24 is
+/// ample for the polytopes of a few thousand vertices GJK meets here (it
+/// converges in a few iterations per face of the final simplex).
+pub const HULL_GAP_MAX_ITERATIONS: usize = 24;
+
+/// GJK stops once its upper bound (the distance to its simplex) and its
+/// best gap agree to this fraction: the bound is then within 1e-9 of the
+/// hulls' distance, far below any contact distance.
+pub const HULL_GAP_RELATIVE_TOLERANCE: Real = 1e-9;
+
+/// The answer of [`hull_gap`].
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) struct HullGap {
+    /// A lower bound on the distance between the two meshes (negative or
+    /// `-inf` when none better was found, e.g. the hulls overlap).
+    pub lower: Real,
+    /// The unit direction (in `a`'s frame, from `a` towards `b`) that gave
+    /// `lower`, a good start for the pair's next query.
+    pub axis: Option<Vector>,
+    /// GJK iterations made.
+    pub iterations: usize,
+}
+
+/// A lower bound on the distance between mesh `a` (in its own frame) and
+/// mesh `b` at `pos_ab` (relative to `a`), found by GJK starting from
+/// `start` (a direction from `a` towards `b`; default: the line between
+/// their frames' origins). Stops once the bound exceeds `enough` or the
+/// hulls are proven within `close` (see the module).
+pub(crate) fn hull_gap(
+    a: &TriMesh,
+    b: &TriMesh,
+    pos_ab: &Pose,
+    start: Option<Vector>,
+    (close, enough): (Real, Real),
+) -> HullGap {
+    let rotation = pos_ab.rotation;
+    let translation = pos_ab.translation.vector;
+    // The point of b − a farthest along `-v`: b's lowest vertex along v
+    // minus a's highest.
+    let support = |v: &Vector| -> Vector {
+        let in_b = rotation.inverse_transform_vector(v);
+        let lowest_b = extreme(b, &-in_b);
+        let highest_a = extreme(a, v);
+        rotation * lowest_b + translation - highest_a
+    };
+    let mut v = match start {
+        Some(axis) if axis.norm_squared() > 0.0 => axis,
+        _ if translation.norm_squared() > 0.0 => translation,
+        _ => Vector::x(),
+    };
+    let mut answer = HullGap { lower: Real::NEG_INFINITY, axis: None, iterations: 0 };
+    let mut simplex = Simplex::default();
+    // Whether `v` is the closest point of the simplex (else the start).
+    let mut on_simplex = false;
+    while answer.iterations < HULL_GAP_MAX_ITERATIONS {
+        answer.iterations += 1;
+        let norm = v.norm();
+        if norm == 0.0 || !norm.is_finite() {
+            break;
+        }
+        let w = support(&v);
+        let gap = v.dot(&w) / norm;
+        if gap > answer.lower {
+            answer.lower = gap;
+            answer.axis = Some(v / norm);
+        }
+        if answer.lower > enough {
+            break;
+        }
+        if on_simplex {
+            // `v` is a point of the hulls' difference: they come this close.
+            if norm <= close || norm - answer.lower <= HULL_GAP_RELATIVE_TOLERANCE * norm {
+                break;
+            }
+            if simplex.points[..simplex.len].contains(&w) {
+                break;
+            }
+        }
+        simplex.push(w);
+        let closer = simplex.closest_to_origin();
+        if on_simplex && closer.norm_squared() >= v.norm_squared() {
+            // No progress (rounding at a face): the bound stands.
+            break;
+        }
+        v = closer;
+        on_simplex = true;
+    }
+    answer
+}
+
+/// The vertex of `mesh` farthest along `direction`: an exact maximum over
+/// every vertex (up to the rounding of the dot products).
+fn extreme(mesh: &TriMesh, direction: &Vector) -> Vector {
+    let vertices = mesh.vertices();
+    let mut best = 0;
+    let mut best_value = Real::NEG_INFINITY;
+    for (k, p) in vertices.iter().enumerate() {
+        let value = direction.x * p.x + direction.y * p.y + direction.z * p.z;
+        if value > best_value {
+            best_value = value;
+            best = k;
+        }
+    }
+    vertices[best].coords
+}
+
+/// GJK's simplex: up to four points of the hulls' difference.
+#[derive(Copy, Clone, Debug, Default)]
+struct Simplex {
+    points: [Vector; 4],
+    len: usize,
+}
+
+impl Simplex {
+    fn push(&mut self, w: Vector) {
+        self.points[self.len] = w;
+        self.len += 1;
+    }
+
+    /// The point of the simplex closest to the origin; the simplex keeps
+    /// only the points that span it (empty when the origin is inside: the
+    /// hulls overlap, and the zero vector is returned).
+    fn closest_to_origin(&mut self) -> Vector {
+        let p = self.points;
+        let (closest, kept) = match self.len {
+            1 => (p[0], Kept::of(&[0])),
+            2 => closest_on_segment(p[0], p[1]),
+            3 => closest_on_triangle(p[0], p[1], p[2]),
+            _ => closest_on_tetrahedron(&p),
+        };
+        self.len = 0;
+        for k in kept.indices() {
+            self.points[self.len] = p[k];
+            self.len += 1;
+        }
+        closest
+    }
+}
+
+/// Which of a simplex's points span the closest point (indices, in order).
+#[derive(Copy, Clone, Debug, Default)]
+struct Kept {
+    indices: [usize; 3],
+    len: usize,
+}
+
+impl Kept {
+    fn of(indices: &[usize]) -> Kept {
+        let mut kept = Kept::default();
+        for &k in indices {
+            kept.indices[kept.len] = k;
+            kept.len += 1;
+        }
+        kept
+    }
+
+    fn indices(&self) -> impl Iterator<Item = usize> + '_ {
+        self.indices[..self.len].iter().copied()
+    }
+
+    /// The same points, renumbered through `map`.
+    fn mapped(self, map: [usize; 3]) -> Kept {
+        let mut kept = self;
+        for k in &mut kept.indices[..kept.len] {
+            *k = map[*k];
+        }
+        kept
+    }
+}
+
+/// The point of segment `[a, b]` closest to the origin.
+fn closest_on_segment(a: Vector, b: Vector) -> (Vector, Kept) {
+    let ab = b - a;
+    let length2 = ab.norm_squared();
+    let t = if length2 > 0.0 { -a.dot(&ab) / length2 } else { 0.0 };
+    if t <= 0.0 {
+        (a, Kept::of(&[0]))
+    } else if t >= 1.0 {
+        (b, Kept::of(&[1]))
+    } else {
+        (a + ab * t, Kept::of(&[0, 1]))
+    }
+}
+
+/// The point of triangle `abc` closest to the origin, by its Voronoi
+/// regions (vertices, edges, face).
+fn closest_on_triangle(a: Vector, b: Vector, c: Vector) -> (Vector, Kept) {
+    let (ab, ac) = (b - a, c - a);
+    let (d1, d2) = (-ab.dot(&a), -ac.dot(&a));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return (a, Kept::of(&[0]));
+    }
+    let (d3, d4) = (-ab.dot(&b), -ac.dot(&b));
+    if d3 >= 0.0 && d4 <= d3 {
+        return (b, Kept::of(&[1]));
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return (a + ab * (d1 / (d1 - d3)), Kept::of(&[0, 1]));
+    }
+    let (d5, d6) = (-ab.dot(&c), -ac.dot(&c));
+    if d6 >= 0.0 && d5 <= d6 {
+        return (c, Kept::of(&[2]));
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return (a + ac * (d2 / (d2 - d6)), Kept::of(&[0, 2]));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        let t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return (b + (c - b) * t, Kept::of(&[1, 2]));
+    }
+    let sum = va + vb + vc;
+    if sum.is_nan() || sum <= 0.0 {
+        // A degenerate triangle: the best of its edges.
+        let edges = [closest_on_segment(a, b), closest_on_segment(a, c), closest_on_segment(b, c)];
+        let maps = [[0, 1, 0], [0, 2, 0], [1, 2, 0]];
+        let (k, (point, kept)) = edges
+            .into_iter()
+            .enumerate()
+            .min_by(|x, y| x.1 .0.norm_squared().total_cmp(&y.1 .0.norm_squared()))
+            .expect("three edges");
+        return (point, kept.mapped(maps[k]));
+    }
+    (a + ab * (vb / sum) + ac * (vc / sum), Kept::of(&[0, 1, 2]))
+}
+
+/// The point of tetrahedron `p` closest to the origin: the closest over the
+/// faces the origin lies outside of, or the origin itself when inside
+/// (returned with no point kept).
+fn closest_on_tetrahedron(p: &[Vector; 4]) -> (Vector, Kept) {
+    const FACES: [([usize; 3], usize); 4] = [([0, 1, 2], 3), ([0, 1, 3], 2), ([0, 2, 3], 1), ([1, 2, 3], 0)];
+    let mut best: Option<(Vector, Kept)> = None;
+    for (face, opposite) in FACES {
+        let [i, j, k] = face;
+        let normal = (p[j] - p[i]).cross(&(p[k] - p[i]));
+        // The origin and the opposite vertex on different sides (or a flat
+        // tetrahedron): the face may hold the closest point.
+        if normal.dot(&-p[i]) * normal.dot(&(p[opposite] - p[i])) <= 0.0 {
+            let (point, kept) = closest_on_triangle(p[i], p[j], p[k]);
+            if best.is_none_or(|(b, _)| point.norm_squared() < b.norm_squared()) {
+                best = Some((point, kept.mapped(face)));
+            }
+        }
+    }
+    best.unwrap_or((Vector::zeros(), Kept::default()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{box_mesh, icosphere};
+    use nalgebra::{Translation3, UnitQuaternion};
+
+    fn unit_box() -> TriMesh {
+        box_mesh(&Vector::new(1.0, 1.0, 1.0)).expect("a box")
+    }
+
+    #[test]
+    fn two_boxes_face_to_face_give_their_gap() {
+        let (a, b) = (unit_box(), unit_box());
+        // Centres 2.5 apart along x: the faces are 0.5 apart.
+        let pose = Pose::from_parts(Translation3::new(2.5, 0.3, -0.2), UnitQuaternion::identity());
+        // Asked for a bound just below the distance, it finds one.
+        let gap = hull_gap(&a, &b, &pose, None, (0.5 - 1e-12, 0.5 - 1e-12));
+        assert!(gap.lower > 0.5 - 1e-12 && gap.lower <= 0.5 + 1e-15, "{gap:?}");
+        // Asked for more than the distance, it stops on an upper bound.
+        let gap = hull_gap(&a, &b, &pose, None, (0.6, 0.6));
+        assert!(gap.lower <= 0.5 + 1e-15, "{gap:?}");
+    }
+
+    #[test]
+    fn a_rotated_box_corner_to_face() {
+        let (a, b) = (unit_box(), unit_box());
+        // b turned so that a corner points at a's +x face: the corner lies
+        // sqrt(3) from b's centre.
+        let rotation =
+            UnitQuaternion::rotation_between(&Vector::new(-1.0, -1.0, -1.0), &Vector::new(-1.0, 0.0, 0.0))
+                .expect("a rotation");
+        let pose = Pose::from_parts(Translation3::new(1.0 + 3f64.sqrt() + 0.25, 0.0, 0.0), rotation);
+        let gap = hull_gap(&a, &b, &pose, Some(Vector::new(0.0, 1.0, 0.0)), (0.25 - 1e-9, 0.25 - 1e-9));
+        assert!(gap.lower > 0.25 - 1e-9 && gap.lower <= 0.25 + 1e-12, "{gap:?}");
+    }
+
+    #[test]
+    fn overlapping_boxes_give_no_positive_bound() {
+        let (a, b) = (unit_box(), unit_box());
+        let pose = Pose::from_parts(Translation3::new(1.5, 0.0, 0.0), UnitQuaternion::identity());
+        let gap = hull_gap(&a, &b, &pose, None, (0.0, 0.0));
+        assert!(gap.lower <= 0.0, "{gap:?}");
+    }
+
+    #[test]
+    fn stops_once_the_bound_is_enough() {
+        let (a, b) = (unit_box(), unit_box());
+        let pose = Pose::from_parts(Translation3::new(10.0, 0.0, 0.0), UnitQuaternion::identity());
+        let gap = hull_gap(&a, &b, &pose, None, (1.0, 1.0));
+        assert_eq!(gap.iterations, 1);
+        assert!(gap.lower > 1.0);
+    }
+
+    /// The bound never exceeds the meshes' distance (the exact triangle
+    /// search), over random poses of two icospheres and a box.
+    #[test]
+    fn never_above_the_mesh_distance() {
+        let meshes = [
+            icosphere(0.7, 1).expect("an icosphere"),
+            unit_box(),
+            icosphere(0.4, 0).expect("an icosahedron"),
+        ];
+        let mut rng = crate::samples::Rng::new(7);
+        let mut scratch = crate::mesh::MeshDistanceScratch::default();
+        for k in 0..300 {
+            let (a, b) = (&meshes[k % 3], &meshes[(k / 3) % 3]);
+            let axis = rng.in_unit_ball();
+            let rotation = UnitQuaternion::from_scaled_axis(axis * 3.0);
+            let offset = rng.in_unit_ball() * 4.0;
+            let pose = Pose::from_parts(Translation3::from(offset), rotation);
+            let exact = crate::mesh::mesh_distance_relative(
+                a,
+                b,
+                &pose,
+                &crate::mesh::DistanceSearch::new(crate::mesh::DistanceKernel::Exact, None),
+                &mut scratch,
+            )
+            .distance;
+            // Asked for more than the distance: never above it.
+            let gap = hull_gap(a, b, &pose, None, (exact + 0.1, exact + 0.1));
+            assert!(gap.lower <= exact + 1e-12, "case {k}: bound {} above distance {exact}", gap.lower);
+            // Convex meshes whose bounding spheres are apart (so neither is
+            // inside the other): asked for a bound just below their
+            // distance, GJK finds one.
+            if offset.norm() > a.radius() + b.radius() {
+                let wanted = exact - 1e-9 * (1.0 + exact);
+                let gap = hull_gap(a, b, &pose, None, (wanted, wanted));
+                assert!(gap.lower > wanted, "case {k}: bound {} below {wanted}", gap.lower);
+                assert!(gap.lower <= exact + 1e-12, "case {k}: bound {} above distance {exact}", gap.lower);
+            }
+        }
+    }
+}
