@@ -10,9 +10,9 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use rapier3d_f64::prelude::{
-    CCDSolver, ColliderSet, DefaultBroadPhase, ImpulseJointSet, IntegrationParameters, IslandManager,
-    MassProperties, MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyBuilder, RigidBodyHandle,
-    RigidBodySet, SoftBodySet,
+    CCDSolver, ColliderBuilder, ColliderSet, DefaultBroadPhase, ImpulseJointSet, IntegrationParameters,
+    IslandManager, MassProperties, MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyBuilder,
+    RigidBodyHandle, RigidBodySet, SharedShape, SoftBodySet,
 };
 
 use super::{collider_for, ColliderShape, Guard, GuardError};
@@ -70,6 +70,10 @@ impl RapierScene {
         let mut handles = Vec::with_capacity(scene.bodies.len());
         let mut shapes = Vec::with_capacity(scene.bodies.len());
         let mut gravity = Vector::zeros();
+        // One collider shape per mesh asset (and shape kind): bodies of one
+        // mesh share it, as they share the mesh (a thousand icospheres are
+        // one convexity check and one hull).
+        let mut built: Vec<(*const crate::mesh::TriMesh, bool, SharedShape, ColliderShape)> = Vec::new();
         for body in &scene.bodies {
             let builder = match &body.motion {
                 BodyMotion::Fixed => RigidBodyBuilder::fixed(),
@@ -101,9 +105,20 @@ impl RapierScene {
                 restitution,
                 triangle_mesh: false,
             });
-            let (collider, shape) = collider_for(&body.mesh, material.triangle_mesh)
-                .map_err(|error| GuardError::Shape { body: body.name.clone(), message: error.to_string() })?;
-            let mut collider = collider.friction(material.friction).restitution(material.restitution);
+            let asset = (Arc::as_ptr(&body.mesh), material.triangle_mesh);
+            let (shared, shape) = match built.iter().find(|(mesh, kind, ..)| (*mesh, *kind) == asset) {
+                Some((_, _, shared, shape)) => (shared.clone(), *shape),
+                None => {
+                    let (collider, shape) =
+                        collider_for(&body.mesh, material.triangle_mesh).map_err(|error| {
+                            GuardError::Shape { body: body.name.clone(), message: error.to_string() }
+                        })?;
+                    built.push((asset.0, asset.1, collider.shape.clone(), shape));
+                    (collider.shape, shape)
+                }
+            };
+            let mut collider =
+                ColliderBuilder::new(shared).friction(material.friction).restitution(material.restitution);
             if let (Some(mass), Some(inertia)) = (body.mass, body.inertia) {
                 let inertia = glam_matrix(&inertia);
                 collider = collider.mass_properties(MassProperties::with_inertia_matrix(

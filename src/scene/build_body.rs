@@ -62,7 +62,7 @@ impl Builder<'_> {
 
     /// Every body, and each one's centre of mass offset from its mesh's origin.
     pub(super) fn bodies(&self, settings: &[BodySettings], base: &Path) -> Result<(Vec<Body>, Vec<Vector>)> {
-        let mut assets: HashMap<String, Arc<TriMesh>> = HashMap::new();
+        let mut assets = Assets::default();
         let mut bodies = Vec::with_capacity(settings.len());
         let mut centers = Vec::with_capacity(settings.len());
         for (i, settings) in settings.iter().enumerate() {
@@ -197,7 +197,7 @@ impl Builder<'_> {
         i: usize,
         settings: &BodySettings,
         base: &Path,
-        assets: &mut HashMap<String, Arc<TriMesh>>,
+        assets: &mut Assets,
     ) -> Result<(Body, Vector)> {
         let field = |name: &str| format!("bodies[{i}].{name}");
         let scale = self.positive(&field("scale"), settings.scale)?;
@@ -208,7 +208,7 @@ impl Builder<'_> {
 
         let key = format!("{:?}|{scale:e}", settings.mesh);
         let mesh_field = field("mesh");
-        let shape = match assets.get(&key) {
+        let shape = match assets.meshes.get(&key) {
             Some(shape) => shape.clone(),
             None => {
                 let built = self.mesh(&mesh_field, &settings.mesh, base)?;
@@ -221,7 +221,7 @@ impl Builder<'_> {
                 };
                 self.check_mesh_range(&mesh_field, &scaled)?;
                 let shape = Arc::new(scaled);
-                assets.insert(key.clone(), shape.clone());
+                assets.meshes.insert(key.clone(), shape.clone());
                 shape
             }
         };
@@ -254,13 +254,22 @@ impl Builder<'_> {
                     return self
                         .invalid(field("density"), "give `density`, or `mass` and `inertia`, not both");
                 }
-                if let Err(error) = shape.check_closed() {
-                    return self.invalid(
-                        field("density"),
-                        format!("mass properties from a density need a closed mesh: {error}"),
-                    );
-                }
-                let Some(props) = shape.mass_properties() else {
+                // Checked once per asset: a thousand bodies of one mesh
+                // are one check.
+                let solid = assets
+                    .solids
+                    .entry(key.clone())
+                    .or_insert_with(|| shape.check_closed().map(|()| shape.mass_properties()));
+                let props = match solid {
+                    Ok(props) => *props,
+                    Err(error) => {
+                        return self.invalid(
+                            field("density"),
+                            format!("mass properties from a density need a closed mesh: {error}"),
+                        )
+                    }
+                };
+                let Some(props) = props else {
                     return self.invalid(
                         field("density"),
                         "the mesh encloses no positive volume (open, or triangles facing inward): mass properties need a closed mesh",
@@ -276,6 +285,7 @@ impl Builder<'_> {
                 // The recentred mesh is an asset of its own, shared likewise.
                 let centered = format!("{key}|centred");
                 assets
+                    .meshes
                     .entry(centered)
                     .or_insert_with(|| Arc::new(shape.recentered(&props.center_of_mass)))
                     .clone()
@@ -368,4 +378,12 @@ impl Builder<'_> {
             }
         }
     }
+}
+
+/// What the bodies of a scene share, by mesh key: the meshes, and whether
+/// each is a closed solid with its mass properties at unit density.
+#[derive(Default)]
+pub(super) struct Assets {
+    meshes: HashMap<String, Arc<TriMesh>>,
+    solids: HashMap<String, std::result::Result<Option<crate::mesh::MassProperties>, crate::mesh::MeshError>>,
 }
