@@ -443,34 +443,78 @@ pub fn check_writable(out: &Path) -> std::io::Result<()> {
     fs::remove_file(&probe)
 }
 
-/// The distance-over-time chart of a run's trace: one line per traced pair,
-/// contacts marked.
+/// Contacts labelled on the distance chart (the first ones); every contact
+/// gets a tick on the time axis.
+pub const LABELLED_CONTACTS: usize = 3;
+
+/// Traced pairs named in the distance chart's legend (the first ones; the
+/// title says how many there are).
+pub const LEGEND_PAIRS: usize = 10;
+
+/// The distance axis is chosen logarithmic when the trace's positive
+/// distances (contacts included) span more than this ratio: on a linear
+/// axis the last hundredth of a fall would be a flat line on the floor.
+pub const LOG_AXIS_SPAN: Real = 100.0;
+
+/// The decades a log distance axis shows below the largest distance:
+/// resting contacts at 1e-14 would otherwise squeeze the approach into the
+/// top of the chart.
+pub const LOG_AXIS_DECADES: i32 = 8;
+
+/// The distance-over-time chart of a run's trace: one line per traced
+/// pair, each running down to the distance at its contacts (the CCD's
+/// distance at the time of impact, inside the step), every contact a tick
+/// on the time axis and the first [`LABELLED_CONTACTS`] labelled. `log_y`:
+/// the axis asked for, or `None` to choose it by [`LOG_AXIS_SPAN`].
 #[cfg(feature = "plot")]
-pub fn distance_chart(result: &RunResult, log_y: bool) -> crate::plot::Chart {
+pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::Chart {
     use crate::plot::{Chart, Series};
     let mut pairs: Vec<(usize, usize)> = result.trace.iter().map(|r| r.pair).collect();
     pairs.sort_unstable();
     pairs.dedup();
-    // On a log axis a distance of 0 (touching) is drawn at the smallest
-    // positive distance of the trace, or the smallest normal number.
-    let floor = result
-        .trace
+    let contact_pair = |c: &Contact| (c.body_a.min(c.body_b), c.body_a.max(c.body_b));
+    // Each pair's samples: the trace's, and its contacts' (time of impact,
+    // distance there), in time order.
+    let samples: Vec<Vec<(Real, Real)>> = pairs
         .iter()
-        .map(|r| r.distance)
-        .filter(|d| *d > 0.0)
-        .fold(Real::INFINITY, Real::min)
-        .clamp(Real::MIN_POSITIVE, 1.0);
-    let shown = |d: Real| if log_y { d.max(floor) } else { d };
-    let series = pairs
-        .iter()
-        .map(|&pair| Series {
-            label: format!("{} – {}", result.bodies[pair.0], result.bodies[pair.1]),
-            points: result
+        .map(|&pair| {
+            let mut points: Vec<(Real, Real)> = result
                 .trace
                 .iter()
                 .filter(|r| r.pair == pair)
-                .map(|r| (r.time, shown(r.distance)))
-                .collect(),
+                .map(|r| (r.time, r.distance))
+                .chain(
+                    result
+                        .contacts
+                        .iter()
+                        .filter(|c| contact_pair(c) == (pair.0.min(pair.1), pair.0.max(pair.1)))
+                        .map(|c| (c.time, c.distance)),
+                )
+                .collect();
+            points.sort_by(|x, y| x.0.total_cmp(&y.0));
+            points
+        })
+        .collect();
+    let positive = samples.iter().flatten().map(|p| p.1).filter(|d| *d > 0.0 && d.is_finite());
+    let (smallest, largest) =
+        positive.fold((Real::INFINITY, 0.0 as Real), |(lo, hi), d| (lo.min(d), hi.max(d)));
+    let chosen = log_y.is_none();
+    let log_y = log_y.unwrap_or(largest > LOG_AXIS_SPAN * smallest);
+    // On a log axis a distance of 0 (touching), or below
+    // `LOG_AXIS_DECADES` decades under the largest, is drawn at the floor.
+    let floor = smallest.max(largest * Real::powi(10.0, -LOG_AXIS_DECADES)).clamp(Real::MIN_POSITIVE, 1.0);
+    let shown = |d: Real| if log_y { d.max(floor) } else { d };
+    let series = pairs
+        .iter()
+        .zip(&samples)
+        .enumerate()
+        .map(|(k, (&pair, points))| Series {
+            label: if k < LEGEND_PAIRS {
+                format!("{} – {}", result.bodies[pair.0], result.bodies[pair.1])
+            } else {
+                String::new()
+            },
+            points: points.iter().map(|&(t, d)| (t, shown(d))).collect(),
             line: true,
             point_labels: Vec::new(),
         })
@@ -478,28 +522,47 @@ pub fn distance_chart(result: &RunResult, log_y: bool) -> crate::plot::Chart {
     let marks = result
         .contacts
         .iter()
-        .map(|c| {
+        .take(LABELLED_CONTACTS)
+        .enumerate()
+        .map(|(n, c)| {
             (
                 c.time,
                 format!(
-                    "contact {} / {}: t = {:.6}",
-                    result.bodies[c.body_a], result.bodies[c.body_b], c.time
+                    "contact {}: {} / {}, t = {:.6}",
+                    n + 1,
+                    result.bodies[c.body_a],
+                    result.bodies[c.body_b],
+                    c.time
                 ),
             )
         })
         .collect();
+    let contacts = result.contacts.len();
+    let mut title = format!("{}: distance between traced pairs", result.scene);
+    if pairs.len() > LEGEND_PAIRS {
+        title.push_str(&format!(" ({} pairs, the first {LEGEND_PAIRS} named)", pairs.len()));
+    }
+    let x_label = match contacts {
+        0 => "time (scene time units)".to_string(),
+        n if n <= LABELLED_CONTACTS => format!("time (scene time units); {n} contact(s), red"),
+        n => format!(
+            "time (scene time units); {n} contacts: red ticks, the first {LABELLED_CONTACTS} labelled"
+        ),
+    };
+    let how = if chosen { "chosen: " } else { "" };
     Chart {
-        title: format!("{}: distance between traced pairs", result.scene),
-        x_label: "time (scene time units)".into(),
+        title,
+        x_label,
         y_label: if log_y {
-            format!("distance (scene length units, log scale; 0 drawn at {floor:.0e})")
+            format!("distance ({how}log scale; 0 and below {floor:.0e} drawn at it)")
         } else {
-            "distance (scene length units)".into()
+            format!("distance (scene length units{})", if chosen { ", linear: chosen" } else { "" })
         },
         log_x: false,
         log_y,
         series,
         marks,
+        ticks: result.contacts.iter().map(|c| c.time).collect(),
     }
 }
 

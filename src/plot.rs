@@ -34,6 +34,9 @@ const PALETTE: [RGBColor; 12] = [
     RGBColor(200, 120, 40),
 ];
 
+/// The height of a tick (`Chart::ticks`), a fraction of the plot's.
+pub const TICK_HEIGHT: Real = 0.04;
+
 /// Chart size in pixels: readable at 1200 × 800.
 pub const CHART_SIZE: (u32, u32) = (1200, 800);
 
@@ -66,8 +69,11 @@ pub struct Chart {
     pub log_y: bool,
     /// The series.
     pub series: Vec<Series>,
-    /// Vertical lines `(x, label)`, e.g. contact times.
+    /// Vertical lines `(x, label)`, e.g. the first contact times.
     pub marks: Vec<(Real, String)>,
+    /// Short unlabelled ticks on the x axis, e.g. every contact time: a
+    /// thousand stay readable where a thousand lines would not.
+    pub ticks: Vec<Real>,
 }
 
 /// Why a chart could not be written.
@@ -179,6 +185,12 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
             .y_label_formatter(&|v| tick(*v, log_y))
             .draw()
             .map_err(|e| error(&e))?;
+        let red = RGBColor(200, 30, 30);
+        let tick_top = y0 + (y1 - y0) * TICK_HEIGHT;
+        let ticks = chart.ticks.iter().filter_map(|t| axis_value(*t, log_x));
+        context
+            .draw_series(ticks.map(|x| PathElement::new(vec![(x, y0), (x, tick_top)], red.stroke_width(1))))
+            .map_err(|e| error(&e))?;
         for (k, (mark, label)) in chart.marks.iter().enumerate() {
             let Some(x) = axis_value(*mark, log_x) else { continue };
             let style = ShapeStyle::from(&RGBColor(200, 30, 30)).stroke_width(2);
@@ -203,9 +215,11 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
                     .draw_series(coordinates.iter().map(|&p| Circle::new(p, 5, style.filled())))
                     .map_err(|e| error(&e))?
             };
-            legend
-                .label(series.label.clone())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3)));
+            if !series.label.is_empty() {
+                legend
+                    .label(series.label.clone())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3)));
+            }
             if series.line && coordinates.len() <= 60 {
                 context
                     .draw_series(coordinates.iter().map(|&p| Circle::new(p, 3, style.filled())))

@@ -39,3 +39,36 @@ fn a_plot_needs_a_trace() {
     .to_string();
     assert!(error.contains("`plot`") && error.contains("trace"), "{error}");
 }
+
+/// A ball under `Bounce(restitution: 0.5)` comes to rest touching the floor
+/// and reports hundreds of contacts: the chart labels the first few, ticks
+/// every one on the time axis, and its line runs down to each contact's
+/// distance at the time of impact (inside the step, not at a step's end).
+#[test]
+fn hundreds_of_contacts_stay_legible() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ball_rest.ron"))
+        .unwrap()
+        .replace("Simulate(restitution: 0.5)", "Bounce(restitution: 0.5)")
+        .replace("plot: (log_y: false)", "plot: ()");
+    let text = text[..text.find("    expect:").unwrap()].to_string() + ")";
+    let scene = Scene::from_ron_str(&text).unwrap();
+    let result = nearmiss::stepper::run(&scene);
+    assert!(result.contacts.len() > 100, "{} contacts", result.contacts.len());
+    let chart = nearmiss::output::distance_chart(&result, scene.plot.as_ref().unwrap().log_y);
+    assert_eq!(chart.marks.len(), nearmiss::output::LABELLED_CONTACTS);
+    assert_eq!(chart.ticks.len(), result.contacts.len());
+    assert!(chart.x_label.contains(&format!("{} contacts", result.contacts.len())), "{}", chart.x_label);
+    // From 8 units down to contact: the axis is chosen logarithmic.
+    assert!(chart.log_y && chart.y_label.contains("chosen"), "{}", chart.y_label);
+    // The first contact is inside a step, not on a trace sample (every 4
+    // steps), and the line reaches it.
+    let first = &result.contacts[0];
+    assert!(result.trace.iter().all(|r| r.time != first.time));
+    assert!(chart.series[0].points.iter().any(|&(t, _)| t == first.time));
+    // Asked for linear, it stays linear.
+    assert!(!nearmiss::output::distance_chart(&result, Some(false)).log_y);
+    let out = std::env::temp_dir().join(format!("nearmiss-plot-contacts-{}.png", std::process::id()));
+    nearmiss::plot::render(&chart, &out).unwrap();
+    assert_eq!(png_size(&std::fs::read(&out).unwrap()), nearmiss::plot::CHART_SIZE);
+    let _ = std::fs::remove_file(&out);
+}

@@ -273,5 +273,6 @@ pub fn kernel_chart(rows: &[KernelRow], point_segment: bool) -> crate::plot::Cha
         log_y: true,
         series,
         marks: Vec::new(),
+        ticks: Vec::new(),
     }
 }

@@ -199,6 +199,7 @@ pub fn spring_chart(rows: &[SpringRow]) -> crate::plot::Chart {
             (2.0, "2: semi-implicit Euler's limit".into()),
             (2.0 * Real::sqrt(2.0), "2√2: RK4's limit".into()),
         ],
+        ticks: Vec::new(),
     }
 }
 
@@ -222,6 +223,7 @@ pub fn spin_chart(drifts: &[SpinDrift]) -> crate::plot::Chart {
             })
             .collect(),
         marks: Vec::new(),
+        ticks: Vec::new(),
     }
 }
 

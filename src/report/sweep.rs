@@ -267,5 +267,6 @@ pub fn sweep_chart(report: &SweepReport) -> crate::plot::Chart {
         log_y: true,
         series,
         marks: Vec::new(),
+        ticks: Vec::new(),
     }
 }

@@ -227,9 +227,12 @@ pub enum TracePairs {
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlotSettings {
-    /// Logarithmic distance axis (zero distances are left out). Default: false.
+    /// Logarithmic distance axis (`true`), linear (`false`), or chosen from
+    /// the trace when absent: logarithmic when its distances span more than
+    /// [`crate::output::LOG_AXIS_SPAN`] (a fall's last millimetres are
+    /// invisible on a linear axis of metres). Default: chosen.
     #[serde(default)]
-    pub log_y: bool,
+    pub log_y: Option<bool>,
 }
 
 /// A spring from a body point to a world anchor.

@@ -153,8 +153,9 @@ pub struct TraceSpec {
 /// The distance plot of a scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlotSpec {
-    /// Logarithmic distance axis.
-    pub log_y: bool,
+    /// Logarithmic distance axis (`Some(true)`), linear, or chosen from the
+    /// trace (`None`, see [`crate::output::distance_chart`]).
+    pub log_y: Option<bool>,
 }
 
 /// What a run is expected to do.
