@@ -49,6 +49,7 @@ pub mod query_file;
 pub mod regression;
 pub mod report;
 pub mod response;
+pub mod run_page;
 #[cfg(feature = "testing")]
 pub mod samples;
 #[cfg(not(feature = "testing"))]

@@ -156,7 +156,8 @@ fn point(p: &Point) -> [Real; 3] {
     [p.x, p.y, p.z]
 }
 
-fn feature(f: Feature) -> String {
+/// A contact feature in words ("vertex 0", "edge 2", "face").
+pub fn feature_text(f: Feature) -> String {
     match f {
         Feature::Vertex(i) => format!("vertex {i}"),
         Feature::Edge(i) => format!("edge {i}"),
@@ -194,8 +195,8 @@ impl<'a> Summary<'a> {
             point_b: point(&c.point_b),
             triangle_a: c.triangle_a,
             triangle_b: c.triangle_b,
-            feature_a: feature(c.feature_a),
-            feature_b: feature(c.feature_b),
+            feature_a: feature_text(c.feature_a),
+            feature_b: feature_text(c.feature_b),
             status: format!("{:?}", c.status),
             contact_distance: c.contact_distance,
             guaranteed_distance: c.guaranteed_distance,
@@ -257,7 +258,7 @@ pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::
 pub const SWAP_ATTEMPTS: usize = 8;
 
 /// The file names a run writes (and replaces as a whole).
-pub const RUN_FILES: [&str; 4] = ["summary.json", "trace.csv", "distance.png", "poses.csv"];
+pub const RUN_FILES: [&str; 5] = ["summary.json", "trace.csv", "distance.png", "poses.csv", "report.md"];
 
 /// [`write_outputs`], with the peers' answers in `summary.json`.
 pub fn write_outputs_with_peer(
@@ -348,6 +349,9 @@ fn write_run_files(
         crate::plot::render(&distance_chart(result, plot.log_y), &path).map_err(std::io::Error::other)?;
         written.push("distance.png");
     }
+    written.push("report.md");
+    let page = crate::run_page::run_page(result, scene, &written);
+    write_synced(&folder.join("report.md"), page.as_bytes())?;
     Ok(written)
 }
 

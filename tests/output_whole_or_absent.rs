@@ -49,13 +49,14 @@ fn a_run_replaces_the_files_of_the_last_run_and_keeps_the_rest() {
     run(&scene_text("s", "trace: (pairs: All), plot: (log_y: true),"));
     let folder = out.join("s");
     let with_plot = if cfg!(feature = "plot") { vec!["distance.png"] } else { vec![] };
-    let mut expected: Vec<&str> = ["summary.json", "trace.csv"].into_iter().chain(with_plot).collect();
+    let mut expected: Vec<&str> =
+        ["report.md", "summary.json", "trace.csv"].into_iter().chain(with_plot).collect();
     expected.sort();
     assert_eq!(files(&folder), expected);
     // Something else of the scene's (a sweep's table) lives beside them.
     std::fs::write(folder.join("sweep.csv"), "kept").unwrap();
     run(&scene_text("s", ""));
-    assert_eq!(files(&folder), ["summary.json", "sweep.csv"]);
+    assert_eq!(files(&folder), ["report.md", "summary.json", "sweep.csv"]);
     assert_eq!(std::fs::read_to_string(folder.join("sweep.csv")).unwrap(), "kept");
     // No staging folder is left behind.
     assert_eq!(files(&out), ["s"]);
