@@ -38,6 +38,10 @@ pub struct TraceObserver {
     spec: TraceSpec,
     records: Vec<TraceRecord>,
     scratch: MeshDistanceScratch,
+    /// Each traced pair's closest triangle pair at its last sample: the
+    /// next sample's search starts from it (its distance bounds the search
+    /// at once, so the BVH descent prunes most of both meshes).
+    hints: Vec<Option<(usize, usize)>>,
     /// Mesh distance queries made.
     pub distance_queries: usize,
     /// Seconds spent sampling.
@@ -48,6 +52,7 @@ impl TraceObserver {
     /// The observer of `scene`'s trace, or `None` if it asks for none.
     pub fn of(scene: &Arc<Scene>) -> Option<TraceObserver> {
         scene.trace.clone().map(|spec| TraceObserver {
+            hints: vec![None; spec.pairs.len()],
             scene: Arc::clone(scene),
             spec,
             records: Vec::new(),
@@ -70,11 +75,12 @@ impl TraceObserver {
     pub fn sample(&mut self, step: u64, time: Real, s: Real, motions: &[StepMotion]) {
         let clock = Instant::now();
         let scene = &*self.scene;
-        for &(a, b) in &self.spec.pairs {
+        for (k, &(a, b)) in self.spec.pairs.iter().enumerate() {
             let pos_ab = StepMotion::relative_pose(&motions[a], &motions[b], s);
             let (mesh_a, mesh_b) = (&scene.bodies[a].mesh, &scene.bodies[b].mesh);
-            let search = DistanceSearch::new(scene.kernel, None);
+            let search = DistanceSearch::new(scene.kernel, self.hints[k]);
             let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, &mut self.scratch);
+            self.hints[k] = Some((d.triangle_a, d.triangle_b));
             self.distance_queries += 1;
             let reference = self.spec.reference.then(|| {
                 let exact = DistanceSearch::new(DistanceKernel::Exact, None);

@@ -156,8 +156,15 @@ pub fn mesh_distance_relative(
         if na.is_leaf() && nb.is_leaf() {
             for tb in nb.first..nb.first + nb.count {
                 let moved = triangle_b(tb as usize);
+                let box_b = triangle_box(&moved);
                 for ta in na.first..na.first + na.count {
-                    scratch.queue_a.push(&a.triangle(ta as usize));
+                    let triangle = a.triangle(ta as usize);
+                    // The gap between the two triangles' boxes bounds their
+                    // distance: a pair that cannot beat the best is skipped.
+                    if box_gap(&triangle_box(&triangle), &box_b) - slack >= search.best {
+                        continue;
+                    }
+                    scratch.queue_a.push(&triangle);
                     scratch.queue_b.push(&moved);
                     scratch.queue_pairs.push((ta, tb));
                 }
@@ -228,6 +235,20 @@ pub fn mesh_distance_brute_force(a: &TriMesh, pose_a: &Pose, b: &TriMesh, pose_b
         }
     }
     best
+}
+
+/// A triangle's axis-aligned box: its lowest and highest corners.
+#[inline]
+fn triangle_box(t: &Triangle) -> [crate::math::Vector; 2] {
+    let [p, q, r] = t;
+    [p.coords.inf(&q.coords).inf(&r.coords), p.coords.sup(&q.coords).sup(&r.coords)]
+}
+
+/// The distance between two axis-aligned boxes (0 when they overlap).
+#[inline]
+fn box_gap(a: &[crate::math::Vector; 2], b: &[crate::math::Vector; 2]) -> Real {
+    let gap = (b[0] - a[1]).sup(&(a[0] - b[1])).sup(&crate::math::Vector::zeros());
+    gap.norm()
 }
 
 /// The best pair so far.
