@@ -10,20 +10,22 @@
 //! 1.0, friction: 0.0)` (rapier3d solves, nearmiss guards), beside rapier
 //! alone on the same scene in the same run (its CCD on; convex hulls, then
 //! every body a triangle mesh), with the guard's share of each step.
-//! Usage: `cargo run --release --example many_bodies -- 10 100 1000 [--steps 240] [--simulate]`.
+//! With `--trace N`: every pair traced every N steps (the trace column).
+//! Usage: `cargo run --release --example many_bodies -- 10 100 1000 [--steps 240] [--simulate] [--trace N]`.
 use nearmiss::samples::Rng;
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{run_with, RunOptions};
 
-fn scene(bodies: usize, steps: usize, seed: u64, simulate: bool) -> Scene {
+fn scene(bodies: usize, steps: usize, seed: u64, simulate: bool, trace: Option<u64>) -> Scene {
     let mut rng = Rng::new(seed);
     let per_side = (bodies as f64).cbrt().ceil() as usize;
     let cell = 1.2;
     let half = cell * per_side as f64 / 2.0;
     let response =
         if simulate { "Simulate(restitution: 1.0, friction: 0.0)" } else { "Bounce(restitution: 1.0)" };
+    let trace = trace.map_or(String::new(), |every| format!("trace: (pairs: All, every: {every}), "));
     let mut text = format!(
-        "Scene(name: \"box_{bodies}\", dt: 0.004166666666666667, steps: {steps}, on_contact: {response}, bodies: ["
+        "Scene(name: \"box_{bodies}\", dt: 0.004166666666666667, steps: {steps}, on_contact: {response}, {trace}bodies: ["
     );
     // The walls: slabs 0.5 thick just outside the cells.
     let (t, l) = (0.25, half + 0.5);
@@ -74,6 +76,11 @@ fn main() {
         .and_then(|k| args.get(k + 1))
         .map_or(240, |s| s.parse().expect("a step count"));
     let simulate = args.iter().any(|a| a == "--simulate");
+    let trace = args
+        .iter()
+        .position(|a| a == "--trace")
+        .and_then(|k| args.get(k + 1))
+        .map(|s| s.parse().expect("a trace cadence"));
     if simulate {
         return simulate_beside_rapier(&args, steps);
     }
@@ -81,7 +88,7 @@ fn main() {
     println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | respond ms | re-arm ms | trace ms | candidate pairs/step | contacts |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
-        let scene = scene(n, steps, 1, false);
+        let scene = scene(n, steps, 1, false, trace);
         let result = run_with(&scene, RunOptions::default(), &mut |_| {});
         let steps = result.steps as f64;
         let c = &result.counters;
@@ -128,7 +135,7 @@ fn simulate_beside_rapier(args: &[String], steps: usize) {
     println!("| bodies | steps | Simulate steps/s | guard share of a step | guard ms/step | rapier in Simulate ms/step | rapier alone (convex, CCD) steps/s | ratio | rapier alone (triangle meshes, CCD) steps/s | ratio | contacts |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
-        let scene = scene(n, steps, 1, true);
+        let scene = scene(n, steps, 1, true, None);
         let result = run_with(&scene, RunOptions::default(), &mut |_| {});
         let c = &result.counters;
         let guard = c.broad_phase_s + c.ccd_s + c.respond_s + c.rearm_s;
@@ -155,7 +162,9 @@ fn simulate_beside_rapier(args: &[String], steps: usize) {
 fn body_counts(args: &[String]) -> Vec<usize> {
     args.iter()
         .enumerate()
-        .filter(|(k, a)| a.parse::<usize>().is_ok() && (*k == 0 || args[k - 1] != "--steps"))
+        .filter(|(k, a)| {
+            a.parse::<usize>().is_ok() && (*k == 0 || (args[k - 1] != "--steps" && args[k - 1] != "--trace"))
+        })
         .map(|(_, a)| a.parse().expect("a body count"))
         .collect()
 }
