@@ -33,6 +33,8 @@
 
 pub mod broad_phase;
 pub mod ccd;
+#[cfg(feature = "plot")]
+pub mod contact_picture;
 pub mod exact;
 #[cfg(feature = "rapier")]
 pub mod guard;

@@ -80,6 +80,22 @@ pub struct ResponseJson {
     pub colliders: std::collections::BTreeMap<String, String>,
 }
 
+/// A body's pose in `summary.json`: its frame's origin and orientation.
+#[derive(Serialize)]
+pub struct PoseJson {
+    /// The frame's origin, world frame.
+    pub position: [Real; 3],
+    /// The orientation quaternion `[w, x, y, z]`.
+    pub orientation: [Real; 4],
+}
+
+impl PoseJson {
+    fn of(pose: &crate::math::Pose) -> PoseJson {
+        let q = pose.rotation.quaternion();
+        PoseJson { position: pose.translation.vector.into(), orientation: [q.w, q.i, q.j, q.k] }
+    }
+}
+
 /// A contact in `summary.json`.
 #[derive(Serialize)]
 pub struct ContactJson<'a> {
@@ -105,6 +121,10 @@ pub struct ContactJson<'a> {
     pub feature_b: String,
     /// How the CCD iteration ended.
     pub status: String,
+    /// The pose of `body_a` at `time`.
+    pub pose_a: PoseJson,
+    /// The pose of `body_b` at `time`.
+    pub pose_b: PoseJson,
     /// No contact is reported farther than this.
     pub contact_distance: Real,
     /// Every approach closer than this is reported.
@@ -198,6 +218,8 @@ impl<'a> Summary<'a> {
             feature_a: feature_text(c.feature_a),
             feature_b: feature_text(c.feature_b),
             status: format!("{:?}", c.status),
+            pose_a: PoseJson::of(&c.pose_a),
+            pose_b: PoseJson::of(&c.pose_b),
             contact_distance: c.contact_distance,
             guaranteed_distance: c.guaranteed_distance,
         };
@@ -258,7 +280,20 @@ pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::
 pub const SWAP_ATTEMPTS: usize = 8;
 
 /// The file names a run writes (and replaces as a whole).
-pub const RUN_FILES: [&str; 5] = ["summary.json", "trace.csv", "distance.png", "poses.csv", "report.md"];
+pub const RUN_FILES: [&str; 8] = [
+    "summary.json",
+    "trace.csv",
+    "distance.png",
+    "poses.csv",
+    "report.md",
+    CONTACT_PICTURES[0],
+    CONTACT_PICTURES[1],
+    CONTACT_PICTURES[2],
+];
+
+/// The contact pictures' file names (`contact_picture::PICTURED_CONTACTS`
+/// of them), written with a plot.
+pub const CONTACT_PICTURES: [&str; 3] = ["contact_1.png", "contact_2.png", "contact_3.png"];
 
 /// [`write_outputs`], with the peers' answers in `summary.json`.
 pub fn write_outputs_with_peer(
@@ -293,6 +328,9 @@ pub fn first_non_finite(result: &RunResult) -> Option<String> {
             .into_iter()
             .chain(c.point_a.iter().copied())
             .chain(c.point_b.iter().copied())
+            .chain([&c.pose_a, &c.pose_b].into_iter().flat_map(|p| {
+                p.translation.vector.iter().chain(p.rotation.coords.iter()).copied().collect::<Vec<Real>>()
+            }))
             .collect::<Vec<Real>>()
     };
     if !result.end_time.is_finite() {
@@ -348,6 +386,20 @@ fn write_run_files(
         let path = folder.join("distance.png");
         crate::plot::render(&distance_chart(result, plot.log_y), &path).map_err(std::io::Error::other)?;
         written.push("distance.png");
+        for (k, contact) in result.contacts.iter().take(crate::contact_picture::PICTURED_CONTACTS).enumerate()
+        {
+            let meshes = (&*scene.bodies[contact.body_a].mesh, &*scene.bodies[contact.body_b].mesh);
+            let names = (result.bodies[contact.body_a].as_str(), result.bodies[contact.body_b].as_str());
+            crate::contact_picture::draw_contact(
+                contact,
+                k + 1,
+                meshes,
+                names,
+                &folder.join(CONTACT_PICTURES[k]),
+            )
+            .map_err(std::io::Error::other)?;
+            written.push(CONTACT_PICTURES[k]);
+        }
     }
     written.push("report.md");
     let page = crate::run_page::run_page(result, scene, &written);

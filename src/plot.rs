@@ -16,7 +16,7 @@ use crate::math::Real;
 /// The font every chart uses, compiled in.
 const FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 /// The name the font is registered under.
-const FAMILY: &str = "nearmiss-sans";
+pub(crate) const FAMILY: &str = "nearmiss-sans";
 
 /// Series colours (contact marks are red).
 const PALETTE: [RGBColor; 12] = [
@@ -92,7 +92,7 @@ pub enum PlotError {
     },
 }
 
-fn register_font() {
+pub(crate) fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The font is compiled in and known to parse; a failure would only

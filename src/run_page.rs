@@ -76,6 +76,9 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
             );
         }
         page.push('\n');
+        for picture in files.iter().filter(|f| f.starts_with("contact_")) {
+            let _ = writeln!(page, "![{}]({picture})\n", picture.trim_end_matches(".png").replace('_', " "));
+        }
     }
     if files.contains(&"distance.png") {
         let _ = writeln!(page, "## Distance over time\n\n![distance between traced pairs](distance.png)\n");
@@ -87,6 +90,7 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
             "trace.csv" => "distances over time (pair, time, distance, closest points)",
             "poses.csv" => "every body's pose over time",
             "distance.png" => "the plot above",
+            f if f.starts_with("contact_") => "the two bodies at that contact (pictured above)",
             _ => "",
         };
         let _ = writeln!(page, "- [{file}]({file}): {what}");

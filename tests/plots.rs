@@ -72,3 +72,28 @@ fn hundreds_of_contacts_stay_legible() {
     assert_eq!(png_size(&std::fs::read(&out).unwrap()), nearmiss::plot::CHART_SIZE);
     let _ = std::fs::remove_file(&out);
 }
+
+/// With a plot, the first contacts are pictured (`contact_<n>.png`, at most
+/// `PICTURED_CONTACTS`), and the run's page shows them.
+#[test]
+fn the_first_contacts_are_pictured() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ball_rest.ron"))
+        .unwrap()
+        .replace("Simulate(restitution: 0.5)", "Bounce(restitution: 0.5)");
+    let text = text[..text.find("    expect:").unwrap()].to_string() + ")";
+    let scene = Scene::from_ron_str(&text).unwrap();
+    let result = nearmiss::stepper::run(&scene);
+    assert!(result.contacts.len() > nearmiss::contact_picture::PICTURED_CONTACTS);
+    let out = std::env::temp_dir().join(format!("nearmiss-contact-pictures-{}", std::process::id()));
+    let written = nearmiss::output::write_outputs(&out, &result, &scene).unwrap();
+    let pictures: Vec<_> =
+        written.iter().filter(|p| p.file_name().unwrap().to_string_lossy().starts_with("contact_")).collect();
+    assert_eq!(pictures.len(), nearmiss::contact_picture::PICTURED_CONTACTS);
+    for (n, picture) in pictures.iter().enumerate() {
+        assert!(picture.ends_with(format!("contact_{}.png", n + 1)));
+        assert_eq!(png_size(&std::fs::read(picture).unwrap()), nearmiss::plot::CHART_SIZE);
+    }
+    let page = std::fs::read_to_string(out.join("ball_rest/report.md")).unwrap();
+    assert!(page.contains("![contact 1](contact_1.png)"), "{page}");
+    let _ = std::fs::remove_dir_all(&out);
+}

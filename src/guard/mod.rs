@@ -105,7 +105,7 @@ pub enum GuardEvent {
         b: RigidBodyHandle,
         /// The contact: time (since the guard's first step), distance,
         /// points (world frame), features and the contact contract.
-        contact: Contact,
+        contact: Box<Contact>,
     },
     /// Two bodies in contact separated by the step's end (farther apart
     /// than rapier's prediction distance, or apart for the whole step): the
@@ -336,7 +336,7 @@ impl Guard {
             GuardEvent::Started {
                 a: handles[contact.body_a],
                 b: handles[contact.body_b],
-                contact: contact.clone(),
+                contact: Box::new(contact.clone()),
             }
         }));
         self.events.extend(

@@ -2,7 +2,7 @@
 
 use crate::ccd::CcdStatus;
 use crate::kernels::Feature;
-use crate::math::{Point, Real};
+use crate::math::{Point, Pose, Real};
 use crate::motion::RigidState;
 use crate::poses::PoseRecord;
 use crate::trace::TraceRecord;
@@ -47,6 +47,10 @@ pub struct Contact {
     /// Every approach of the pair closer than this (`minimum_separation +
     /// tolerance / 2`) is reported.
     pub guaranteed_distance: Real,
+    /// The pose of `body_a`'s frame (its mesh's frame) at `time`.
+    pub pose_a: Pose,
+    /// The pose of `body_b`'s frame at `time`.
+    pub pose_b: Pose,
 }
 
 /// Why a run ended.

@@ -174,6 +174,7 @@ impl World {
     pub fn record_contact(&mut self, k: usize, t0: Real, time: Real, result: &MeshCcdResult) {
         let Some(closest) = result.closest else { return };
         let pair = &mut self.pairs[k];
+        let (pose_a, pose_b) = (self.motions[pair.a].pose_at(time), self.motions[pair.b].pose_at(time));
         pair.touching =
             Some(Touching { contact_distance: result.contact_distance, distance: closest.distance });
         pair.lower_bound = None;
@@ -191,6 +192,8 @@ impl World {
             status: result.status,
             contact_distance: result.contact_distance,
             guaranteed_distance: result.guaranteed_distance,
+            pose_a,
+            pose_b,
         });
     }
 }
