@@ -31,6 +31,7 @@
 //! (default) builds the `nearmiss` binary (clap, indicatif); `testing`
 //! makes `samples` public for the crate's tests and benchmarks.
 
+pub mod animation;
 pub mod broad_phase;
 pub mod ccd;
 #[cfg(feature = "plot")]

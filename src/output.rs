@@ -280,11 +280,12 @@ pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::
 pub const SWAP_ATTEMPTS: usize = 8;
 
 /// The file names a run writes (and replaces as a whole).
-pub const RUN_FILES: [&str; 8] = [
+pub const RUN_FILES: [&str; 9] = [
     "summary.json",
     "trace.csv",
     "distance.png",
     "poses.csv",
+    "animation.glb",
     "report.md",
     CONTACT_PICTURES[0],
     CONTACT_PICTURES[1],
@@ -380,6 +381,9 @@ fn write_run_files(
         crate::poses::write_poses_csv(&result.poses, &result.bodies, &mut csv)?;
         write_synced(&folder.join("poses.csv"), &csv)?;
         written.push("poses.csv");
+        let glb = crate::animation::glb(scene, &result.poses).map_err(std::io::Error::other)?;
+        write_synced(&folder.join("animation.glb"), &glb)?;
+        written.push("animation.glb");
     }
     #[cfg(feature = "plot")]
     if let Some(plot) = &scene.plot {
