@@ -151,6 +151,8 @@ pub struct WorkJson {
     pub candidate_pairs: usize,
     /// Largest relative drift of an integrated body's mechanical energy.
     pub max_energy_drift: Real,
+    /// Trace samples settled without a search (the hulls' certificate).
+    pub trace_certified: usize,
 }
 
 /// Stage times in `summary.json`.
@@ -239,6 +241,7 @@ impl<'a> Summary<'a> {
                 gyroscopic_unconverged: counters.gyroscopic_unconverged,
                 candidate_pairs: counters.candidate_pairs,
                 max_energy_drift: counters.max_energy_drift,
+                trace_certified: counters.trace_certified,
             },
             stage_wall_time_s: StagesJson {
                 integrate: counters.integrate_s,

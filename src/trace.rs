@@ -10,10 +10,20 @@ use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::math::Real;
-use crate::mesh::{mesh_distance_relative, DistanceKernel, DistanceSearch, MeshDistanceScratch};
+use crate::ccd::hull_gap;
+use crate::kernels::batch::TrianglesSoa;
+use crate::math::{Real, Vector};
+use crate::mesh::{
+    mesh_distance_relative, triangle_pair_distance, DistanceKernel, DistanceSearch, MeshDistanceScratch,
+};
 use crate::motion::StepMotion;
 use crate::scene::{Scene, TraceSpec};
+
+/// A sample is certified without a search when the hulls' gap is within
+/// this many ulps of the pair's scale (the centres' distance plus both
+/// radii) below the last closest triangle pair's distance: the rounding of
+/// the two computations, not geometry.
+pub const CERTIFICATE_ULPS: Real = 64.0;
 
 /// One distance sample of a traced pair.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -42,6 +52,15 @@ pub struct TraceObserver {
     /// next sample's search starts from it (its distance bounds the search
     /// at once, so the BVH descent prunes most of both meshes).
     hints: Vec<Option<(usize, usize)>>,
+    /// Each traced pair's last hull-gap direction (world frame).
+    axes: Vec<Option<Vector>>,
+    /// Samples settled by the certificate (see [`TraceObserver::sample`]).
+    pub certified: usize,
+    /// The certificate's candidate triangle pairs (buffers kept between
+    /// samples).
+    candidates: (TrianglesSoa, TrianglesSoa),
+    candidate_pairs: Vec<(usize, usize)>,
+    candidate_distances: Vec<Real>,
     /// Mesh distance queries made.
     pub distance_queries: usize,
     /// Seconds spent sampling.
@@ -53,6 +72,11 @@ impl TraceObserver {
     pub fn of(scene: &Arc<Scene>) -> Option<TraceObserver> {
         scene.trace.clone().map(|spec| TraceObserver {
             hints: vec![None; spec.pairs.len()],
+            axes: vec![None; spec.pairs.len()],
+            certified: 0,
+            candidates: Default::default(),
+            candidate_pairs: Vec::new(),
+            candidate_distances: Vec::new(),
             scene: Arc::clone(scene),
             spec,
             records: Vec::new(),
@@ -72,26 +96,117 @@ impl TraceObserver {
 
     /// Appends one sample per traced pair, the bodies at time `s` into
     /// their current step motions (`time` in all), after `step` steps.
+    ///
+    /// A sample is the smallest kernel distance over the two meshes'
+    /// triangle pairs. It starts from the pair's last closest triangle pair:
+    /// when the gap between the two meshes' vertex hulls (GJK, a lower
+    /// bound on every triangle pair's distance) comes within
+    /// [`CERTIFICATE_ULPS`] ulps of the pair's scale of that pair's
+    /// distance, that distance is the smallest (to that rounding) and no
+    /// search is needed: the usual case for convex meshes, near or far;
+    /// otherwise (and with a DyOP kernel) the BVH search runs, seeded with
+    /// it.
     pub fn sample(&mut self, step: u64, time: Real, s: Real, motions: &[StepMotion]) {
         let clock = Instant::now();
-        let scene = &*self.scene;
-        for (k, &(a, b)) in self.spec.pairs.iter().enumerate() {
+        let scene = Arc::clone(&self.scene);
+        let scene = &*scene;
+        for k in 0..self.spec.pairs.len() {
+            let (a, b) = self.spec.pairs[k];
             let pos_ab = StepMotion::relative_pose(&motions[a], &motions[b], s);
             let (mesh_a, mesh_b) = (&scene.bodies[a].mesh, &scene.bodies[b].mesh);
-            let search = DistanceSearch::new(scene.kernel, self.hints[k]);
-            let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, &mut self.scratch);
-            self.hints[k] = Some((d.triangle_a, d.triangle_b));
+            let distance = match self.certify(k, (a, b), &pos_ab, &motions[a].rotation_at(s)) {
+                Some(distance) => {
+                    self.certified += 1;
+                    distance
+                }
+                None => {
+                    let search = DistanceSearch::new(scene.kernel, self.hints[k]);
+                    let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, &mut self.scratch);
+                    self.hints[k] = Some((d.triangle_a, d.triangle_b));
+                    d.distance
+                }
+            };
             self.distance_queries += 1;
             let reference = self.spec.reference.then(|| {
-                let exact = DistanceSearch::new(DistanceKernel::Exact, None);
+                let exact = DistanceSearch::new(DistanceKernel::Exact, self.hints[k]);
                 let exact = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &exact, &mut self.scratch);
                 // The closest pair as the kernels see it: b in a's frame.
                 let tb = mesh_b.triangle(exact.triangle_b).map(|p| pos_ab * p);
                 crate::exact::triangle_distance_f64(&mesh_a.triangle(exact.triangle_a), &tb)
             });
-            self.records.push(TraceRecord { step, time, pair: (a, b), distance: d.distance, reference });
+            self.records.push(TraceRecord { step, time, pair: (a, b), distance, reference });
         }
         self.seconds += clock.elapsed().as_secs_f64();
+    }
+
+    /// The distance of traced pair `k` = `(a, b)` at `pos_ab` (`rotation_a`:
+    /// a's orientation) without a search, if the certificate holds (see
+    /// [`TraceObserver::sample`]): from the pair's last closest triangle
+    /// pair, then from the triangles around the hulls' closest vertices.
+    fn certify(
+        &mut self,
+        k: usize,
+        (a, b): (usize, usize),
+        pos_ab: &crate::math::Pose,
+        rotation_a: &nalgebra::UnitQuaternion<Real>,
+    ) -> Option<Real> {
+        let scene = Arc::clone(&self.scene);
+        let scene = &*scene;
+        // The certificate holds for the exact kernel's values (DyOP's own
+        // error may exceed its slack: always searched).
+        if scene.kernel != DistanceKernel::Exact {
+            return None;
+        }
+        let (mesh_a, mesh_b) = (&scene.bodies[a].mesh, &scene.bodies[b].mesh);
+        let scale = pos_ab.translation.vector.norm() + mesh_a.radius() + mesh_b.radius();
+        let slack = CERTIFICATE_ULPS * Real::EPSILON * scale;
+        let mut best = self.hints[k]
+            .map(|(i, j)| (triangle_pair_distance(mesh_a, i, mesh_b, j, pos_ab).distance, (i, j)));
+        let mut axis = self.axes[k].map(|axis| rotation_a.inverse_transform_vector(&axis));
+        for _ in 0..2 {
+            let wanted = best.map_or(Real::INFINITY, |(d, _)| d - slack);
+            let close = if wanted.is_finite() { wanted } else { 0.0 };
+            let gap = hull_gap(mesh_a, mesh_b, pos_ab, axis, (close, wanted));
+            axis = gap.axis.or(axis);
+            if let Some(axis) = gap.axis {
+                self.axes[k] = Some(rotation_a * axis);
+            }
+            let certified = |best: Option<(Real, (usize, usize))>| {
+                best.filter(|&(d, _)| d > 0.0 && gap.lower >= d - slack)
+            };
+            if let Some((d, pair)) = certified(best) {
+                self.hints[k] = Some(pair);
+                return Some(d);
+            }
+            // The triangles around the hulls' closest vertices.
+            let (va, vb) = gap.support?;
+            self.candidates.0.clear();
+            self.candidates.1.clear();
+            self.candidate_pairs.clear();
+            for &i in mesh_a.triangles_at(va) {
+                for &j in mesh_b.triangles_at(vb) {
+                    self.candidates.0.push(&mesh_a.triangle(i as usize));
+                    self.candidates.1.push(&mesh_b.triangle(j as usize).map(|p| pos_ab * p));
+                    self.candidate_pairs.push((i as usize, j as usize));
+                }
+            }
+            self.candidate_distances.resize(self.candidate_pairs.len(), 0.0);
+            crate::kernels::batch::triangle_distances(
+                &self.candidates.0,
+                &self.candidates.1,
+                &mut self.candidate_distances,
+            );
+            for (&d, &pair) in self.candidate_distances.iter().zip(&self.candidate_pairs) {
+                if best.is_none_or(|(b, _)| d < b) {
+                    best = Some((d, pair));
+                }
+            }
+            if let Some((d, pair)) = certified(best) {
+                self.hints[k] = Some(pair);
+                return Some(d);
+            }
+        }
+        None
     }
 
     /// The samples taken.

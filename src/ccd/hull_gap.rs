@@ -45,6 +45,10 @@ pub(crate) struct HullGap {
     /// The unit direction (in `a`'s frame, from `a` towards `b`) that gave
     /// `lower`, a good start for the pair's next query.
     pub axis: Option<Vector>,
+    /// The vertices of `a` and `b` that gave `lower` (a's highest and b's
+    /// lowest along `axis`): for convex meshes, corners of the closest
+    /// features.
+    pub support: Option<(usize, usize)>,
     /// GJK iterations made.
     pub iterations: usize,
 }
@@ -65,18 +69,19 @@ pub(crate) fn hull_gap(
     let translation = pos_ab.translation.vector;
     // The point of b − a farthest along `-v`: b's lowest vertex along v
     // minus a's highest.
-    let support = |v: &Vector| -> Vector {
+    let support = |v: &Vector| -> (Vector, (usize, usize)) {
         let in_b = rotation.inverse_transform_vector(v);
         let lowest_b = extreme(b, &-in_b);
         let highest_a = extreme(a, v);
-        rotation * lowest_b + translation - highest_a
+        let point = rotation * b.vertices()[lowest_b].coords + translation - a.vertices()[highest_a].coords;
+        (point, (highest_a, lowest_b))
     };
     let mut v = match start {
         Some(axis) if axis.norm_squared() > 0.0 => axis,
         _ if translation.norm_squared() > 0.0 => translation,
         _ => Vector::x(),
     };
-    let mut answer = HullGap { lower: Real::NEG_INFINITY, axis: None, iterations: 0 };
+    let mut answer = HullGap { lower: Real::NEG_INFINITY, axis: None, support: None, iterations: 0 };
     let mut simplex = Simplex::default();
     // Whether `v` is the closest point of the simplex (else the start).
     let mut on_simplex = false;
@@ -86,11 +91,12 @@ pub(crate) fn hull_gap(
         if norm == 0.0 || !norm.is_finite() {
             break;
         }
-        let w = support(&v);
+        let (w, vertices) = support(&v);
         let gap = v.dot(&w) / norm;
         if gap > answer.lower {
             answer.lower = gap;
             answer.axis = Some(v / norm);
+            answer.support = Some(vertices);
         }
         if answer.lower > enough {
             break;
@@ -116,9 +122,9 @@ pub(crate) fn hull_gap(
     answer
 }
 
-/// The vertex of `mesh` farthest along `direction`: an exact maximum over
-/// every vertex (up to the rounding of the dot products).
-fn extreme(mesh: &TriMesh, direction: &Vector) -> Vector {
+/// The vertex of `mesh` farthest along `direction` (its index): an exact
+/// maximum over every vertex (up to the rounding of the dot products).
+fn extreme(mesh: &TriMesh, direction: &Vector) -> usize {
     let vertices = mesh.vertices();
     let mut best = 0;
     let mut best_value = Real::NEG_INFINITY;
@@ -129,7 +135,7 @@ fn extreme(mesh: &TriMesh, direction: &Vector) -> Vector {
             best = k;
         }
     }
-    vertices[best].coords
+    best
 }
 
 /// GJK's simplex: up to four points of the hulls' difference.

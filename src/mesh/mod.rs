@@ -13,6 +13,7 @@ mod primitives;
 mod trimesh;
 
 pub use bvh::{BvhNode, MeshBvh, BVH_LEAF_SIZE};
+pub(crate) use distance::triangle_pair_distance;
 pub use distance::{
     mesh_distance, mesh_distance_brute_force, mesh_distance_relative, DistanceKernel, DistanceSearch,
     MeshDistance, MeshDistanceScratch,

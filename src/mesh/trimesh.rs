@@ -50,6 +50,10 @@ pub struct TriMesh {
     triangles: Vec<[u32; 3]>,
     bvh: MeshBvh,
     radius: Real,
+    /// The triangles around each vertex: those of vertex `v` are
+    /// `incident[incident_start[v]..incident_start[v + 1]]`.
+    incident_start: Vec<u32>,
+    incident: Vec<u32>,
 }
 
 impl TriMesh {
@@ -82,7 +86,27 @@ impl TriMesh {
         }
         let (bvh, triangles) = MeshBvh::build(&vertices, triangles);
         let radius = vertices.iter().map(|v| v.coords.norm()).fold(0.0, Real::max);
-        Ok(TriMesh { vertices, triangles, bvh, radius })
+        let mut incident_start = vec![0u32; vertices.len() + 1];
+        for &v in triangles.iter().flatten() {
+            incident_start[v as usize + 1] += 1;
+        }
+        for v in 0..vertices.len() {
+            incident_start[v + 1] += incident_start[v];
+        }
+        let mut filled = incident_start.clone();
+        let mut incident = vec![0u32; 3 * triangles.len()];
+        for (t, triangle) in triangles.iter().enumerate() {
+            for &v in triangle {
+                incident[filled[v as usize] as usize] = t as u32;
+                filled[v as usize] += 1;
+            }
+        }
+        Ok(TriMesh { vertices, triangles, bvh, radius, incident_start, incident })
+    }
+
+    /// The triangles that have vertex `v` as a corner.
+    pub fn triangles_at(&self, v: usize) -> &[u32] {
+        &self.incident[self.incident_start[v] as usize..self.incident_start[v + 1] as usize]
     }
 
     /// The vertices, in the mesh's frame.

@@ -307,6 +307,7 @@ impl Stepper {
                 }
                 self.counters.distance_queries += trace.distance_queries;
                 self.counters.trace_s += trace.seconds;
+                self.counters.trace_certified += trace.certified;
                 trace.into_records()
             }
             None => Vec::new(),

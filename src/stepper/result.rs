@@ -114,6 +114,10 @@ pub struct Counters {
     pub rearm_s: Real,
     /// Seconds spent tracing.
     pub trace_s: Real,
+    /// Trace samples settled without a search: the gap between the two
+    /// meshes' vertex hulls met the distance of a triangle pair (see
+    /// [`crate::trace::TraceObserver::sample`]).
+    pub trace_certified: usize,
     /// Seconds spent in an outside engine's steps (`on_contact: Simulate`:
     /// rapier's dynamics and contact solving).
     pub engine_s: Real,
