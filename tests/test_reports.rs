@@ -169,3 +169,56 @@ fn record_pins_the_current_answer_and_leaves_derived_expectations_alone() {
     assert_eq!(std::fs::read_to_string(&fresh).unwrap(), text);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `nearmiss test --shard I/N --json` on each of three shards, then
+/// `nearmiss merge`: the same JSON and JUnit reports, line for line, as one
+/// unsharded run, apart from wall times (the shipped scenes: passes and
+/// skips, in two folders' order).
+#[test]
+fn sharded_and_merged_equals_one_run() {
+    let dir = workspace("shards");
+    let root = env!("CARGO_MANIFEST_DIR");
+    let scenes = [format!("{root}/scenes"), format!("{root}/scenes/stability")];
+    let nearmiss = |args: &[&str]| {
+        let output = Command::new(env!("CARGO_BIN_EXE_nearmiss")).args(args).output().unwrap();
+        assert!(output.status.success(), "{args:?}: {}", String::from_utf8_lossy(&output.stderr));
+        String::from_utf8(output.stdout).unwrap()
+    };
+    let path = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let whole =
+        nearmiss(&["test", &scenes[0], &scenes[1], "--json", &path("all.json"), "--junit", &path("all.xml")]);
+    let mut shard_files = Vec::new();
+    for index in 1..=3 {
+        let file = path(&format!("shard{index}.json"));
+        let shard = format!("{index}/3");
+        nearmiss(&["test", &scenes[0], &scenes[1], "--shard", &shard, "--json", &file]);
+        shard_files.push(file);
+    }
+    let mut merge = vec!["merge"];
+    merge.extend(shard_files.iter().map(|s| s.as_str()));
+    let merged_json = path("merged.json");
+    let merged_xml = path("merged.xml");
+    merge.extend(["--json", &merged_json, "--junit", &merged_xml]);
+    let merged = nearmiss(&merge);
+    // The same lines and count line on the terminal.
+    assert_eq!(merged, whole);
+    let without_times = |file: &str, key: &str| {
+        let text = std::fs::read_to_string(dir.join(file)).unwrap();
+        text.lines()
+            .map(|line| match line.find(key) {
+                Some(at) => line[..at].to_string(),
+                None => line.to_string(),
+            })
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(without_times("merged.json", "\"wall_time_s\""), without_times("all.json", "\"wall_time_s\""));
+    assert_eq!(without_times("merged.xml", "time=\""), without_times("all.xml", "time=\""));
+    // A shard missing is refused.
+    let output = Command::new(env!("CARGO_BIN_EXE_nearmiss"))
+        .args(["merge", &shard_files[0], &shard_files[1]])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("shard 3/3 is missing"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -6,14 +6,14 @@
 use std::path::Path;
 use std::time::Instant;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::math::Real;
 use crate::regression::verdict;
 use crate::scene::Scene;
 
 /// How one scene fared.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum CaseStatus {
     /// It met its expectation.
@@ -27,7 +27,7 @@ pub enum CaseStatus {
 }
 
 /// One scene of a suite.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SuiteCase {
     /// The scene file, as given.
     pub file: String,

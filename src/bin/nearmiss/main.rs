@@ -7,6 +7,7 @@
 
 mod check;
 mod kernels;
+mod merge;
 mod paper;
 mod progress;
 mod queries;
@@ -63,6 +64,11 @@ enum Command {
     /// an expectation; one line per scene. Exits 1 if any fails, 2 if a
     /// scene is bad.
     Test(test::Args),
+    /// Put the shards of `nearmiss test --shard I/N --json FILE` back
+    /// together: the lines, the count line, and `--json`/`--junit` reports
+    /// as one machine would have written them (wall times apart). Exits
+    /// like `test`, and 2 if the shards do not make one whole suite.
+    Merge(merge::Args),
 }
 
 /// Why a command did not succeed.
@@ -98,6 +104,7 @@ fn main() -> ExitCode {
         Command::Stability(args) => stability::main(args),
         Command::Check(args) => check::main(args),
         Command::Test(args) => test::main(args),
+        Command::Merge(args) => merge::main(args),
     };
     let (code, message) = match result {
         Ok(()) => return ExitCode::SUCCESS,

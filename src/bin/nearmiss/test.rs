@@ -3,7 +3,7 @@
 //! and JSON reports for CI systems.
 
 use crate::{CliError, CommandResult};
-use nearmiss::report::{case_line, count_line, junit_xml, run_case, suite_counts, suite_json};
+use nearmiss::report::{case_line, count_line, junit_xml, run_case, suite_counts, suite_json, SuiteShard};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -31,6 +31,12 @@ pub struct Args {
     /// test as usual.
     #[arg(long)]
     record: bool,
+    /// Run only share I of N of the scenes (1 ≤ I ≤ N; the scenes at
+    /// positions k with k mod N = I − 1 of the sorted list), for spreading
+    /// a suite over machines. Needs `--json`, which then writes the shard's
+    /// results for `nearmiss merge`.
+    #[arg(long)]
+    shard: Option<nearmiss::report::Shard>,
 }
 
 pub fn main(args: Args) -> CommandResult {
@@ -43,6 +49,17 @@ pub fn main(args: Args) -> CommandResult {
     if args.jobs == Some(0) {
         return Err(CliError::BadInput("--jobs: give at least 1".into()));
     }
+    if args.shard.is_some() && args.json.is_none() {
+        return Err(CliError::BadInput(
+            "--shard: give --json FILE too (the shard's results, for `nearmiss merge`)".into(),
+        ));
+    }
+    let total = files.len();
+    let positions: Vec<usize> = match args.shard {
+        Some(shard) => (0..total).filter(|&k| shard.picks(k)).collect(),
+        None => (0..total).collect(),
+    };
+    let files: Vec<PathBuf> = positions.iter().map(|&k| files[k].clone()).collect();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.jobs.unwrap_or(0))
         .build()
@@ -62,14 +79,26 @@ pub fn main(args: Args) -> CommandResult {
     for line in cases.iter().filter_map(case_line) {
         println!("{line}");
     }
-    for (report, text) in [(&args.junit, junit_xml(&cases)), (&args.json, suite_json(&cases))] {
+    let json = match args.shard {
+        Some(shard) => {
+            SuiteShard { shard, total, cases: positions.into_iter().zip(cases.iter().cloned()).collect() }
+                .to_json()
+        }
+        None => suite_json(&cases),
+    };
+    for (report, text) in [(&args.junit, junit_xml(&cases)), (&args.json, json)] {
         if let Some(path) = report {
             write_beside(path, &text)?;
             eprintln!("wrote {}", path.display());
         }
     }
     println!("{}", count_line(&cases));
-    let (_, failed, bad, _) = suite_counts(&cases);
+    verdict(&cases)
+}
+
+/// The exit of a suite: 2 if a scene was bad, 1 if one failed.
+pub fn verdict(cases: &[nearmiss::report::SuiteCase]) -> CommandResult {
+    let (_, failed, bad, _) = suite_counts(cases);
     if bad > 0 {
         Err(CliError::BadInput(format!("{bad} scene(s) could not be loaded")))
     } else if failed > 0 {
@@ -80,7 +109,7 @@ pub fn main(args: Args) -> CommandResult {
 }
 
 /// Writes a report file whole (its folder created if needed).
-fn write_beside(path: &Path, text: &str) -> Result<(), CliError> {
+pub fn write_beside(path: &Path, text: &str) -> Result<(), CliError> {
     let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     crate::write_report(folder, &name, text.as_bytes()).map(|_| ())
