@@ -22,7 +22,7 @@ use plotters::prelude::*;
 use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::TriMesh;
 use crate::output::{feature_text, shortest};
-use crate::plot::{register_font, PlotError, CHART_SIZE, FAMILY};
+use crate::plot::{draw_png, PlotError, FAMILY};
 use crate::stepper::Contact;
 
 /// Contacts pictured per run (the first ones; a scene's `plot` asks for
@@ -63,7 +63,6 @@ pub fn draw_contact(
     names: (&str, &str),
     path: &Path,
 ) -> Result<(), PlotError> {
-    register_font();
     let (pa, pb) = (contact.point_a, contact.point_b);
     let triangle_a = mesh_a.triangle(contact.triangle_a).map(|p| contact.pose_a * p);
     let face_normal = (triangle_a[1] - triangle_a[0]).cross(&(triangle_a[2] - triangle_a[0]));
@@ -102,15 +101,8 @@ pub fn draw_contact(
         contact.contact_distance
     );
 
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let temporary = path.with_file_name(format!(".{name}.{}.tmp.png", std::process::id()));
-    let error = |e: &dyn std::fmt::Display| PlotError::Draw {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    };
-    {
-        let root = BitMapBackend::new(&temporary, CHART_SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| error(&e))?;
+    draw_png(path, |root| {
+        let error = |e: &dyn std::fmt::Display| e.to_string();
         let (top, rest) = root.split_vertically(70);
         top.draw(&Text::new(caption, (20, 12), (FAMILY, 18).into_font())).map_err(|e| error(&e))?;
         let legend = format!(
@@ -162,9 +154,8 @@ pub fn draw_contact(
                 .draw_series([PathElement::new(vec![base, tip], NORMAL.stroke_width(3))])
                 .map_err(|e| error(&e))?;
         }
-        root.present().map_err(|e| error(&e))?;
-    }
-    std::fs::rename(&temporary, path).map_err(|e| error(&e))
+        Ok(())
+    })
 }
 
 /// Every edge of `mesh` at `pose`, projected into `view` (edges wholly

@@ -92,7 +92,7 @@ pub enum PlotError {
     },
 }
 
-pub(crate) fn register_font() {
+fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The font is compiled in and known to parse; a failure would only
@@ -125,7 +125,6 @@ fn tick(v: Real, log: bool) -> String {
 
 /// Renders the chart to a PNG file at `path`.
 pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
-    register_font();
     let drawn: Vec<Vec<(Real, Real, usize)>> = chart
         .series
         .iter()
@@ -156,18 +155,10 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
     pad(&mut x0, &mut x1);
     pad(&mut y0, &mut y1);
 
-    // Per process, so that concurrent runs into one folder never share it.
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let temporary = path.with_file_name(format!(".{name}.{}.tmp.png", std::process::id()));
-    let error = |e: &dyn std::fmt::Display| PlotError::Draw {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    };
-    {
-        let root = BitMapBackend::new(&temporary, CHART_SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| error(&e))?;
+    draw_png(path, |root| {
+        let error = |e: &dyn std::fmt::Display| e.to_string();
         let font = |size: u32| (FAMILY, size).into_font();
-        let mut context = ChartBuilder::on(&root)
+        let mut context = ChartBuilder::on(root)
             .caption(&chart.title, font(30))
             .margin(20)
             .x_label_area_size(60)
@@ -241,7 +232,27 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
             .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(|e| error(&e))?;
-        root.present().map_err(|e| error(&e))?;
+        Ok(())
+    })
+}
+
+/// Draws a [`CHART_SIZE`] PNG at `path`: `draw` paints on a white canvas
+/// (its errors as text), rendered under a temporary name first (per
+/// process, so that concurrent runs into one folder never share it) and
+/// renamed.
+pub(crate) fn draw_png(
+    path: &Path,
+    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> Result<(), String>,
+) -> Result<(), PlotError> {
+    register_font();
+    let error = |message: String| PlotError::Draw { path: path.display().to_string(), message };
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let temporary = path.with_file_name(format!(".{name}.{}.tmp.png", std::process::id()));
+    {
+        let root = BitMapBackend::new(&temporary, CHART_SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| error(e.to_string()))?;
+        draw(&root).map_err(error)?;
+        root.present().map_err(|e| error(e.to_string()))?;
     }
-    std::fs::rename(&temporary, path).map_err(|e| error(&e))
+    std::fs::rename(&temporary, path).map_err(|e| error(e.to_string()))
 }

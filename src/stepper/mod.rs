@@ -268,16 +268,19 @@ impl Stepper {
 
     /// Whether pairs come from a broad phase (otherwise the caller sets
     /// every movable pair once).
+    #[cfg(feature = "rapier")]
     pub(crate) fn has_broad_phase(&self) -> bool {
         self.broad.is_some()
     }
 
     /// The work done so far.
+    #[cfg(feature = "rapier")]
     pub(crate) fn counters(&self) -> &Counters {
         &self.counters
     }
 
     /// The work counters, for an outside engine's stage times.
+    #[cfg(feature = "rapier")]
     pub(crate) fn counters_mut(&mut self) -> &mut Counters {
         &mut self.counters
     }
