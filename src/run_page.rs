@@ -87,13 +87,15 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
     for file in files.iter().filter(|f| **f != "report.md") {
         let what = match *file {
             "summary.json" => "every number of the run (contacts, work, wall times)",
-            "trace.csv" => "distances over time (pair, time, distance, closest points)",
+            "trace.csv" => "distances over time (step, time, the two bodies, distance)",
+            "animation.glb" => "the run as a glTF animation (Blender or any glTF viewer)",
             "poses.csv" => "every body's pose over time",
             "distance.png" => "the plot above",
             f if f.starts_with("contact_") => "the two bodies at that contact (pictured above)",
             _ => "",
         };
-        let _ = writeln!(page, "- [{file}]({file}): {what}");
+        let what = if what.is_empty() { String::new() } else { format!(": {what}") };
+        let _ = writeln!(page, "- [{file}]({file}){what}");
     }
     page
 }

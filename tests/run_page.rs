@@ -23,6 +23,10 @@ fn the_page_links_only_files_written_beside_it() {
     for target in &targets {
         assert!(folder.join(target).is_file(), "{target} is linked but not in {}", folder.display());
     }
+    // Every file is described.
+    for line in page.lines().filter(|l| l.starts_with("- [")) {
+        assert!(line.contains("): ") && !line.ends_with(": "), "{line}");
+    }
     // The contact time as summary.json writes it, and the verdict.
     let first = result.first_contact.as_ref().expect("the box hits the floor");
     assert!(page.contains(&format!("| 1 | {} |", nearmiss::output::shortest(first.time))), "{page}");
