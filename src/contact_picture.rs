@@ -25,9 +25,21 @@ use crate::output::{feature_text, shortest};
 use crate::plot::{draw_png, PlotError, FAMILY};
 use crate::stepper::Contact;
 
-/// Contacts pictured per run (the first ones; a scene's `plot` asks for
-/// them), named by [`crate::output::CONTACT_PICTURES`].
-pub const PICTURED_CONTACTS: usize = crate::output::CONTACT_PICTURES.len();
+/// Contacts pictured per run: the first ones, and any the scene's `plot`
+/// names (`contacts: [12, 40]`).
+pub const PICTURED_CONTACTS: usize = 3;
+
+/// The contacts (1-based numbers) pictured in a run of `contacts`
+/// contacts: the first [`PICTURED_CONTACTS`] and those `named` that
+/// happened, in order, each once.
+pub fn pictured(contacts: usize, named: &[usize]) -> Vec<usize> {
+    let mut numbers: Vec<usize> = (1..=contacts.min(PICTURED_CONTACTS))
+        .chain(named.iter().copied().filter(|&n| n >= 1 && n <= contacts))
+        .collect();
+    numbers.sort_unstable();
+    numbers.dedup();
+    numbers
+}
 
 /// The zoomed views magnify the whole view this many times (and show at
 /// least a few contact distances around the contact).

@@ -283,21 +283,18 @@ pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::
 pub const SWAP_ATTEMPTS: usize = 8;
 
 /// The file names a run writes (and replaces as a whole).
-pub const RUN_FILES: [&str; 9] = [
-    "summary.json",
-    "trace.csv",
-    "distance.png",
-    "poses.csv",
-    "animation.glb",
-    "report.md",
-    CONTACT_PICTURES[0],
-    CONTACT_PICTURES[1],
-    CONTACT_PICTURES[2],
-];
+pub const RUN_FILES: [&str; 6] =
+    ["summary.json", "trace.csv", "distance.png", "poses.csv", "animation.glb", "report.md"];
 
-/// The contact pictures' file names (`contact_picture::PICTURED_CONTACTS`
-/// of them), written with a plot.
-pub const CONTACT_PICTURES: [&str; 3] = ["contact_1.png", "contact_2.png", "contact_3.png"];
+/// Whether `name` is a file a run writes: one of [`RUN_FILES`] or a contact
+/// picture (`contact_<n>.png`).
+pub fn is_run_file(name: &str) -> bool {
+    RUN_FILES.contains(&name)
+        || name
+            .strip_prefix("contact_")
+            .and_then(|rest| rest.strip_suffix(".png"))
+            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+}
 
 /// [`write_outputs`], with the peers' answers in `summary.json`.
 pub fn write_outputs_with_peer(
@@ -361,7 +358,7 @@ fn write_run_files(
     result: &RunResult,
     scene: &Scene,
     peers: &Peers<'_>,
-) -> std::io::Result<Vec<&'static str>> {
+) -> std::io::Result<Vec<String>> {
     if let Some(field) = first_non_finite(result) {
         // Never a silent null or inf in an output: nothing is written.
         return Err(std::io::Error::other(format!(
@@ -372,44 +369,40 @@ fn write_run_files(
     let summary =
         Summary { rapier: peers.rapier.clone(), ..Summary::with_peer(result, peers.parry) }.to_json();
     write_synced(&folder.join("summary.json"), summary.as_bytes())?;
-    written.push("summary.json");
+    written.push("summary.json".to_string());
     if scene.trace.is_some() {
         let mut csv = Vec::new();
         write_trace_csv(&result.trace, &result.bodies, &mut csv)?;
         write_synced(&folder.join("trace.csv"), &csv)?;
-        written.push("trace.csv");
+        written.push("trace.csv".to_string());
     }
     if scene.poses.is_some() {
         let mut csv = Vec::new();
         crate::poses::write_poses_csv(&result.poses, &result.bodies, &mut csv)?;
         write_synced(&folder.join("poses.csv"), &csv)?;
-        written.push("poses.csv");
+        written.push("poses.csv".to_string());
         let glb = crate::animation::glb(scene, &result.poses).map_err(std::io::Error::other)?;
         write_synced(&folder.join("animation.glb"), &glb)?;
-        written.push("animation.glb");
+        written.push("animation.glb".to_string());
     }
     #[cfg(feature = "plot")]
     if let Some(plot) = &scene.plot {
         let path = folder.join("distance.png");
         crate::plot::render(&distance_chart(result, plot.log_y), &path).map_err(std::io::Error::other)?;
-        written.push("distance.png");
-        for (k, contact) in result.contacts.iter().take(crate::contact_picture::PICTURED_CONTACTS).enumerate()
-        {
+        written.push("distance.png".to_string());
+        for n in crate::contact_picture::pictured(result.contacts.len(), &plot.contacts) {
+            let contact = &result.contacts[n - 1];
             let meshes = (&*scene.bodies[contact.body_a].mesh, &*scene.bodies[contact.body_b].mesh);
             let names = (result.bodies[contact.body_a].as_str(), result.bodies[contact.body_b].as_str());
-            crate::contact_picture::draw_contact(
-                contact,
-                k + 1,
-                meshes,
-                names,
-                &folder.join(CONTACT_PICTURES[k]),
-            )
-            .map_err(std::io::Error::other)?;
-            written.push(CONTACT_PICTURES[k]);
+            let name = format!("contact_{n}.png");
+            crate::contact_picture::draw_contact(contact, n, meshes, names, &folder.join(&name))
+                .map_err(std::io::Error::other)?;
+            written.push(name);
         }
     }
-    written.push("report.md");
-    let page = crate::run_page::run_page(result, scene, &written);
+    written.push("report.md".to_string());
+    let names: Vec<&str> = written.iter().map(String::as_str).collect();
+    let page = crate::run_page::run_page(result, scene, &names);
     write_synced(&folder.join("report.md"), page.as_bytes())?;
     Ok(written)
 }
@@ -422,7 +415,7 @@ fn carry_over(folder: &Path, staging: &Path) -> std::io::Result<()> {
         let entry = entry?;
         let name = entry.file_name();
         let target = staging.join(&name);
-        if RUN_FILES.iter().any(|run| name == *run) || target.exists() {
+        if is_run_file(&name.to_string_lossy()) || target.exists() {
             continue;
         }
         link_or_copy(&entry.path(), &target)?;

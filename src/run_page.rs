@@ -76,6 +76,21 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
             );
         }
         page.push('\n');
+        let missing: Vec<String> = scene
+            .plot
+            .iter()
+            .flat_map(|plot| {
+                plot.contacts.iter().filter(|&&n| n > result.contacts.len()).map(|n| n.to_string())
+            })
+            .collect();
+        if !missing.is_empty() {
+            let _ = writeln!(
+                page,
+                "Pictures were asked for contact(s) {}; the run had {} contact(s).\n",
+                missing.join(", "),
+                result.contacts.len()
+            );
+        }
         for picture in files.iter().filter(|f| f.starts_with("contact_")) {
             let _ = writeln!(page, "![{}]({picture})\n", picture.trim_end_matches(".png").replace('_', " "));
         }

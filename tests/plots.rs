@@ -73,27 +73,42 @@ fn hundreds_of_contacts_stay_legible() {
     let _ = std::fs::remove_file(&out);
 }
 
-/// With a plot, the first contacts are pictured (`contact_<n>.png`, at most
-/// `PICTURED_CONTACTS`), and the run's page shows them.
+/// With a plot, the first contacts are pictured (`contact_<n>.png`, the
+/// first `PICTURED_CONTACTS`) and any the scene names; the run's page shows
+/// them and says which named contact did not happen; a picture of an
+/// earlier run that this one does not draw is not kept.
 #[test]
-fn the_first_contacts_are_pictured() {
+fn the_first_contacts_and_the_named_ones_are_pictured() {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ball_rest.ron"))
         .unwrap()
         .replace("Simulate(restitution: 0.5)", "Bounce(restitution: 0.5)");
     let text = text[..text.find("    expect:").unwrap()].to_string() + ")";
-    let scene = Scene::from_ron_str(&text).unwrap();
+    let named = text.replace("plot: (log_y: false)", "plot: (log_y: false, contacts: [7, 100000])");
+    let scene = Scene::from_ron_str(&named).unwrap();
     let result = nearmiss::stepper::run(&scene);
-    assert!(result.contacts.len() > nearmiss::contact_picture::PICTURED_CONTACTS);
+    assert!(result.contacts.len() > 7 && result.contacts.len() < 100000);
     let out = std::env::temp_dir().join(format!("nearmiss-contact-pictures-{}", std::process::id()));
     let written = nearmiss::output::write_outputs(&out, &result, &scene).unwrap();
-    let pictures: Vec<_> =
-        written.iter().filter(|p| p.file_name().unwrap().to_string_lossy().starts_with("contact_")).collect();
-    assert_eq!(pictures.len(), nearmiss::contact_picture::PICTURED_CONTACTS);
-    for (n, picture) in pictures.iter().enumerate() {
-        assert!(picture.ends_with(format!("contact_{}.png", n + 1)));
-        assert_eq!(png_size(&std::fs::read(picture).unwrap()), nearmiss::plot::CHART_SIZE);
+    let pictures: Vec<String> = written
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .filter(|name| name.starts_with("contact_"))
+        .collect();
+    assert_eq!(pictures, ["contact_1.png", "contact_2.png", "contact_3.png", "contact_7.png"]);
+    for picture in &pictures {
+        let bytes = std::fs::read(out.join("ball_rest").join(picture)).unwrap();
+        assert_eq!(png_size(&bytes), nearmiss::plot::CHART_SIZE);
     }
     let page = std::fs::read_to_string(out.join("ball_rest/report.md")).unwrap();
-    assert!(page.contains("![contact 1](contact_1.png)"), "{page}");
+    assert!(
+        page.contains("![contact 1](contact_1.png)") && page.contains("![contact 7](contact_7.png)"),
+        "{page}"
+    );
+    assert!(page.contains("asked for contact(s) 100000"), "{page}");
+    // The same scene without the named contact: contact_7.png goes.
+    let plain = Scene::from_ron_str(&text).unwrap();
+    nearmiss::output::write_outputs(&out, &nearmiss::stepper::run(&plain), &plain).unwrap();
+    assert!(out.join("ball_rest/contact_3.png").exists());
+    assert!(!out.join("ball_rest/contact_7.png").exists());
     let _ = std::fs::remove_dir_all(&out);
 }

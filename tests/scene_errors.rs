@@ -301,3 +301,11 @@ fn too_many_steps_are_refused_before_the_run() {
     let text = format!("Scene(name: \"bad\", dt: 1e-9, duration: 10.0, {GOOD_BODIES})");
     assert_rejected("steps-limit", &text, &["`steps`", "10000000000 steps", "--max-steps"]);
 }
+
+#[test]
+fn a_contact_picture_numbered_zero_is_refused() {
+    let text = format!(
+        "Scene(name: \"s\", dt: 0.01, duration: 1.0, trace: (pairs: All), plot: (contacts: [2, 0]), {GOOD_BODIES})"
+    );
+    assert_rejected("picture_zero", &text, &["plot.contacts", "numbered from 1"]);
+}

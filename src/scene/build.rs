@@ -175,7 +175,10 @@ impl Builder<'_> {
                     "the trace has no pair to draw (every pair of bodies is fixed): remove `plot`, or trace a pair that moves",
                 )
             }
-            Some(plot) => Some(super::PlotSpec { log_y: plot.log_y }),
+            Some(plot) if plot.contacts.contains(&0) => {
+                return self.invalid("plot.contacts", "contacts are numbered from 1 (the first reported)")
+            }
+            Some(plot) => Some(super::PlotSpec { log_y: plot.log_y, contacts: plot.contacts.clone() }),
         };
         let expect = self.expect(file.expect.as_ref(), &names)?;
         Ok(Scene {

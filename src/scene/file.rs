@@ -233,6 +233,10 @@ pub struct PlotSettings {
     /// invisible on a linear axis of metres). Default: chosen.
     #[serde(default)]
     pub log_y: Option<bool>,
+    /// Contacts (1-based, in the order reported) to picture as
+    /// `contact_<n>.png` besides the first three. Default: none.
+    #[serde(default)]
+    pub contacts: Vec<usize>,
 }
 
 /// A spring from a body point to a world anchor.

@@ -156,6 +156,8 @@ pub struct PlotSpec {
     /// Logarithmic distance axis (`Some(true)`), linear, or chosen from the
     /// trace (`None`, see [`crate::output::distance_chart`]).
     pub log_y: Option<bool>,
+    /// Contacts (1-based) pictured besides the first three.
+    pub contacts: Vec<usize>,
 }
 
 /// What a run is expected to do.
