@@ -43,9 +43,10 @@
 //! linearly), a lower bound on the distance carried over from the
 //! previous step (`lower_bound`), and the gap between the convex hulls of
 //! the two meshes' vertices at the step's start (GJK, `hull_gap.rs`,
-//! started from the previous step's axis), less the head-on bound of the
-//! motion over the step. Each lets a pair that stays apart skip the step
-//! without any search.
+//! started from the previous step's axis), less what the motion can close
+//! along the gap's direction over the step (the centres' approach along it
+//! and each body's turn, at most `|n × ω| r`). Each lets a pair that stays
+//! apart skip the step without any search.
 
 use super::advance::ROUNDING_FLOOR_ULPS;
 use super::contact::{ContactContract, ContactRule};
