@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
 /// Edge–edge or vertex–face.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum QueryKind {
     /// Two edges: rows `ea0, ea1, eb0, eb1` at t0 then t1.
     EdgeEdge,

@@ -222,3 +222,39 @@ fn sharded_and_merged_equals_one_run() {
     assert!(String::from_utf8_lossy(&output.stderr).contains("shard 3/3 is missing"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `nearmiss queries --shard I/N --json` then `nearmiss merge`: the same
+/// table as one run, apart from its three time columns.
+#[test]
+fn sharded_queries_merge_into_one_table() {
+    let dir = workspace("query-shards");
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/ccd-sample-queries/unit-tests");
+    let nearmiss = |args: &[&str]| {
+        let output = Command::new(env!("CARGO_BIN_EXE_nearmiss")).args(args).output().unwrap();
+        assert!(output.status.success(), "{args:?}: {}", String::from_utf8_lossy(&output.stderr));
+        String::from_utf8(output.stdout).unwrap()
+    };
+    // The time columns (mean, median, max µs) are wall times.
+    let without_times = |table: &str| -> Vec<String> {
+        table
+            .lines()
+            .map(|line| {
+                let mut cells: Vec<&str> = line.split('|').collect();
+                if cells.len() > 12 && !cells[1].contains("file") && !cells[1].contains("---") {
+                    cells[8..11].fill("");
+                }
+                cells.join("|")
+            })
+            .collect()
+    };
+    let whole = nearmiss(&["queries", data, "--repeats", "1"]);
+    let shards: Vec<String> =
+        (1..=3).map(|i| dir.join(format!("q{i}.json")).to_string_lossy().into_owned()).collect();
+    for (i, file) in shards.iter().enumerate() {
+        nearmiss(&["queries", data, "--repeats", "1", "--shard", &format!("{}/3", i + 1), "--json", file]);
+    }
+    let merged = nearmiss(&["merge", &shards[0], &shards[1], &shards[2]]);
+    assert!(whole.lines().count() > 4, "{whole}");
+    assert_eq!(without_times(&merged), without_times(&whole));
+    let _ = std::fs::remove_dir_all(&dir);
+}

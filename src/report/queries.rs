@@ -10,7 +10,7 @@ use crate::math::Real;
 use crate::query_file::{QueryFile, QueryKind};
 
 /// What running one file gave.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FileReport {
     /// Edge–edge or vertex–face.
     pub kind: QueryKind,
@@ -99,12 +99,12 @@ pub fn query_table_header() -> &'static str {
     "| file | kind | queries | positives | false neg. | false pos. | out of iter. | mean µs | median µs | max µs | exact times checked | late |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n"
 }
 
-/// One Markdown row: `file`'s report.
-pub fn query_row(file: &QueryFile, r: &FileReport) -> String {
+/// One Markdown row: the report of the file at `path`.
+pub fn query_row(path: &std::path::Path, r: &FileReport) -> String {
     let truth = |n: usize| if r.unknown_truth == r.queries { "?".to_string() } else { n.to_string() };
     format!(
         "| {} | {} | {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.1} | {} | {} |\n",
-        file.path.display(),
+        path.display(),
         r.kind.short_name(),
         r.queries,
         truth(r.positives),

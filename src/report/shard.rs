@@ -9,7 +9,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use super::SuiteCase;
+use super::{FileReport, SuiteCase};
 
 /// One share of the work: the `index`-th (1-based) of `count`.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -54,8 +54,38 @@ impl fmt::Display for Shard {
     }
 }
 
-/// What a shard of `nearmiss test` writes (`--json` with `--shard`): its
-/// cases, each with its position in the whole suite.
+/// What a shard writes (`--json` with `--shard`), for `nearmiss merge`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShardFile {
+    /// A shard of `nearmiss test`.
+    Suite(SuiteShard),
+    /// A shard of `nearmiss queries`.
+    Queries(QueriesShard),
+}
+
+impl ShardFile {
+    /// As JSON.
+    pub fn to_json(&self) -> String {
+        // Strings and finite numbers: serialising cannot fail.
+        serde_json::to_string_pretty(self).unwrap_or_default() + "\n"
+    }
+}
+
+/// A shard of `nearmiss queries`: its files' reports, each with its
+/// position in the whole list of files.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct QueriesShard {
+    /// Which shard.
+    pub shard: Shard,
+    /// The whole run's number of files.
+    pub total: usize,
+    /// This shard's files (path as given, report) with their positions.
+    pub files: Vec<(usize, (String, FileReport))>,
+}
+
+/// A shard of `nearmiss test`: its cases, each with its position in the
+/// whole suite.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SuiteShard {
     /// Which shard.
@@ -66,47 +96,56 @@ pub struct SuiteShard {
     pub cases: Vec<(usize, SuiteCase)>,
 }
 
-impl SuiteShard {
-    /// As JSON.
-    pub fn to_json(&self) -> String {
-        // Strings and finite numbers: serialising cannot fail.
-        serde_json::to_string_pretty(self).unwrap_or_default() + "\n"
-    }
+/// Puts the shards of one suite back together: every case in its place,
+/// checked (see [`merge_positions`]). The merged cases give the same
+/// `suite_json` and `junit_xml` as one machine's run, apart from wall times.
+pub fn merge_suite(shards: &[SuiteShard]) -> Result<Vec<SuiteCase>, String> {
+    let parts: Vec<_> = shards.iter().map(|s| (s.shard, s.total, s.cases.as_slice())).collect();
+    merge_positions(&parts)
 }
 
-/// Puts the shards of one suite back together: every case in its place,
-/// checked (one shard each of the same count, the same total, every
-/// position once). The merged cases give the same `suite_json` and
-/// `junit_xml` as one machine's run, apart from wall times.
-pub fn merge_suite(shards: &[SuiteShard]) -> Result<Vec<SuiteCase>, String> {
-    let first = shards.first().ok_or("no shard given")?;
-    let (count, total) = (first.shard.count, first.total);
+/// Puts the shards of one `queries` run back together (see
+/// [`merge_positions`]): each file's path and report, in order.
+pub fn merge_queries(shards: &[QueriesShard]) -> Result<Vec<(String, FileReport)>, String> {
+    let parts: Vec<_> = shards.iter().map(|s| (s.shard, s.total, s.files.as_slice())).collect();
+    merge_positions(&parts)
+}
+
+/// One shard's part of a run: the shard, the run's number of items, and
+/// the shard's items with their positions.
+type ShardPart<'a, T> = (Shard, usize, &'a [(usize, T)]);
+
+/// The items of the shards `(shard, total, items with positions)` in one
+/// list, checked: one shard each of the same count, the same total, every
+/// position once and in its shard.
+fn merge_positions<T: Clone>(shards: &[ShardPart<'_, T>]) -> Result<Vec<T>, String> {
+    let &(first, total, _) = shards.first().ok_or("no shard given")?;
+    let count = first.count;
     let mut seen = vec![false; count];
-    let mut cases: Vec<Option<SuiteCase>> = vec![None; total];
-    for part in shards {
-        if part.shard.count != count || part.total != total {
+    let mut items: Vec<Option<T>> = vec![None; total];
+    for &(shard, part_total, part) in shards {
+        if shard.count != count || part_total != total {
             return Err(format!(
-                "shard {} of a suite of {} cases does not belong with shard {} of {} cases",
-                part.shard, part.total, first.shard, total
+                "shard {shard} of {part_total} items does not belong with shard {first} of {total} items"
             ));
         }
-        if std::mem::replace(&mut seen[part.shard.index - 1], true) {
-            return Err(format!("shard {} given twice", part.shard));
+        if std::mem::replace(&mut seen[shard.index - 1], true) {
+            return Err(format!("shard {shard} given twice"));
         }
-        for (position, case) in &part.cases {
-            if *position >= total || !part.shard.picks(*position) {
-                return Err(format!("shard {} holds case {position}, which is not its", part.shard));
+        for (position, item) in part {
+            if *position >= total || !shard.picks(*position) {
+                return Err(format!("shard {shard} holds item {position}, which is not its"));
             }
-            cases[*position] = Some(case.clone());
+            items[*position] = Some(item.clone());
         }
     }
     if let Some(missing) = seen.iter().position(|s| !s) {
         return Err(format!("shard {}/{count} is missing", missing + 1));
     }
-    cases
+    items
         .into_iter()
         .enumerate()
-        .map(|(k, case)| case.ok_or_else(|| format!("case {k} is in no shard")))
+        .map(|(k, item)| item.ok_or_else(|| format!("item {k} is in no shard")))
         .collect()
 }
 

@@ -3,7 +3,7 @@
 use crate::{CliError, CommandResult};
 use nearmiss::ccd::CcdOptions;
 use nearmiss::query_file::{query_files, QueryFile, QueryKind};
-use nearmiss::report::{query_row, query_table_header, run_file};
+use nearmiss::report::{query_row, query_table_header, run_file, QueriesShard, ShardFile};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -23,6 +23,14 @@ pub struct Args {
     /// Most advancement steps per query: at least 1.
     #[arg(long, default_value_t = CcdOptions::default().max_iterations)]
     max_iterations: usize,
+    /// Run only share I of N of the files (1 ≤ I ≤ N; the files at
+    /// positions k with k mod N = I − 1), for spreading a benchmark over
+    /// machines. Needs `--json`.
+    #[arg(long)]
+    shard: Option<nearmiss::report::Shard>,
+    /// With `--shard`: write the shard's rows to this file, for `nearmiss merge`.
+    #[arg(long)]
+    json: Option<PathBuf>,
 }
 
 #[derive(Copy, Clone, clap::ValueEnum)]
@@ -58,6 +66,11 @@ pub fn main(args: Args) -> CommandResult {
         max_iterations: args.max_iterations,
         ..CcdOptions::default()
     };
+    if args.shard.is_some() != args.json.is_some() {
+        return Err(CliError::BadInput(
+            "--shard and --json go together (the shard's rows, for `nearmiss merge`)".into(),
+        ));
+    }
     let mut files = Vec::new();
     for path in &args.paths {
         let found = query_files(path).map_err(|error| CliError::BadInput(error.to_string()))?;
@@ -75,13 +88,27 @@ pub fn main(args: Args) -> CommandResult {
         let paths: Vec<String> = args.paths.iter().map(|p| p.display().to_string()).collect();
         return Err(CliError::BadInput(format!("no query files (.csv) under {}", paths.join(", "))));
     }
+    let total = files.len();
+    let shard = args.shard;
+    let mut rows = Vec::new();
     print!("{}", query_table_header());
-    let mut failed = 0;
-    for file in &files {
+    for (position, file) in files.iter().enumerate().filter(|(k, _)| shard.is_none_or(|s| s.picks(*k))) {
         let report = run_file(file, &options, args.repeats);
-        failed += usize::from(report.false_negatives > 0 || report.late > 0);
-        print!("{}", query_row(file, &report));
+        print!("{}", query_row(&file.path, &report));
+        rows.push((position, (file.path.display().to_string(), report)));
     }
+    if let (Some(shard), Some(json)) = (shard, &args.json) {
+        let text = ShardFile::Queries(QueriesShard { shard, total, files: rows.clone() }).to_json();
+        crate::test::write_beside(json, &text)?;
+        eprintln!("wrote {}", json.display());
+    }
+    let reports: Vec<_> = rows.into_iter().map(|(_, (_, report))| report).collect();
+    verdict(&reports)
+}
+
+/// The exit of a query run: 1 if a file had a false negative or a late time.
+pub fn verdict(reports: &[nearmiss::report::FileReport]) -> CommandResult {
+    let failed = reports.iter().filter(|r| r.false_negatives > 0 || r.late > 0).count();
     if failed > 0 {
         return Err(CliError::Failed(format!("{failed} file(s) with a false negative or a late time")));
     }

@@ -3,7 +3,9 @@
 //! and JSON reports for CI systems.
 
 use crate::{CliError, CommandResult};
-use nearmiss::report::{case_line, count_line, junit_xml, run_case, suite_counts, suite_json, SuiteShard};
+use nearmiss::report::{
+    case_line, count_line, junit_xml, run_case, suite_counts, suite_json, ShardFile, SuiteShard,
+};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -80,10 +82,12 @@ pub fn main(args: Args) -> CommandResult {
         println!("{line}");
     }
     let json = match args.shard {
-        Some(shard) => {
-            SuiteShard { shard, total, cases: positions.into_iter().zip(cases.iter().cloned()).collect() }
-                .to_json()
-        }
+        Some(shard) => ShardFile::Suite(SuiteShard {
+            shard,
+            total,
+            cases: positions.into_iter().zip(cases.iter().cloned()).collect(),
+        })
+        .to_json(),
         None => suite_json(&cases),
     };
     for (report, text) in [(&args.junit, junit_xml(&cases)), (&args.json, json)] {
