@@ -125,17 +125,40 @@ pub(crate) fn hull_gap(
 /// The vertex of `mesh` farthest along `direction` (its index): an exact
 /// maximum over every vertex (up to the rounding of the dot products).
 fn extreme(mesh: &TriMesh, direction: &Vector) -> usize {
+    const LANES: usize = 4;
     let vertices = mesh.vertices();
-    let mut best = 0;
-    let mut best_value = Real::NEG_INFINITY;
-    for (k, p) in vertices.iter().enumerate() {
-        let value = direction.x * p.x + direction.y * p.y + direction.z * p.z;
-        if value > best_value {
-            best_value = value;
-            best = k;
+    let value = |k: usize| {
+        let p = &vertices[k];
+        direction.x * p.x + direction.y * p.y + direction.z * p.z
+    };
+    // Four independent running maxima (each lane keeps its first largest),
+    // so the comparisons do not wait on each other; then the largest over
+    // the lanes, the lowest index among equals: the first largest vertex,
+    // as a plain scan would find it.
+    let mut best = [0usize; LANES];
+    let mut best_value = [Real::NEG_INFINITY; LANES];
+    let whole = vertices.len() / LANES * LANES;
+    for start in (0..whole).step_by(LANES) {
+        for lane in 0..LANES {
+            let v = value(start + lane);
+            if v > best_value[lane] {
+                best_value[lane] = v;
+                best[lane] = start + lane;
+            }
         }
     }
-    best
+    let (mut first, mut first_value) = (0, Real::NEG_INFINITY);
+    for lane in 0..LANES {
+        if best_value[lane] > first_value || (best_value[lane] == first_value && best[lane] < first) {
+            (first, first_value) = (best[lane], best_value[lane]);
+        }
+    }
+    for k in whole..vertices.len() {
+        if value(k) > first_value {
+            (first, first_value) = (k, value(k));
+        }
+    }
+    first
 }
 
 /// GJK's simplex: up to four points of the hulls' difference.
