@@ -11,9 +11,10 @@
 //! gap(n) = min_b n·b − max_a n·a
 //! ```
 //!
-//! apart (the gap between their shadows on `n`). The maxima are taken over
-//! every vertex (no hull is built), so each `gap(n)` holds exactly, up to
-//! the rounding of the dot products. GJK only proposes the directions: each
+//! apart (the gap between their shadows on `n`). The maxima are the
+//! maxima over every vertex (no hull is built; `TriMesh::farthest_vertex`
+//! finds them from a table of directions, the vertex a whole scan finds),
+//! so each `gap(n)` holds exactly, up to the rounding of the dot products. GJK only proposes the directions: each
 //! iteration's direction towards the closest point of its simplex; the
 //! bound is the best gap seen. For convex meshes (boxes, icospheres) GJK
 //! converges to the meshes' own distance; for others, to their hulls'.
@@ -71,8 +72,8 @@ pub(crate) fn hull_gap(
     // minus a's highest.
     let support = |v: &Vector| -> (Vector, (usize, usize)) {
         let in_b = rotation.inverse_transform_vector(v);
-        let lowest_b = extreme(b, &-in_b);
-        let highest_a = extreme(a, v);
+        let lowest_b = b.farthest_vertex(&-in_b);
+        let highest_a = a.farthest_vertex(v);
         let point = rotation * b.vertices()[lowest_b].coords + translation - a.vertices()[highest_a].coords;
         (point, (highest_a, lowest_b))
     };
@@ -120,45 +121,6 @@ pub(crate) fn hull_gap(
         on_simplex = true;
     }
     answer
-}
-
-/// The vertex of `mesh` farthest along `direction` (its index): an exact
-/// maximum over every vertex (up to the rounding of the dot products).
-fn extreme(mesh: &TriMesh, direction: &Vector) -> usize {
-    const LANES: usize = 4;
-    let vertices = mesh.vertices();
-    let value = |k: usize| {
-        let p = &vertices[k];
-        direction.x * p.x + direction.y * p.y + direction.z * p.z
-    };
-    // Four independent running maxima (each lane keeps its first largest),
-    // so the comparisons do not wait on each other; then the largest over
-    // the lanes, the lowest index among equals: the first largest vertex,
-    // as a plain scan would find it.
-    let mut best = [0usize; LANES];
-    let mut best_value = [Real::NEG_INFINITY; LANES];
-    let whole = vertices.len() / LANES * LANES;
-    for start in (0..whole).step_by(LANES) {
-        for lane in 0..LANES {
-            let v = value(start + lane);
-            if v > best_value[lane] {
-                best_value[lane] = v;
-                best[lane] = start + lane;
-            }
-        }
-    }
-    let (mut first, mut first_value) = (0, Real::NEG_INFINITY);
-    for lane in 0..LANES {
-        if best_value[lane] > first_value || (best_value[lane] == first_value && best[lane] < first) {
-            (first, first_value) = (best[lane], best_value[lane]);
-        }
-    }
-    for k in whole..vertices.len() {
-        if value(k) > first_value {
-            (first, first_value) = (k, value(k));
-        }
-    }
-    first
 }
 
 /// GJK's simplex: up to four points of the hulls' difference.

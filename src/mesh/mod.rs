@@ -10,6 +10,7 @@ pub(crate) mod distance;
 mod mass;
 mod obj;
 mod primitives;
+mod support;
 mod trimesh;
 
 pub use bvh::{BvhNode, MeshBvh, BVH_LEAF_SIZE};
@@ -21,4 +22,5 @@ pub use distance::{
 pub use mass::MassProperties;
 pub use obj::{load_obj, parse_obj, ObjError};
 pub use primitives::{box_mesh, icosphere, needle, single_triangle, tetrahedron, MAX_ICOSPHERE_SUBDIVISIONS};
+pub use support::{SUPPORT_TABLE_MARGIN, SUPPORT_TABLE_MIN_VERTICES};
 pub use trimesh::{MeshError, TriMesh};

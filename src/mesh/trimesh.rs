@@ -2,6 +2,7 @@
 
 use super::bvh::MeshBvh;
 use super::mass::MassProperties;
+use super::support::{self, SupportTable};
 use crate::math::{Point, Real, Triangle, Vector};
 
 /// What makes a list of vertices and triangles unusable as a mesh.
@@ -54,6 +55,8 @@ pub struct TriMesh {
     /// `incident[incident_start[v]..incident_start[v + 1]]`.
     incident_start: Vec<u32>,
     incident: Vec<u32>,
+    /// The farthest-vertex table (`None` for small meshes, scanned whole).
+    support: Option<SupportTable>,
 }
 
 impl TriMesh {
@@ -101,12 +104,31 @@ impl TriMesh {
                 filled[v as usize] += 1;
             }
         }
-        Ok(TriMesh { vertices, triangles, bvh, radius, incident_start, incident })
+        let support = SupportTable::build(&vertices);
+        Ok(TriMesh { vertices, triangles, bvh, radius, incident_start, incident, support })
     }
 
     /// The triangles that have vertex `v` as a corner.
     pub fn triangles_at(&self, v: usize) -> &[u32] {
         &self.incident[self.incident_start[v] as usize..self.incident_start[v + 1] as usize]
+    }
+
+    /// The first vertex farthest along `direction` (the first largest dot
+    /// product, as a scan over every vertex finds it; its index), found by
+    /// the mesh's table of directions (see the `support` module) for
+    /// meshes of [`SUPPORT_TABLE_MIN_VERTICES`](super::SUPPORT_TABLE_MIN_VERTICES)
+    /// vertices or more.
+    #[inline]
+    pub fn farthest_vertex(&self, direction: &Vector) -> usize {
+        match self.support.as_ref().and_then(|table| table.candidates(direction)) {
+            Some(candidates) => support::farthest_of(&self.vertices, candidates, direction),
+            None => support::farthest_by_scan(&self.vertices, direction),
+        }
+    }
+
+    /// Bytes held by the mesh's farthest-vertex table (0 for a small mesh).
+    pub fn support_table_bytes(&self) -> usize {
+        self.support.as_ref().map_or(0, SupportTable::bytes)
     }
 
     /// The vertices, in the mesh's frame.
