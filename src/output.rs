@@ -143,8 +143,10 @@ pub struct WorkJson {
     pub distance_queries: usize,
     /// Triangle pairs evaluated.
     pub triangle_pairs: usize,
-    /// Pair-steps skipped without a mesh query.
+    /// Pair-steps settled without a mesh query.
     pub pairs_culled: usize,
+    /// CCD advancement steps on the hulls' gap alone (one GJK each).
+    pub hull_steps: usize,
     /// Steps whose implicit gyroscopic solve did not converge.
     pub gyroscopic_unconverged: usize,
     /// Pairs handed to CCD by the broad phase, summed over steps.
@@ -238,6 +240,7 @@ impl<'a> Summary<'a> {
                 distance_queries: counters.distance_queries,
                 triangle_pairs: counters.triangle_pairs,
                 pairs_culled: counters.pairs_culled,
+                hull_steps: counters.hull_steps,
                 gyroscopic_unconverged: counters.gyroscopic_unconverged,
                 candidate_pairs: counters.candidate_pairs,
                 max_energy_drift: counters.max_energy_drift,

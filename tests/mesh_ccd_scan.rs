@@ -1,9 +1,12 @@
 //! Never late, checked independently: for random tumbling mesh pairs, the
 //! brute-force distance (every triangle pair, scalar exact kernel, no BVH)
-//! on a fine scan of the motion before the reported contact is never zero,
-//! a dense scan of the last moment before it neither, pairs reported as
-//! separated never touch on the scan, and at a reported contact the meshes
-//! are within the contact distance.
+//! on a fine scan of the motion before the reported contact never comes
+//! below the guaranteed distance (every approach closer than it must be
+//! reported), a dense scan of the last moment before it neither, pairs
+//! reported as separated never come that close on the scan, and at a
+//! reported contact the meshes are within the contact distance. The cases
+//! take both paths of the query: advancement on the hulls' gap alone, and
+//! the BVH search.
 
 use nearmiss::ccd::{
     mesh_time_of_impact, CcdOptions, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart,
@@ -14,8 +17,15 @@ use nearmiss::motion::StepMotion;
 use nearmiss::samples::Rng;
 use std::path::Path;
 
-/// Runs one case and checks it against brute force; returns whether contact was reported.
-fn check_case(case: usize, a: &TriMesh, b: &TriMesh, motion_a: &StepMotion, motion_b: &StepMotion) -> bool {
+/// Runs one case and checks it against brute force; returns whether contact
+/// was reported and whether the hulls' gap advanced before the search.
+fn check_case(
+    case: usize,
+    a: &TriMesh,
+    b: &TriMesh,
+    motion_a: &StepMotion,
+    motion_b: &StepMotion,
+) -> (bool, bool) {
     let options = CcdOptions { distance_tolerance: 1e-9, ..CcdOptions::default() };
     let mut scratch = MeshCcdScratch::default();
     let result: MeshCcdResult = mesh_time_of_impact(
@@ -35,7 +45,12 @@ fn check_case(case: usize, a: &TriMesh, b: &TriMesh, motion_a: &StepMotion, moti
     let fine = (0..200).map(|k| (end - 1e-3 * (1.0 - k as Real / 200.0)).max(0.0));
     for s in coarse.chain(fine) {
         let d = distance_at(s);
-        assert!(d > 0.0, "case {case}: touching at t = {s} before the reported {:?}", result.time_of_impact);
+        assert!(
+            d > 0.0 && d >= result.guaranteed_distance - 1e-12,
+            "case {case}: distance {d} at t = {s} before the reported {:?} (guaranteed {})",
+            result.time_of_impact,
+            result.guaranteed_distance
+        );
     }
     if let Some(time) = result.time_of_impact {
         // Within the contact distance there (to the rounding of two poses).
@@ -46,7 +61,7 @@ fn check_case(case: usize, a: &TriMesh, b: &TriMesh, motion_a: &StepMotion, moti
             result.contact_distance
         );
     }
-    result.time_of_impact.is_some()
+    (result.time_of_impact.is_some(), result.hull_steps > 0)
 }
 
 fn random_motion(rng: &mut Rng, center: Vector, velocity: Vector, spin: Real) -> StepMotion {
@@ -62,17 +77,21 @@ fn no_touching_before_the_reported_time_on_a_fine_scan() {
     let a = icosphere(0.6, 1).unwrap();
     let b = box_mesh(&Vector::new(0.7, 0.2, 0.4)).unwrap();
     let mut rng = Rng::new(11);
-    let (mut contacts, mut separated) = (0, 0);
+    let (mut contacts, mut separated, mut advanced_on_hulls) = (0, 0, 0);
     for case in 0..40 {
         let motion_a = random_motion(&mut rng, Vector::zeros(), Vector::new(1.5, 0.0, 0.0), 12.0);
         let motion_b = random_motion(&mut rng, Vector::new(2.2, 0.0, 0.0), Vector::zeros(), 12.0);
-        match check_case(case, &a, &b, &motion_a, &motion_b) {
+        let (contact, hulls) = check_case(case, &a, &b, &motion_a, &motion_b);
+        match contact {
             true => contacts += 1,
             false => separated += 1,
         }
+        advanced_on_hulls += usize::from(contact && hulls);
     }
-    // The cases must exercise both outcomes.
+    // The cases must exercise both outcomes, and contacts found after
+    // advancing on the hulls' gap.
     assert!(contacts >= 10 && separated >= 3, "{contacts} contacts, {separated} separated");
+    assert!(advanced_on_hulls >= 5, "{advanced_on_hulls} contacts after advancing on the hulls");
 }
 
 #[test]
@@ -86,7 +105,7 @@ fn flat_faces_meet_flat_faces() {
     for case in 0..40 {
         let motion_a = random_motion(&mut rng, Vector::zeros(), Vector::new(1.8, 0.0, 0.0), 4.0);
         let motion_b = random_motion(&mut rng, Vector::new(2.6, 0.0, 0.0), Vector::zeros(), 4.0);
-        contacts += usize::from(check_case(case, &a, &b, &motion_a, &motion_b));
+        contacts += usize::from(check_case(case, &a, &b, &motion_a, &motion_b).0);
     }
     assert!(contacts >= 20, "{contacts} contacts");
 }
@@ -105,7 +124,7 @@ fn concave_mesh_against_a_sphere() {
     for case in 0..20 {
         let motion_a = random_motion(&mut rng, Vector::zeros(), Vector::new(1.5, 0.0, 0.0), 8.0);
         let motion_b = random_motion(&mut rng, Vector::new(2.0, 0.0, 0.0), Vector::zeros(), 8.0);
-        contacts += usize::from(check_case(case, &handle, &ball, &motion_a, &motion_b));
+        contacts += usize::from(check_case(case, &handle, &ball, &motion_a, &motion_b).0);
     }
     assert!(contacts >= 8, "{contacts} contacts");
 }

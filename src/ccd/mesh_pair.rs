@@ -46,7 +46,12 @@
 //! started from the previous step's axis), less what the motion can close
 //! along the gap's direction over the step (the centres' approach along it
 //! and each body's turn, at most `|n × ω| r`). Each lets a pair that stays
-//! apart skip the step without any search.
+//! apart skip the step without any search. Where the hulls' gap does not
+//! last the whole step, it still proves a part of it: conservative
+//! advancement runs on the hulls' gap alone (one warm-started GJK a step)
+//! until the hulls come within the contact distance, and the BVH search
+//! takes over from there. For convex meshes the hulls are the meshes, so
+//! the search only runs where they touch.
 
 use super::advance::ROUNDING_FLOOR_ULPS;
 use super::contact::{ContactContract, ContactRule};
@@ -66,6 +71,12 @@ use crate::motion::StepMotion;
 /// is `(x1 − x0) / dt`, and `x0 + v dt` rounds back to `x1` only to a few
 /// ulps); the tolerance never drops below them.
 pub const INTEGRATED_JUMP_ULPS: Real = 8.0;
+
+/// The most advancement steps taken on the hulls' gap alone before the BVH
+/// search takes over (see the module). Each costs one warm-started GJK; a
+/// pair that keeps approaching without touching in 16 steps is left to the
+/// search, whose front gains more per step.
+pub const HULL_ADVANCE_MAX_STEPS: usize = 16;
 
 /// One body of a mesh CCD query: its mesh (vertices relative to the centre
 /// of mass) and its motion over the step.
@@ -104,8 +115,12 @@ pub struct MeshCcdResult {
     /// hulls' gap was measured at the step's start, a good first guess for
     /// the next query.
     pub axis: Option<Vector>,
-    /// Advancement steps searched (0 when a filter settled the step).
+    /// Advancement steps searched (0 when a filter or the hulls' gap
+    /// settled the step).
     pub iterations: usize,
+    /// Advancement steps taken on the hulls' gap alone, before any search
+    /// (at most [`HULL_ADVANCE_MAX_STEPS`]).
+    pub hull_steps: usize,
     /// Triangle pairs evaluated over all searches.
     pub triangle_pairs: usize,
     /// BVH node pairs bounded over all searches.
@@ -217,6 +232,7 @@ pub fn mesh_time_of_impact(
         hint,
         axis,
         iterations: 0,
+        hull_steps: 0,
         triangle_pairs: 0,
         node_pairs: 0,
     };
@@ -236,31 +252,50 @@ pub fn mesh_time_of_impact(
         result.end_lower_bound = (carried - speed * duration).max(spheres_at(duration));
         return result;
     }
-    // The hulls' gap at the start along a world direction n, less what the
-    // motion can close along n: the centres' approach along n and each
-    // body's turn, at most |n × ω| r (and the rounding of the gap's dot
-    // products, within the floor). GJK stops early once the head-on bound
-    // is beaten, or once the hulls come within the target.
-    let rotation_a = a.motion.rotation_at(0.0);
-    let gap = hull_gap(
-        a.mesh,
-        b.mesh,
-        &StepMotion::relative_pose(a.motion, b.motion, 0.0),
-        axis.map(|axis| rotation_a.inverse_transform_vector(&axis)),
-        (target + floor, target + floor + speed * duration),
-    );
-    if let Some(local) = gap.axis {
+    // Conservative advancement on the hulls' gap: at time s, the gap along
+    // a world direction n, less what the motion can close along n (the
+    // centres' approach along n and each body's turn, at most |n × ω| r;
+    // the rounding of the gap's dot products is within the floor), is safe
+    // until it reaches the target. GJK stops early once the head-on bound
+    // is beaten, or once the hulls come within the target. The BVH search
+    // takes over from the time reached when the hulls come within the
+    // contact distance (the meshes may touch), or after
+    // `HULL_ADVANCE_MAX_STEPS` steps.
+    let mut s = 0.0;
+    let mut hull_steps = 0;
+    while hull_steps < HULL_ADVANCE_MAX_STEPS {
+        let rotation_a = a.motion.rotation_at(s);
+        let rest = duration - s;
+        let gap = hull_gap(
+            a.mesh,
+            b.mesh,
+            &StepMotion::relative_pose(a.motion, b.motion, s),
+            result.axis.map(|axis| rotation_a.inverse_transform_vector(&axis)),
+            (target + floor, target + floor + speed * rest),
+        );
+        let Some(local) = gap.axis else { break };
         let n = rotation_a * local;
         let closing = (a.motion.velocity - b.motion.velocity).dot(&n)
             + n.cross(&a.motion.angular_velocity).norm() * ra
             + n.cross(&b.motion.angular_velocity).norm() * rb;
         result.axis = Some(n);
-        let end = gap.lower - floor - closing * duration;
-        if gap.lower - floor - closing.max(0.0) * duration > target {
-            result.end_lower_bound = end.max(spheres_at(duration));
+        let margin = gap.lower - floor - target;
+        if margin - closing.max(0.0) * rest > 0.0 {
+            // Apart until the interval's end.
+            if hull_steps > 0 {
+                result.status = CcdStatus::Separated;
+            }
+            result.hull_steps = hull_steps;
+            result.end_lower_bound = (gap.lower - floor - closing * rest).max(spheres_at(duration));
             return result;
         }
+        if margin < contact_distance - target {
+            break;
+        }
+        s += margin / closing;
+        hull_steps += 1;
     }
+    result.hull_steps = hull_steps;
     let relative_velocity = b.motion.velocity - a.motion.velocity;
     let (omega_a, omega_b) = (a.motion.angular_velocity, b.motion.angular_velocity);
     // A step shorter than this proves nothing a triangle pair outside the
@@ -269,7 +304,6 @@ pub fn mesh_time_of_impact(
     let mut work = StepWork::default();
     let meshes = SearchMeshes { a: a.mesh, b: b.mesh, kernel };
     scratch.front.reset();
-    let mut s = 0.0;
     let mut hint = hint;
     let mut status = CcdStatus::OutOfIterations;
     for iteration in 0..options.max_iterations.max(1) {
@@ -293,7 +327,7 @@ pub fn mesh_time_of_impact(
         match outcome {
             StepOutcome::Contact { pair } => {
                 hint = Some(pair);
-                status = if iteration == 0 && lower_bound.is_none() {
+                status = if iteration == 0 && hull_steps == 0 && lower_bound.is_none() {
                     CcdStatus::InitiallyTouching
                 } else {
                     CcdStatus::Converged

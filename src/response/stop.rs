@@ -114,6 +114,7 @@ pub(super) fn stop_in_time_order(
                 let warm = WarmStart { lower_bound: None, hint: pair.hint, axis: pair.axis };
                 let result = mesh_time_of_impact(&query, warm, step.scratch);
                 step.counters.distance_queries += result.iterations;
+                step.counters.hull_steps += result.hull_steps;
                 step.counters.triangle_pairs += result.triangle_pairs;
                 if result.status == CcdStatus::OutOfIterations {
                     let undecided =

@@ -45,6 +45,7 @@ pub(crate) struct PairOutcome {
 #[derive(Copy, Clone, Debug)]
 struct OutcomeSummary {
     iterations: usize,
+    hull_steps: usize,
     triangle_pairs: usize,
     hint: Option<(usize, usize)>,
     axis: Option<crate::math::Vector>,
@@ -56,6 +57,7 @@ impl From<MeshCcdResult> for PairOutcome {
         PairOutcome {
             summary: OutcomeSummary {
                 iterations: result.iterations,
+                hull_steps: result.hull_steps,
                 triangle_pairs: result.triangle_pairs,
                 hint: result.hint,
                 axis: result.axis,
@@ -129,6 +131,7 @@ impl Stepper {
             self.counters.distance_queries += result.iterations;
             self.counters.triangle_pairs += result.triangle_pairs;
             self.counters.pairs_culled += usize::from(result.iterations == 0);
+            self.counters.hull_steps += result.hull_steps;
             pair.hint = result.hint;
             pair.axis = result.axis;
             pair.lower_bound = Some(result.end_lower_bound);

@@ -92,8 +92,12 @@ pub struct Counters {
     pub distance_queries: usize,
     /// Triangle pairs evaluated.
     pub triangle_pairs: usize,
-    /// Pair-steps skipped without a mesh query (spheres or carried bound).
+    /// Pair-steps settled without a mesh query (spheres, carried bound or
+    /// the hulls' gap).
     pub pairs_culled: usize,
+    /// CCD advancement steps taken on the hulls' gap alone (one GJK each),
+    /// before or instead of a search.
+    pub hull_steps: usize,
     /// Steps where the implicit gyroscopic solve did not converge.
     pub gyroscopic_unconverged: usize,
     /// The largest drift of an integrated body's mechanical energy,
