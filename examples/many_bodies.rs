@@ -11,6 +11,7 @@
 //! alone on the same scene in the same run (its CCD on; convex hulls, then
 //! every body a triangle mesh), with the guard's share of each step.
 //! With `--trace N`: every pair traced every N steps (the trace column).
+//! With `--simulate --no-peers`: Simulate only (for profiling the guard).
 //! Usage: `cargo run --release --example many_bodies -- 10 100 1000 [--steps 240] [--simulate] [--trace N]`.
 use nearmiss::samples::Rng;
 use nearmiss::scene::Scene;
@@ -106,7 +107,8 @@ fn main() {
             c.candidate_pairs as f64 / steps,
             result.contacts.len()
         );
-        // The mesh assets (shared between bodies) and their BVHs, in bytes.
+        // The mesh assets (shared between bodies) with their BVHs and
+        // tables, in bytes.
         let mut assets: Vec<*const nearmiss::mesh::TriMesh> =
             scene.bodies.iter().map(|b| std::sync::Arc::as_ptr(&b.mesh)).collect();
         assets.sort();
@@ -118,14 +120,9 @@ fn main() {
                 let p = std::sync::Arc::as_ptr(&b.mesh);
                 assets.iter().position(|&q| q == p).map(|k| assets[k] = std::ptr::null()).is_some()
             })
-            .map(|b| {
-                let m = &b.mesh;
-                std::mem::size_of_val(m.vertices())
-                    + std::mem::size_of_val(m.triangles())
-                    + std::mem::size_of_val(m.bvh().nodes())
-            })
+            .map(|b| b.mesh.heap_bytes())
             .sum();
-        eprintln!("{n} bodies: mesh assets and BVHs {mesh_bytes} bytes");
+        eprintln!("{n} bodies: mesh assets (vertices, triangles, BVHs, tables) {mesh_bytes} bytes");
     }
 }
 
@@ -141,6 +138,23 @@ fn simulate_beside_rapier(args: &[String], steps: usize) {
         let guard = c.broad_phase_s + c.ccd_s + c.respond_s + c.rearm_s;
         let steps = result.steps as f64;
         let ours = steps / result.wall_time_s;
+        if args.iter().any(|a| a == "--no-peers") {
+            println!(
+                "| {n} | {steps} | {ours:.0} | {:.1}% | {:.3} | {:.3} | | | | | {} |",
+                100.0 * guard / result.wall_time_s,
+                guard * 1e3 / steps,
+                c.engine_s * 1e3 / steps,
+                result.contacts.len()
+            );
+            eprintln!(
+                "guard ms/step: broad phase {:.3}, CCD {:.3}, respond {:.3}, re-arm {:.3}",
+                c.broad_phase_s * 1e3 / steps,
+                c.ccd_s * 1e3 / steps,
+                c.respond_s * 1e3 / steps,
+                c.rearm_s * 1e3 / steps
+            );
+            continue;
+        }
         let convex = nearmiss::guard::run_rapier_alone(&scene, false).expect("rapier runs");
         let meshes = nearmiss::guard::run_rapier_alone(&scene, true).expect("rapier runs");
         let rate = |r: &nearmiss::guard::RapierAlone| r.steps as f64 / r.wall_time_s;

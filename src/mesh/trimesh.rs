@@ -126,9 +126,14 @@ impl TriMesh {
         }
     }
 
-    /// Bytes held by the mesh's farthest-vertex table (0 for a small mesh).
-    pub fn support_table_bytes(&self) -> usize {
-        self.support.as_ref().map_or(0, SupportTable::bytes)
+    /// Bytes the mesh holds on the heap: vertices, triangles, BVH, the
+    /// triangles around each vertex, and the farthest-vertex table.
+    pub fn heap_bytes(&self) -> usize {
+        std::mem::size_of_val(self.vertices.as_slice())
+            + std::mem::size_of_val(self.triangles.as_slice())
+            + std::mem::size_of_val(self.bvh.nodes())
+            + 4 * (self.incident_start.len() + self.incident.len())
+            + self.support.as_ref().map_or(0, SupportTable::bytes)
     }
 
     /// The vertices, in the mesh's frame.
