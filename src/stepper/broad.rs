@@ -1,8 +1,11 @@
 //! Stage 2, broad phase: the pairs whose swept boxes overlap in the step
 //! (scenes of more than two bodies; with two, the one pair is kept from
 //! the start). Each pair keeps its state from the previous step; a new pair
-//! starts fresh, and a pair that left the set was apart for a whole step,
-//! so it is re-armed.
+//! starts fresh. A pair in contact stays in the set until the re-arm stage
+//! finds it separated (farther apart than its re-arm distance), whether or
+//! not its boxes still overlap: boxes that fit the meshes part as soon as
+//! the meshes are a contact distance apart, and a resting pair must not be
+//! re-armed by that.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -30,7 +33,7 @@ impl Stepper {
                 let reach = motion.center_at(0.0).coords.amax() + motion.travel(scene.dt) + radius;
                 let margin = box_margin(&scene.ccd, radius)
                     + self.parameters.broad_phase_rounding_ulps * Real::EPSILON * reach;
-                boxes.push(swept_box(motion, radius, scene.dt, margin));
+                boxes.push(swept_box(&body.mesh, motion, scene.dt, margin));
             }
             let candidates = broad.pairs(boxes);
             let fixed = |i: usize| scene.bodies[i].motion == BodyMotion::Fixed;
@@ -42,7 +45,7 @@ impl Stepper {
             for (a, b) in candidates.into_iter().filter(|&(a, b)| !(fixed(a) && fixed(b))) {
                 while let Some(gone) = old.get(next_old).filter(|p| (p.a, p.b) < (a, b)) {
                     if gone.touching.is_some() {
-                        world.separated.push((gone.a, gone.b));
+                        world.pairs.push(gone.clone());
                     }
                     next_old += 1;
                 }
@@ -55,7 +58,7 @@ impl Stepper {
                 }
             }
             let gone = old[next_old.min(old.len())..].iter().filter(|p| p.touching.is_some());
-            world.separated.extend(gone.map(|p| (p.a, p.b)));
+            world.pairs.extend(gone.cloned());
             old.clear();
             self.scratch.spare_pairs = old;
         }
