@@ -10,8 +10,7 @@ use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::ccd::hull_gap;
-use crate::kernels::batch::TrianglesSoa;
+use crate::ccd::{hull_gap, AroundVertices};
 use crate::math::{Real, Vector};
 use crate::mesh::{
     mesh_distance_relative, triangle_pair_distance, DistanceKernel, DistanceSearch, MeshDistanceScratch,
@@ -58,9 +57,7 @@ pub struct TraceObserver {
     pub certified: usize,
     /// The certificate's candidate triangle pairs (buffers kept between
     /// samples).
-    candidates: (TrianglesSoa, TrianglesSoa),
-    candidate_pairs: Vec<(usize, usize)>,
-    candidate_distances: Vec<Real>,
+    around: AroundVertices,
     /// Mesh distance queries made.
     pub distance_queries: usize,
     /// Seconds spent sampling.
@@ -74,9 +71,7 @@ impl TraceObserver {
             hints: vec![None; spec.pairs.len()],
             axes: vec![None; spec.pairs.len()],
             certified: 0,
-            candidates: Default::default(),
-            candidate_pairs: Vec::new(),
-            candidate_distances: Vec::new(),
+            around: Default::default(),
             scene: Arc::clone(scene),
             spec,
             records: Vec::new(),
@@ -180,23 +175,7 @@ impl TraceObserver {
             }
             // The triangles around the hulls' closest vertices.
             let (va, vb) = gap.support?;
-            self.candidates.0.clear();
-            self.candidates.1.clear();
-            self.candidate_pairs.clear();
-            for &i in mesh_a.triangles_at(va) {
-                for &j in mesh_b.triangles_at(vb) {
-                    self.candidates.0.push(&mesh_a.triangle(i as usize));
-                    self.candidates.1.push(&mesh_b.triangle(j as usize).map(|p| pos_ab * p));
-                    self.candidate_pairs.push((i as usize, j as usize));
-                }
-            }
-            self.candidate_distances.resize(self.candidate_pairs.len(), 0.0);
-            crate::kernels::batch::triangle_distances(
-                &self.candidates.0,
-                &self.candidates.1,
-                &mut self.candidate_distances,
-            );
-            for (&d, &pair) in self.candidate_distances.iter().zip(&self.candidate_pairs) {
+            if let Some((d, pair)) = self.around.closest(mesh_a, va, mesh_b, vb, pos_ab) {
                 if best.is_none_or(|(b, _)| d < b) {
                     best = Some((d, pair));
                 }

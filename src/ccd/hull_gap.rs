@@ -24,6 +24,7 @@
 //! within `close` of the origin (the hulls come that close, so no
 //! direction can prove more than `close`), or converged.
 
+use crate::kernels::batch::{triangle_distances, TrianglesSoa};
 use crate::math::{Pose, Real, Vector};
 use crate::mesh::TriMesh;
 
@@ -121,6 +122,57 @@ pub(crate) fn hull_gap(
         on_simplex = true;
     }
     answer
+}
+
+/// The triangle pairs around two vertices (those of `a` that have vertex
+/// `va` as a corner against those of `b` around `vb`): where the hulls'
+/// closest vertices are, for convex meshes, the closest triangle pair is
+/// among them. Reusable buffers: no allocation once grown.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct AroundVertices {
+    a: TrianglesSoa,
+    b: TrianglesSoa,
+    pairs: Vec<(usize, usize)>,
+    distances: Vec<Real>,
+}
+
+impl AroundVertices {
+    /// The closest of the triangle pairs around `va` and `vb` (the first
+    /// of equals), `b` placed at `pos_ab` in `a`'s frame, by the exact
+    /// batch kernel: its distance and triangles.
+    pub(crate) fn closest(
+        &mut self,
+        a: &TriMesh,
+        va: usize,
+        b: &TriMesh,
+        vb: usize,
+        pos_ab: &Pose,
+    ) -> Option<(Real, (usize, usize))> {
+        self.a.clear();
+        self.b.clear();
+        self.pairs.clear();
+        for &i in a.triangles_at(va) {
+            for &j in b.triangles_at(vb) {
+                self.a.push(&a.triangle(i as usize));
+                self.b.push(&b.triangle(j as usize).map(|p| pos_ab * p));
+                self.pairs.push((i as usize, j as usize));
+            }
+        }
+        self.distances.resize(self.pairs.len(), 0.0);
+        triangle_distances(&self.a, &self.b, &mut self.distances);
+        let mut best: Option<(Real, (usize, usize))> = None;
+        for (&d, &pair) in self.distances.iter().zip(&self.pairs) {
+            if best.is_none_or(|(b, _)| d < b) {
+                best = Some((d, pair));
+            }
+        }
+        best
+    }
+
+    /// The triangle pairs the last [`AroundVertices::closest`] evaluated.
+    pub(crate) fn evaluated(&self) -> usize {
+        self.pairs.len()
+    }
 }
 
 /// GJK's simplex: up to four points of the hulls' difference.

@@ -49,13 +49,15 @@
 //! apart skip the step without any search. Where the hulls' gap does not
 //! last the whole step, it still proves a part of it: conservative
 //! advancement runs on the hulls' gap alone (one warm-started GJK a step)
-//! until the hulls come within the contact distance, and the BVH search
-//! takes over from there. For convex meshes the hulls are the meshes, so
-//! the search only runs where they touch.
+//! until the hulls come within the contact distance. There, a triangle
+//! pair within the contact distance among the pair's last closest and the
+//! triangles around the hulls' closest vertices is the contact (for convex
+//! meshes the hulls are the meshes, and the closest pair is among those);
+//! only otherwise does the BVH search take over from that time.
 
 use super::advance::ROUNDING_FLOOR_ULPS;
 use super::contact::{ContactContract, ContactRule};
-use super::hull_gap::hull_gap;
+use super::hull_gap::{hull_gap, AroundVertices};
 use super::mesh_bound::{PairFrame, SPIN_SWEEP_AFTER_ITERATIONS};
 use super::mesh_search::{Front, SearchMeshes, StepLimits, StepOutcome, StepWork};
 use super::options::{CcdOptions, CcdStatus};
@@ -188,6 +190,8 @@ pub struct MeshCcdScratch {
     front: Front,
     /// The buffers of the distance queries (also lent to the stepper's).
     pub(crate) distance: MeshDistanceScratch,
+    /// The triangle pairs around the hulls' closest vertices.
+    around: AroundVertices,
 }
 
 /// The first time in `[0, duration]` at which two moving meshes come within
@@ -257,12 +261,13 @@ pub fn mesh_time_of_impact(
     // centres' approach along n and each body's turn, at most |n × ω| r;
     // the rounding of the gap's dot products is within the floor), is safe
     // until it reaches the target. GJK stops early once the head-on bound
-    // is beaten, or once the hulls come within the target. The BVH search
-    // takes over from the time reached when the hulls come within the
-    // contact distance (the meshes may touch), or after
-    // `HULL_ADVANCE_MAX_STEPS` steps.
+    // is beaten, or once the hulls come within the target. It stops where
+    // the hulls come within the contact distance (the meshes may touch), or
+    // after `HULL_ADVANCE_MAX_STEPS` steps.
     let mut s = 0.0;
     let mut hull_steps = 0;
+    // The hulls' closest vertices where they came within the contact distance.
+    let mut closest_vertices = None;
     while hull_steps < HULL_ADVANCE_MAX_STEPS {
         let rotation_a = a.motion.rotation_at(s);
         let rest = duration - s;
@@ -290,61 +295,90 @@ pub fn mesh_time_of_impact(
             return result;
         }
         if margin < contact_distance - target {
+            closest_vertices = gap.support;
             break;
         }
         s += margin / closing;
         hull_steps += 1;
     }
     result.hull_steps = hull_steps;
-    let relative_velocity = b.motion.velocity - a.motion.velocity;
-    let (omega_a, omega_b) = (a.motion.angular_velocity, b.motion.angular_velocity);
-    // A step shorter than this proves nothing a triangle pair outside the
-    // contact distance could not (see `mesh_search.rs`).
-    let min_step = if speed > 0.0 { (contact_distance - target) / speed } else { Real::INFINITY };
-    let mut work = StepWork::default();
-    let meshes = SearchMeshes { a: a.mesh, b: b.mesh, kernel };
-    scratch.front.reset();
-    let mut hint = hint;
+    let first_touch = if hull_steps == 0 && lower_bound.is_none() {
+        CcdStatus::InitiallyTouching
+    } else {
+        CcdStatus::Converged
+    };
+    let mut hint = hint.filter(|&(i, j)| i < a.mesh.triangles().len() && j < b.mesh.triangles().len());
     let mut status = CcdStatus::OutOfIterations;
-    for iteration in 0..options.max_iterations.max(1) {
-        if iteration == SPIN_SWEEP_AFTER_ITERATIONS {
-            // The spin-swept bounds start now: from the roots again, so that
-            // whole subtrees can be settled by them.
-            scratch.front.reset();
+    let mut work = StepWork::default();
+    // Where the hulls came within the contact distance, a triangle pair
+    // that is within it too (the pair's last closest, or one around the
+    // hulls' closest vertices: for convex meshes the closest pair is
+    // there) is the contact, with no search: every time before was proven
+    // safe. Otherwise the BVH search decides from here.
+    let touching = match closest_vertices {
+        Some((va, vb)) if kernel == DistanceKernel::Exact => {
+            let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
+            let within =
+                |found: Option<(Real, (usize, usize))>| found.filter(|&(d, _)| d <= contact_distance);
+            let hinted =
+                hint.map(|(i, j)| (triangle_pair_distance(a.mesh, i, b.mesh, j, &pos_ab).distance, (i, j)));
+            work.triangle_pairs += usize::from(hinted.is_some());
+            within(hinted).or_else(|| {
+                let around = scratch.around.closest(a.mesh, va, b.mesh, vb, &pos_ab);
+                work.triangle_pairs += scratch.around.evaluated();
+                within(around)
+            })
         }
-        let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
-        let frame = PairFrame::new(pos_ab, &a.motion.rotation_at(s), &relative_velocity, &omega_a, &omega_b);
-        let limits = StepLimits {
-            start: s,
-            target,
-            contact_distance,
-            horizon: duration - s,
-            min_step,
-            spin_sweep: iteration >= SPIN_SWEEP_AFTER_ITERATIONS,
-        };
-        result.iterations += 1;
-        let outcome = scratch.front.advance(&meshes, &frame, &limits, hint, &mut work);
-        match outcome {
-            StepOutcome::Contact { pair } => {
-                hint = Some(pair);
-                status = if iteration == 0 && hull_steps == 0 && lower_bound.is_none() {
-                    CcdStatus::InitiallyTouching
-                } else {
-                    CcdStatus::Converged
-                };
-                break;
+        _ => None,
+    };
+    if let Some((_, pair)) = touching {
+        status = first_touch;
+        hint = Some(pair);
+    } else {
+        let relative_velocity = b.motion.velocity - a.motion.velocity;
+        let (omega_a, omega_b) = (a.motion.angular_velocity, b.motion.angular_velocity);
+        // A step shorter than this proves nothing a triangle pair outside the
+        // contact distance could not (see `mesh_search.rs`).
+        let min_step = if speed > 0.0 { (contact_distance - target) / speed } else { Real::INFINITY };
+        let meshes = SearchMeshes { a: a.mesh, b: b.mesh, kernel };
+        scratch.front.reset();
+        for iteration in 0..options.max_iterations.max(1) {
+            if iteration == SPIN_SWEEP_AFTER_ITERATIONS {
+                // The spin-swept bounds start now: from the roots again, so
+                // that whole subtrees can be settled by them.
+                scratch.front.reset();
             }
-            StepOutcome::Advance { step, limiting } => {
-                hint = limiting.or(hint);
-                if s + step >= duration {
-                    result.status = CcdStatus::Separated;
-                    result.end_lower_bound = target.max(scratch.front.distance_bound_at(duration, speed));
-                    result.hint = hint;
-                    result.triangle_pairs = work.triangle_pairs;
-                    result.node_pairs = work.node_pairs;
-                    return result;
+            let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
+            let frame =
+                PairFrame::new(pos_ab, &a.motion.rotation_at(s), &relative_velocity, &omega_a, &omega_b);
+            let limits = StepLimits {
+                start: s,
+                target,
+                contact_distance,
+                horizon: duration - s,
+                min_step,
+                spin_sweep: iteration >= SPIN_SWEEP_AFTER_ITERATIONS,
+            };
+            result.iterations += 1;
+            let outcome = scratch.front.advance(&meshes, &frame, &limits, hint, &mut work);
+            match outcome {
+                StepOutcome::Contact { pair } => {
+                    hint = Some(pair);
+                    status = if iteration == 0 { first_touch } else { CcdStatus::Converged };
+                    break;
                 }
-                s += step;
+                StepOutcome::Advance { step, limiting } => {
+                    hint = limiting.or(hint);
+                    if s + step >= duration {
+                        result.status = CcdStatus::Separated;
+                        result.end_lower_bound = target.max(scratch.front.distance_bound_at(duration, speed));
+                        result.hint = hint;
+                        result.triangle_pairs = work.triangle_pairs;
+                        result.node_pairs = work.node_pairs;
+                        return result;
+                    }
+                    s += step;
+                }
             }
         }
     }
