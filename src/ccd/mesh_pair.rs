@@ -75,10 +75,12 @@ use crate::motion::StepMotion;
 pub const INTEGRATED_JUMP_ULPS: Real = 8.0;
 
 /// The most advancement steps taken on the hulls' gap alone before the BVH
-/// search takes over (see the module). Each costs one warm-started GJK; a
-/// pair that keeps approaching without touching in 16 steps is left to the
-/// search, whose front gains more per step.
-pub const HULL_ADVANCE_MAX_STEPS: usize = 16;
+/// search takes over (see the module). Each costs one warm-started GJK (a
+/// microsecond or less), a search tens of them; spinning bodies close far
+/// slower than their bound `|n × ω| r` says, so the steps shrink slowly:
+/// on the 1,000-body box, 16 steps left 1,418 queries to the search, 64
+/// left 97 (and the CCD's time fell by a third).
+pub const HULL_ADVANCE_MAX_STEPS: usize = 64;
 
 /// One body of a mesh CCD query: its mesh (vertices relative to the centre
 /// of mass) and its motion over the step.
