@@ -332,11 +332,18 @@ fn icosphere_cases(
     seed: u64,
     spin: Real,
 ) -> (crate::mesh::TriMesh, crate::mesh::TriMesh, Vec<(StepMotion, StepMotion)>) {
-    use crate::math::Pose;
     let a = crate::mesh::icosphere(1.0, 2).expect("a valid icosphere");
     let b = crate::mesh::icosphere(1.0, 3).expect("a valid icosphere");
+    (a, b, approach_cases(count, seed, spin))
+}
+
+/// Two bodies of radius about 1 on a head-on course (offset up to 0.8),
+/// meeting about halfway through `[0, 1]`, random orientations, spins up
+/// to `spin` (the motions of [`tumbling_cases`], for any two meshes).
+pub fn approach_cases(count: usize, seed: u64, spin: Real) -> Vec<(StepMotion, StepMotion)> {
+    use crate::math::Pose;
     let mut rng = Rng::new(seed);
-    let cases = (0..count)
+    (0..count)
         .map(|_| {
             let motion_a = StepMotion::new(
                 Pose::new(Vector::new(-2.5, 0.0, 0.0), rng.in_unit_ball() * 3.0),
@@ -350,6 +357,5 @@ fn icosphere_cases(
             );
             (motion_a, motion_b)
         })
-        .collect();
-    (a, b, cases)
+        .collect()
 }
