@@ -12,12 +12,28 @@
 //! every body a triangle mesh), with the guard's share of each step.
 //! With `--trace N`: every pair traced every N steps (the trace column).
 //! With `--simulate --no-peers`: Simulate only (for profiling the guard).
-//! Usage: `cargo run --release --example many_bodies -- 10 100 1000 [--steps 240] [--simulate] [--trace N]`.
+//! With `--bunnies`: every fifth body (those that were icospheres of 320
+//! triangles) is the Stanford bunny (3,674 triangles, scaled to radius
+//! 0.29; `scripts/fetch-bunny.sh` fetches it).
+//! Usage: `cargo run --release --example many_bodies -- 10 100 1000 [--steps 240] [--simulate] [--trace N] [--bunnies]`.
 use nearmiss::samples::Rng;
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{run_with, RunOptions};
 
-fn scene(bodies: usize, steps: usize, seed: u64, simulate: bool, trace: Option<u64>) -> Scene {
+/// The scene's options beside its body count.
+#[derive(Copy, Clone)]
+struct Setup {
+    steps: usize,
+    simulate: bool,
+    trace: Option<u64>,
+    bunnies: bool,
+}
+
+/// The bunny's OBJ file (see `scripts/fetch-bunny.sh`).
+const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/meshes/bunny.obj");
+
+fn scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
+    let Setup { steps, simulate, trace, bunnies } = setup;
     let mut rng = Rng::new(seed);
     let per_side = (bodies as f64).cbrt().ceil() as usize;
     let cell = 1.2;
@@ -56,12 +72,18 @@ fn scene(bodies: usize, steps: usize, seed: u64, simulate: bool, trace: Option<u
             format!("({:?}, {:?}, {:?})", x.x, x.y, x.z)
         };
         let mesh = match k % 5 {
-            0 => "Box(half_extents: (0.3, 0.2, 0.25))".to_string(),
-            n => format!("Icosphere(radius: 0.3, subdivisions: {})", n - 1),
+            0 => "mesh: Box(half_extents: (0.3, 0.2, 0.25)), density: 1.0".to_string(),
+            // The bunny is open at its base: a mass and inertia, not a density.
+            3 if bunnies => {
+                format!(
+                    "mesh: Obj(path: {BUNNY:?}), scale: 0.028, mass: 0.02, inertia: (0.0005, 0.0005, 0.0005)"
+                )
+            }
+            n => format!("mesh: Icosphere(radius: 0.3, subdivisions: {}), density: 1.0", n - 1),
         };
         let (velocity, spin) = (v(&mut rng, 2.0), v(&mut rng, 8.0));
         text.push_str(&format!(
-            "(name: \"b{k}\", mesh: {mesh}, density: 1.0, position: ({:?}, {:?}, {:?}), velocity: {velocity}, angular_velocity: {spin}),",
+            "(name: \"b{k}\", {mesh}, position: ({:?}, {:?}, {:?}), velocity: {velocity}, angular_velocity: {spin}),",
             position.0, position.1, position.2
         ));
     }
@@ -82,14 +104,20 @@ fn main() {
         .position(|a| a == "--trace")
         .and_then(|k| args.get(k + 1))
         .map(|s| s.parse().expect("a trace cadence"));
+    let bunnies = args.iter().any(|a| a == "--bunnies");
+    if bunnies && !std::path::Path::new(BUNNY).exists() {
+        eprintln!("--bunnies needs {BUNNY}: run scripts/fetch-bunny.sh");
+        std::process::exit(2);
+    }
+    let setup = Setup { steps, simulate, trace, bunnies };
     if simulate {
-        return simulate_beside_rapier(&args, steps);
+        return simulate_beside_rapier(&args, setup);
     }
     let counts = body_counts(&args);
     println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | respond ms | re-arm ms | trace ms | candidate pairs/step | contacts |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
-        let scene = scene(n, steps, 1, false, trace);
+        let scene = scene(n, 1, setup);
         let result = run_with(&scene, RunOptions::default(), &mut |_| {});
         let steps = result.steps as f64;
         let c = &result.counters;
@@ -127,12 +155,12 @@ fn main() {
 }
 
 /// `--simulate`: nearmiss's Simulate (rapier + guard) beside rapier alone.
-fn simulate_beside_rapier(args: &[String], steps: usize) {
+fn simulate_beside_rapier(args: &[String], setup: Setup) {
     let counts = body_counts(args);
     println!("| bodies | steps | Simulate steps/s | guard share of a step | guard ms/step | rapier in Simulate ms/step | rapier alone (convex, CCD) steps/s | ratio | rapier alone (triangle meshes, CCD) steps/s | ratio | contacts |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
-        let scene = scene(n, steps, 1, true, None);
+        let scene = scene(n, 1, setup);
         let result = run_with(&scene, RunOptions::default(), &mut |_| {});
         let c = &result.counters;
         let guard = c.broad_phase_s + c.ccd_s + c.respond_s + c.rearm_s;
