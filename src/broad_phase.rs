@@ -1,15 +1,16 @@
 //! The broad phase: the pairs of bodies whose swept boxes overlap in a step.
 //!
 //! A body's swept box covers its whole motion over the step, rotation
-//! included. Along each axis `e`, the mesh reaches `h(0)` beyond its centre
-//! at the step's start (its farthest vertex along `e`, exact, from the
-//! mesh's table of directions), and turning with angular velocity `ω` moves
-//! that reach by at most `|e × ω| r` per unit time (`r` the mesh's radius
-//! about its centre of mass), never beyond `r`; the centre moves in a
-//! straight line. So the box is the centre's box over the step grown, per
+//! included. Along each axis `e`, the mesh reaches at most `h(0)` beyond
+//! its centre at the step's start (the box of its vertices in its own
+//! frame, turned to the world: `(R c)·e + Σ_j |R_ej| s_j` for the box's
+//! centre `c` and half sizes `s`), and turning with angular velocity `ω`
+//! moves that reach by at most `|e × ω| r` per unit time (`r` the mesh's
+//! radius about its centre of mass), never beyond `r`; the centre moves in
+//! a straight line. So the box is the centre's box over the step grown, per
 //! axis and side, by `min(r, h(0) + |e × ω| r dt)`: the mesh's own box for
-//! a body that does not turn (a fixed wall, a sliding box), and never more
-//! than the box of the bounding sphere.
+//! a body that does not turn with its box's axes along the world's (a
+//! fixed wall), and never more than the box of the bounding sphere.
 //! The boxes go into parry's `Bvh`, whose self-traversal yields the
 //! overlapping pairs. The tree is built once and then refitted to the
 //! moved boxes at each step while the number of bodies stays the same (on
@@ -31,17 +32,17 @@ pub type SweptBox = (Point, Point);
 pub fn swept_box(mesh: &TriMesh, motion: &StepMotion, duration: Real, margin: Real) -> SweptBox {
     let (start, end) = (motion.center_at(0.0), motion.center_at(duration));
     let (mut low, mut high) = (start.inf(&end), start.sup(&end));
-    let rotation = motion.rotation_at(0.0);
+    let rotation = motion.rotation_at(0.0).to_rotation_matrix();
     let radius = mesh.radius();
-    let vertices = mesh.vertices();
+    let (box_low, box_high) = mesh.bounds();
+    let centre = rotation * (box_low.coords + box_high.coords) * 0.5;
+    let half = (box_high - box_low) * 0.5;
     for k in 0..3 {
         let axis = Vector::ith(k, 1.0);
         let turn = axis.cross(&motion.angular_velocity).norm() * radius * duration;
-        let local = rotation.inverse_transform_vector(&axis);
-        let up = vertices[mesh.farthest_vertex(&local)].coords.dot(&local);
-        let down = -vertices[mesh.farthest_vertex(&-local)].coords.dot(&local);
-        high[k] += (up + turn).min(radius) + margin;
-        low[k] -= (down + turn).min(radius) + margin;
+        let spread = (0..3).map(|j| rotation[(k, j)].abs() * half[j]).sum::<Real>();
+        high[k] += (centre[k] + spread + turn).min(radius) + margin;
+        low[k] -= (spread - centre[k] + turn).min(radius) + margin;
     }
     (low, high)
 }
@@ -157,9 +158,15 @@ mod tests {
     }
 
     /// Every vertex of a tumbling mesh, posed at many times of the step,
-    /// lies in its swept box; a body that does not turn gets exactly its
-    /// vertices' box (the farthest vertices found by the table are those of
-    /// a scan).
+    /// lies in its swept box; a box that does not turn gets exactly its
+    /// vertices' box, and no box is larger than its bounding sphere's.
+    /// The box of the bounding sphere over the step.
+    fn swept_sphere_box(mesh: &TriMesh, motion: &StepMotion, duration: Real) -> SweptBox {
+        let (start, end) = (motion.center_at(0.0), motion.center_at(duration));
+        let grow = Vector::repeat(mesh.radius());
+        (start.inf(&end) - grow, start.sup(&end) + grow)
+    }
+
     #[test]
     fn the_swept_box_holds_the_mesh_over_the_step() {
         use crate::math::Pose;
@@ -191,7 +198,14 @@ mod tests {
                     }
                 }
             }
-            if spin == 0.0 {
+            let sphere = swept_sphere_box(mesh, &motion, duration);
+            for axis in 0..3 {
+                assert!(
+                    low[axis] >= sphere.0[axis] - slack && high[axis] <= sphere.1[axis] + slack,
+                    "case {case}"
+                );
+            }
+            if spin == 0.0 && case % 2 == 1 {
                 // The box of the posed vertices at the start and the end.
                 let posed = [0.0, duration]
                     .iter()

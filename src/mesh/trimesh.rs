@@ -57,6 +57,8 @@ pub struct TriMesh {
     incident: Vec<u32>,
     /// The farthest-vertex table (`None` for small meshes, scanned whole).
     support: Option<SupportTable>,
+    /// The box of the vertices in the mesh's frame: smallest and largest corners.
+    bounds: (Point, Point),
 }
 
 impl TriMesh {
@@ -105,7 +107,9 @@ impl TriMesh {
             }
         }
         let support = SupportTable::build(&vertices);
-        Ok(TriMesh { vertices, triangles, bvh, radius, incident_start, incident, support })
+        let first = vertices[triangles[0][0] as usize];
+        let bounds = vertices.iter().fold((first, first), |(low, high), v| (low.inf(v), high.sup(v)));
+        Ok(TriMesh { vertices, triangles, bvh, radius, incident_start, incident, support, bounds })
     }
 
     /// The triangles that have vertex `v` as a corner.
@@ -155,6 +159,11 @@ impl TriMesh {
     /// The bounding volume hierarchy.
     pub fn bvh(&self) -> &MeshBvh {
         &self.bvh
+    }
+
+    /// The box of the vertices in the mesh's frame: smallest and largest corners.
+    pub fn bounds(&self) -> (Point, Point) {
+        self.bounds
     }
 
     /// The largest distance of a vertex from the frame's origin (the centre
