@@ -12,6 +12,9 @@
 //! every body a triangle mesh), with the guard's share of each step.
 //! With `--trace N`: every pair traced every N steps (the trace column).
 //! With `--simulate --no-peers`: Simulate only (for profiling the guard).
+//! With `--rapier` (Bounce): rapier alone on the same bodies in the same
+//! run (restitution 1, no friction, its CCD on, convex hulls), its steps
+//! per second and nearmiss's rate over it.
 //! With `--bunnies`: every fifth body (those that were icospheres of 320
 //! triangles) is the Stanford bunny (3,674 triangles, scaled to radius
 //! 0.29; `scripts/fetch-bunny.sh` fetches it).
@@ -32,7 +35,7 @@ struct Setup {
 /// The bunny's OBJ file (see `scripts/fetch-bunny.sh`).
 const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/meshes/bunny.obj");
 
-fn scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
+fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
     let Setup { steps, simulate, trace, bunnies } = setup;
     let mut rng = Rng::new(seed);
     let per_side = (bodies as f64).cbrt().ceil() as usize;
@@ -117,7 +120,7 @@ fn main() {
     println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | respond ms | re-arm ms | trace ms | candidate pairs/step | contacts |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
-        let scene = scene(n, 1, setup);
+        let scene = box_scene(n, 1, setup);
         let result = run_with(&scene, RunOptions::default(), &mut |_| {});
         let steps = result.steps as f64;
         let c = &result.counters;
@@ -135,6 +138,14 @@ fn main() {
             c.candidate_pairs as f64 / steps,
             result.contacts.len()
         );
+        if args.iter().any(|a| a == "--rapier") {
+            // The same bodies as rapier sees them under Simulate.
+            let same = box_scene(n, 1, Setup { simulate: true, trace: None, ..setup });
+            let convex = nearmiss::guard::run_rapier_alone(&same, false).expect("rapier runs");
+            let rate = convex.steps as f64 / convex.wall_time_s;
+            let ours = steps / result.wall_time_s;
+            println!("rapier alone (convex, CCD on) on the same bodies: {rate:.0} steps/s; nearmiss Bounce / rapier = {:.2}", ours / rate);
+        }
         // The mesh assets (shared between bodies) with their BVHs and
         // tables, in bytes.
         let mut assets: Vec<*const nearmiss::mesh::TriMesh> =
@@ -160,7 +171,7 @@ fn simulate_beside_rapier(args: &[String], setup: Setup) {
     println!("| bodies | steps | Simulate steps/s | guard share of a step | guard ms/step | rapier in Simulate ms/step | rapier alone (convex, CCD) steps/s | ratio | rapier alone (triangle meshes, CCD) steps/s | ratio | contacts |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
-        let scene = scene(n, 1, setup);
+        let scene = box_scene(n, 1, setup);
         let result = run_with(&scene, RunOptions::default(), &mut |_| {});
         let c = &result.counters;
         let guard = c.broad_phase_s + c.ccd_s + c.respond_s + c.rearm_s;
