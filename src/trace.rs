@@ -160,7 +160,7 @@ impl TraceObserver {
         let mut axis = self.axes[k].map(|axis| rotation_a.inverse_transform_vector(&axis));
         for _ in 0..2 {
             let wanted = best.map_or(Real::INFINITY, |(d, _)| d - slack);
-            let close = if wanted.is_finite() { wanted } else { 0.0 };
+            let close = 0.0;
             let gap = hull_gap(mesh_a, mesh_b, pos_ab, axis, (close, wanted));
             axis = gap.axis.or(axis);
             if let Some(axis) = gap.axis {
@@ -175,7 +175,9 @@ impl TraceObserver {
             }
             // The triangles around the hulls' closest vertices.
             let (va, vb) = gap.support?;
-            if let Some((d, pair)) = self.around.closest(mesh_a, va, mesh_b, vb, pos_ab) {
+            let enough = gap.lower + slack;
+            let around = self.around.first_within((mesh_a, va), (mesh_b, vb), pos_ab, gap.axis, enough);
+            if let Some((d, pair)) = around {
                 if best.is_none_or(|(b, _)| d < b) {
                     best = Some((d, pair));
                 }

@@ -24,7 +24,7 @@
 //! within `close` of the origin (the hulls come that close, so no
 //! direction can prove more than `close`), or converged.
 
-use crate::kernels::batch::{triangle_distances, TrianglesSoa};
+use crate::kernels::triangle_distance;
 use crate::math::{Pose, Real, Vector};
 use crate::mesh::TriMesh;
 
@@ -127,51 +127,99 @@ pub(crate) fn hull_gap(
 /// The triangle pairs around two vertices (those of `a` that have vertex
 /// `va` as a corner against those of `b` around `vb`): where the hulls'
 /// closest vertices are, for convex meshes, the closest triangle pair is
-/// among them. Reusable buffers: no allocation once grown.
-#[derive(Clone, Debug, Default)]
+/// among them. No triangle pair is closer than the meshes, so the first
+/// pair found within a lower bound on their distance (plus a slack) is
+/// within that slack of the closest: the search stops there.
+#[derive(Copy, Clone, Debug, Default)]
 pub(crate) struct AroundVertices {
-    a: TrianglesSoa,
-    b: TrianglesSoa,
-    pairs: Vec<(usize, usize)>,
-    distances: Vec<Real>,
+    /// Triangle pairs evaluated by the last search.
+    evaluated: usize,
 }
 
 impl AroundVertices {
-    /// The closest of the triangle pairs around `va` and `vb` (the first
-    /// of equals), `b` placed at `pos_ab` in `a`'s frame, by the exact
-    /// batch kernel: its distance and triangles.
-    pub(crate) fn closest(
+    /// The first of the triangle pairs around `va` and `vb` (`b` placed at
+    /// `pos_ab` in `a`'s frame; exact kernel) whose distance is at most
+    /// `enough`, or else the closest of them (the first of equals): its
+    /// distance and triangles. With `axis` (the hulls' closest direction,
+    /// from `a` towards `b`), the triangles facing along it are tried
+    /// first: the closest features' faces, where they are faces.
+    pub(crate) fn first_within(
         &mut self,
-        a: &TriMesh,
-        va: usize,
-        b: &TriMesh,
-        vb: usize,
+        (a, va): (&TriMesh, usize),
+        (b, vb): (&TriMesh, usize),
         pos_ab: &Pose,
+        axis: Option<Vector>,
+        enough: Real,
     ) -> Option<(Real, (usize, usize))> {
-        self.a.clear();
-        self.b.clear();
-        self.pairs.clear();
-        for &i in a.triangles_at(va) {
-            for &j in b.triangles_at(vb) {
-                self.a.push(&a.triangle(i as usize));
-                self.b.push(&b.triangle(j as usize).map(|p| pos_ab * p));
-                self.pairs.push((i as usize, j as usize));
-            }
-        }
-        self.distances.resize(self.pairs.len(), 0.0);
-        triangle_distances(&self.a, &self.b, &mut self.distances);
+        self.evaluated = 0;
+        let facing_a = Facing::around(a, va, &Pose::identity(), axis);
+        let facing_b = Facing::around(b, vb, pos_ab, axis.map(|n| -n));
         let mut best: Option<(Real, (usize, usize))> = None;
-        for (&d, &pair) in self.distances.iter().zip(&self.pairs) {
-            if best.is_none_or(|(b, _)| d < b) {
-                best = Some((d, pair));
+        for j in facing_b.order(b.triangles_at(vb)) {
+            let posed = b.triangle(j).map(|p| pos_ab * p);
+            for i in facing_a.order(a.triangles_at(va)) {
+                self.evaluated += 1;
+                let d = triangle_distance(&a.triangle(i), &posed).distance;
+                if best.is_none_or(|(b, _)| d < b) {
+                    best = Some((d, (i, j)));
+                }
+                if d <= enough {
+                    return best;
+                }
             }
         }
         best
     }
 
-    /// The triangle pairs the last [`AroundVertices::closest`] evaluated.
+    /// The triangle pairs the last [`AroundVertices::first_within`] evaluated.
     pub(crate) fn evaluated(&self) -> usize {
-        self.pairs.len()
+        self.evaluated
+    }
+}
+
+/// The triangles around a vertex, ordered by how squarely they face a
+/// direction (their unit normal along it, most first); kept on the stack
+/// for up to [`Facing::MOST`] triangles, more are taken in their order.
+#[derive(Copy, Clone, Debug)]
+struct Facing {
+    order: [u32; Facing::MOST],
+    len: usize,
+}
+
+impl Facing {
+    const MOST: usize = 16;
+
+    /// The triangles of `mesh` around `vertex`, posed by `pose`, facing
+    /// `direction` (none: in their order).
+    fn around(mesh: &TriMesh, vertex: usize, pose: &Pose, direction: Option<Vector>) -> Facing {
+        let triangles = mesh.triangles_at(vertex);
+        let mut facing = Facing { order: [0; Facing::MOST], len: 0 };
+        let Some(direction) = direction.filter(|_| triangles.len() <= Facing::MOST) else {
+            return facing;
+        };
+        let mut score = [0.0; Facing::MOST];
+        for (k, &t) in triangles.iter().enumerate() {
+            let [p, q, r] = mesh.triangle(t as usize);
+            let normal = pose.rotation * (q - p).cross(&(r - p));
+            let along = normal.dot(&direction) / normal.norm();
+            // Insertion by score, highest first (stable: equals keep their order).
+            let mut at = k;
+            while at > 0 && score[at - 1] < along {
+                score[at] = score[at - 1];
+                facing.order[at] = facing.order[at - 1];
+                at -= 1;
+            }
+            score[at] = along;
+            facing.order[at] = t;
+        }
+        facing.len = triangles.len();
+        facing
+    }
+
+    /// The triangles in facing order (`triangles`, the same set, when not ordered).
+    fn order<'t>(&'t self, triangles: &'t [u32]) -> impl Iterator<Item = usize> + 't {
+        let ordered = if self.len > 0 { &self.order[..self.len] } else { triangles };
+        ordered.iter().map(|&t| t as usize)
     }
 }
 

@@ -270,6 +270,8 @@ pub fn mesh_time_of_impact(
     let mut hull_steps = 0;
     // The hulls' closest vertices where they came within the contact distance.
     let mut closest_vertices = None;
+    // And their direction (in a's frame at that time).
+    let mut closest_axis = None;
     while hull_steps < HULL_ADVANCE_MAX_STEPS {
         let rotation_a = a.motion.rotation_at(s);
         let rest = duration - s;
@@ -298,6 +300,7 @@ pub fn mesh_time_of_impact(
         }
         if margin < contact_distance - target {
             closest_vertices = gap.support;
+            closest_axis = gap.axis;
             break;
         }
         s += margin / closing;
@@ -326,7 +329,13 @@ pub fn mesh_time_of_impact(
                 hint.map(|(i, j)| (triangle_pair_distance(a.mesh, i, b.mesh, j, &pos_ab).distance, (i, j)));
             work.triangle_pairs += usize::from(hinted.is_some());
             within(hinted).or_else(|| {
-                let around = scratch.around.closest(a.mesh, va, b.mesh, vb, &pos_ab);
+                let around = scratch.around.first_within(
+                    (a.mesh, va),
+                    (b.mesh, vb),
+                    &pos_ab,
+                    closest_axis,
+                    contact_distance,
+                );
                 work.triangle_pairs += scratch.around.evaluated();
                 within(around)
             })
