@@ -138,6 +138,9 @@ fn main() {
             c.candidate_pairs as f64 / steps,
             result.contacts.len()
         );
+        if result.steps < setup.steps as u64 {
+            eprintln!("{n} bodies: the run ended after {} steps: {:?}", result.steps, result.termination);
+        }
         if args.iter().any(|a| a == "--rapier") {
             // The same bodies as rapier sees them under Simulate.
             let same = box_scene(n, 1, Setup { simulate: true, trace: None, ..setup });
