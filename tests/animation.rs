@@ -35,7 +35,7 @@ fn check(scene: &Scene, moving: &str) {
 
     let nodes: Vec<_> = gltf.nodes().collect();
     assert_eq!(nodes.len(), scene.bodies.len());
-    for (node, body) in nodes.iter().zip(&scene.bodies) {
+    for (node, body) in nodes.iter().zip(scene.bodies.iter()) {
         assert_eq!(node.name(), Some(body.name.as_str()));
         let primitive = node.mesh().expect("a mesh").primitives().next().expect("a primitive");
         let reader = primitive.reader(|_| Some(&blob));

@@ -96,7 +96,7 @@ fn a_crowd_conserves_momentum_and_never_interpenetrates() {
     }
     text.push_str("])");
     let scene = Scene::from_ron_str(&text).unwrap();
-    for body in &scene.bodies {
+    for body in scene.bodies.iter() {
         momentum += body.velocity * body.mass.unwrap();
     }
     let result = run(&scene);
@@ -107,7 +107,7 @@ fn a_crowd_conserves_momentum_and_never_interpenetrates() {
     let end: Vector = result
         .final_states
         .iter()
-        .zip(&scene.bodies)
+        .zip(scene.bodies.iter())
         .map(|(state, body)| state.velocity * body.mass.unwrap())
         .sum();
     assert!((end - momentum).norm() <= 1e-9 * (1.0 + momentum.norm()), "momentum {momentum} -> {end}");

@@ -10,7 +10,7 @@ fuzz_target!(|data: &[u8]| {
     let Ok(scene) = Scene::from_ron_str(text) else { return };
     assert!(scene.dt.is_finite() && scene.dt > 0.0 && scene.dt <= MAX_MAGNITUDE);
     assert!(scene.steps >= 1);
-    for body in &scene.bodies {
+    for body in scene.bodies.iter() {
         let pose = body.pose.translation.vector;
         assert!(pose.iter().all(|c| c.is_finite()), "{}: position", body.name);
         assert!((body.pose.rotation.norm() - 1.0).abs() < 1e-9, "{}: orientation not unit", body.name);

@@ -14,6 +14,7 @@
 //!   rapier's allowed linear error.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 use serde::Serialize;
 
@@ -64,7 +65,7 @@ pub fn compare_with_rapier(
     let allowed = rapier.parameters.allowed_linear_error();
     // A guard that watches rapier's motion and never moves a body.
     let mut watched = scene.clone();
-    for body in &mut watched.bodies {
+    for body in Arc::make_mut(&mut watched.bodies) {
         if body.motion != BodyMotion::Fixed {
             body.motion = BodyMotion::Free;
         }
@@ -176,7 +177,7 @@ pub struct RapierAlone {
 pub fn run_rapier_alone(scene: &Scene, triangle_meshes: bool) -> Result<RapierAlone, super::GuardError> {
     let mut scene = scene.clone();
     if triangle_meshes {
-        for body in &mut scene.bodies {
+        for body in Arc::make_mut(&mut scene.bodies) {
             let material = body.material.get_or_insert(crate::scene::Material {
                 friction: crate::scene::file::DEFAULT_FRICTION,
                 restitution: 0.0,

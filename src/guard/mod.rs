@@ -229,7 +229,7 @@ impl Guard {
             },
             trace: None,
             plot: None,
-            bodies: scene_bodies,
+            bodies: Arc::new(scene_bodies),
             expect: None,
             poses: None,
             parameters: Default::default(),
@@ -249,7 +249,7 @@ impl Guard {
         parallel: bool,
     ) -> Result<Guard, GuardError> {
         let prediction = parameters.prediction_distance();
-        for body in &scene.bodies {
+        for body in scene.bodies.iter() {
             let contract = crate::ccd::ContactContract::of(
                 &scene.ccd,
                 crate::ccd::ContactRule::ScaleRelative,

@@ -74,7 +74,7 @@ impl RapierScene {
         // mesh share it, as they share the mesh (a thousand icospheres are
         // one convexity check and one hull).
         let mut built: Vec<(*const crate::mesh::TriMesh, bool, SharedShape, ColliderShape)> = Vec::new();
-        for body in &scene.bodies {
+        for body in scene.bodies.iter() {
             let builder = match &body.motion {
                 BodyMotion::Fixed => RigidBodyBuilder::fixed(),
                 // Driven along its exact motion (`step` sets each next pose).
@@ -259,7 +259,7 @@ pub(crate) fn run(
     let stoppable: Vec<bool> =
         scene.bodies.iter().map(|b| matches!(b.motion, BodyMotion::Integrated(_))).collect();
     let mut guarded = scene.clone();
-    for body in &mut guarded.bodies {
+    for body in Arc::make_mut(&mut guarded.bodies) {
         if body.motion != BodyMotion::Fixed {
             body.motion = BodyMotion::Free;
         }

@@ -3,6 +3,7 @@
 
 use std::collections::HashMap;
 use std::path::Path;
+use std::sync::Arc;
 
 use super::file::{
     BodySettings, CcdSettings, ColliderSettings, ExpectSettings, FormulaSettings, KernelSettings, OnContact,
@@ -194,7 +195,7 @@ impl Builder<'_> {
             on_contact: file.on_contact,
             trace,
             plot,
-            bodies,
+            bodies: Arc::new(bodies),
             expect,
             poses,
             parameters: Default::default(),

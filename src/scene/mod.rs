@@ -71,8 +71,9 @@ pub struct Scene {
     pub trace: Option<TraceSpec>,
     /// The distance plot, if asked for (drawn from the trace).
     pub plot: Option<PlotSpec>,
-    /// The bodies.
-    pub bodies: Vec<Body>,
+    /// The bodies, shared: a copy of the scene (the stepper keeps one)
+    /// does not copy them; `Arc::make_mut` changes a copy's own.
+    pub bodies: Arc<Vec<Body>>,
     /// The expectation `nearmiss test` checks.
     pub expect: Option<Expectation>,
     /// The pose record (`poses.csv`), if asked for.
