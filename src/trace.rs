@@ -10,7 +10,7 @@ use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::ccd::{hull_gap, AroundVertices};
+use crate::ccd::{first_within, hull_gap};
 use crate::math::{Real, Vector};
 use crate::mesh::{
     mesh_distance_relative, triangle_pair_distance, DistanceKernel, DistanceSearch, MeshDistanceScratch,
@@ -55,9 +55,6 @@ pub struct TraceObserver {
     axes: Vec<Option<Vector>>,
     /// Samples settled by the certificate (see [`TraceObserver::sample`]).
     pub certified: usize,
-    /// The certificate's candidate triangle pairs (buffers kept between
-    /// samples).
-    around: AroundVertices,
     /// Mesh distance queries made.
     pub distance_queries: usize,
     /// Seconds spent sampling.
@@ -71,7 +68,6 @@ impl TraceObserver {
             hints: vec![None; spec.pairs.len()],
             axes: vec![None; spec.pairs.len()],
             certified: 0,
-            around: Default::default(),
             scene: Arc::clone(scene),
             spec,
             records: Vec::new(),
@@ -160,8 +156,9 @@ impl TraceObserver {
         let mut axis = self.axes[k].map(|axis| rotation_a.inverse_transform_vector(&axis));
         for _ in 0..2 {
             let wanted = best.map_or(Real::INFINITY, |(d, _)| d - slack);
-            let close = 0.0;
-            let gap = hull_gap(mesh_a, mesh_b, pos_ab, axis, (close, wanted));
+            // Converged (no early stop where the hulls come closer than a
+            // stale pair): only then can its bound certify a pair.
+            let gap = hull_gap(mesh_a, mesh_b, pos_ab, axis, (0.0, wanted));
             axis = gap.axis.or(axis);
             if let Some(axis) = gap.axis {
                 self.axes[k] = Some(rotation_a * axis);
@@ -176,8 +173,8 @@ impl TraceObserver {
             // The triangles around the hulls' closest vertices.
             let (va, vb) = gap.support?;
             let enough = gap.lower + slack;
-            let around = self.around.first_within((mesh_a, va), (mesh_b, vb), pos_ab, gap.axis, enough);
-            if let Some((d, pair)) = around {
+            if let Some((d, pair)) = first_within((mesh_a, va), (mesh_b, vb), pos_ab, gap.axis, enough).found
+            {
                 if best.is_none_or(|(b, _)| d < b) {
                     best = Some((d, pair));
                 }

@@ -124,57 +124,51 @@ pub(crate) fn hull_gap(
     answer
 }
 
-/// The triangle pairs around two vertices (those of `a` that have vertex
-/// `va` as a corner against those of `b` around `vb`): where the hulls'
-/// closest vertices are, for convex meshes, the closest triangle pair is
-/// among them. No triangle pair is closer than the meshes, so the first
-/// pair found within a lower bound on their distance (plus a slack) is
-/// within that slack of the closest: the search stops there.
-#[derive(Copy, Clone, Debug, Default)]
-pub(crate) struct AroundVertices {
-    /// Triangle pairs evaluated by the last search.
-    evaluated: usize,
+/// What [`first_within`] found: a triangle pair's distance and triangles
+/// (`None` when the vertices have no triangles), and how many pairs it
+/// evaluated.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) struct Around {
+    pub found: Option<(Real, (usize, usize))>,
+    pub evaluated: usize,
 }
 
-impl AroundVertices {
-    /// The first of the triangle pairs around `va` and `vb` (`b` placed at
-    /// `pos_ab` in `a`'s frame; exact kernel) whose distance is at most
-    /// `enough`, or else the closest of them (the first of equals): its
-    /// distance and triangles. With `axis` (the hulls' closest direction,
-    /// from `a` towards `b`), the triangles facing along it are tried
-    /// first: the closest features' faces, where they are faces.
-    pub(crate) fn first_within(
-        &mut self,
-        (a, va): (&TriMesh, usize),
-        (b, vb): (&TriMesh, usize),
-        pos_ab: &Pose,
-        axis: Option<Vector>,
-        enough: Real,
-    ) -> Option<(Real, (usize, usize))> {
-        self.evaluated = 0;
-        let facing_a = Facing::around(a, va, &Pose::identity(), axis);
-        let facing_b = Facing::around(b, vb, pos_ab, axis.map(|n| -n));
-        let mut best: Option<(Real, (usize, usize))> = None;
-        for j in facing_b.order(b.triangles_at(vb)) {
-            let posed = b.triangle(j).map(|p| pos_ab * p);
-            for i in facing_a.order(a.triangles_at(va)) {
-                self.evaluated += 1;
-                let d = triangle_distance(&a.triangle(i), &posed).distance;
-                if best.is_none_or(|(b, _)| d < b) {
-                    best = Some((d, (i, j)));
-                }
-                if d <= enough {
-                    return best;
-                }
+/// The first of the triangle pairs around two vertices (those of `a` that
+/// have vertex `va` as a corner against those of `b` around `vb`, `b`
+/// placed at `pos_ab` in `a`'s frame; exact kernel) whose distance is at
+/// most `enough`, or else the closest of them (the first of equals).
+///
+/// Where the hulls' closest vertices are, for convex meshes, the closest
+/// triangle pair is among these. No triangle pair is closer than the
+/// meshes, so the first pair found within a lower bound on their distance
+/// (plus a slack) is within that slack of the closest: the search stops
+/// there. With `axis` (the hulls' closest direction, from `a` towards
+/// `b`), the triangles facing along it are tried first: the closest
+/// features' faces, where they are faces.
+pub(crate) fn first_within(
+    (a, va): (&TriMesh, usize),
+    (b, vb): (&TriMesh, usize),
+    pos_ab: &Pose,
+    axis: Option<Vector>,
+    enough: Real,
+) -> Around {
+    let facing_a = Facing::around(a, va, &Pose::identity(), axis);
+    let facing_b = Facing::around(b, vb, pos_ab, axis.map(|n| -n));
+    let mut around = Around { found: None, evaluated: 0 };
+    for j in facing_b.order(b.triangles_at(vb)) {
+        let posed = b.triangle(j).map(|p| pos_ab * p);
+        for i in facing_a.order(a.triangles_at(va)) {
+            around.evaluated += 1;
+            let d = triangle_distance(&a.triangle(i), &posed).distance;
+            if around.found.is_none_or(|(b, _)| d < b) {
+                around.found = Some((d, (i, j)));
+            }
+            if d <= enough {
+                return around;
             }
         }
-        best
     }
-
-    /// The triangle pairs the last [`AroundVertices::first_within`] evaluated.
-    pub(crate) fn evaluated(&self) -> usize {
-        self.evaluated
-    }
+    around
 }
 
 /// The triangles around a vertex, ordered by how squarely they face a

@@ -57,7 +57,7 @@
 
 use super::advance::ROUNDING_FLOOR_ULPS;
 use super::contact::{ContactContract, ContactRule};
-use super::hull_gap::{hull_gap, AroundVertices};
+use super::hull_gap::{first_within, hull_gap};
 use super::mesh_bound::{PairFrame, SPIN_SWEEP_AFTER_ITERATIONS};
 use super::mesh_search::{Front, SearchMeshes, StepLimits, StepOutcome, StepWork};
 use super::options::{CcdOptions, CcdStatus};
@@ -192,8 +192,6 @@ pub struct MeshCcdScratch {
     front: Front,
     /// The buffers of the distance queries (also lent to the stepper's).
     pub(crate) distance: MeshDistanceScratch,
-    /// The triangle pairs around the hulls' closest vertices.
-    around: AroundVertices,
 }
 
 /// The first time in `[0, duration]` at which two moving meshes come within
@@ -329,15 +327,10 @@ pub fn mesh_time_of_impact(
                 hint.map(|(i, j)| (triangle_pair_distance(a.mesh, i, b.mesh, j, &pos_ab).distance, (i, j)));
             work.triangle_pairs += usize::from(hinted.is_some());
             within(hinted).or_else(|| {
-                let around = scratch.around.first_within(
-                    (a.mesh, va),
-                    (b.mesh, vb),
-                    &pos_ab,
-                    closest_axis,
-                    contact_distance,
-                );
-                work.triangle_pairs += scratch.around.evaluated();
-                within(around)
+                let around =
+                    first_within((a.mesh, va), (b.mesh, vb), &pos_ab, closest_axis, contact_distance);
+                work.triangle_pairs += around.evaluated;
+                within(around.found)
             })
         }
         _ => None,

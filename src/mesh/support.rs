@@ -35,6 +35,12 @@ use crate::math::{Point, Real, Vector};
 /// the module): about 1,000 times the rounding of a dot product.
 pub const SUPPORT_TABLE_MARGIN: Real = 1e-12;
 
+/// How much a cell's chord radius is widened (relatively, and absolutely:
+/// chords are between unit directions) for the rounding of the cell
+/// lookup, which may place a direction on a cell's edge in its neighbour:
+/// far above that rounding (a few ulps), far below any cell (0.1 wide).
+const CELL_WIDENING: Real = 1e-9;
+
 /// Meshes with fewer vertices than this are scanned whole: a table would
 /// not shorten the scan enough to pay for its memory.
 pub const SUPPORT_TABLE_MIN_VERTICES: usize = 32;
@@ -158,7 +164,7 @@ fn cone(cell: Cell, side: usize) -> (Vector, Real) {
         .iter()
         .map(|&(u, w)| (direction(u, w) - centre).norm())
         .fold(0.0, Real::max);
-    (centre, chord * (1.0 + 1e-9) + 1e-9)
+    (centre, chord * (1.0 + CELL_WIDENING) + CELL_WIDENING)
 }
 
 /// The vertices of `pool` (in its order) that may be farthest along some
