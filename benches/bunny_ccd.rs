@@ -91,13 +91,8 @@ fn parry_toi(a: &Body, b: &Body, (ma, mb): &(StepMotion, StepMotion), rotating: 
 
 /// Whether the meshes intersect (exact distance 0) somewhere in `[from, to)`
 /// on a scan of 64 times: an answer `to` is then late.
-fn intersect_before(a: &Body, b: &Body, (ma, mb): &(StepMotion, StepMotion), from: Real, to: Real) -> bool {
-    let mut scratch = MeshDistanceScratch::default();
-    let search = DistanceSearch::new(DistanceKernel::Exact, None);
-    (0..64).any(|k| {
-        let s = from + (to - from) * k as Real / 64.0;
-        mesh_distance(a.mesh, &ma.pose_at(s), b.mesh, &mb.pose_at(s), &search, &mut scratch).distance == 0.0
-    })
+fn intersect_before(a: &Body, b: &Body, case: &(StepMotion, StepMotion), from: Real, to: Real) -> bool {
+    (0..64).any(|k| distance_at(a, b, case, from + (to - from) * k as Real / 64.0) == 0.0)
 }
 
 /// The exact distance between the meshes at time `s` of a case.

@@ -266,10 +266,9 @@ pub fn mesh_time_of_impact(
     // after `HULL_ADVANCE_MAX_STEPS` steps.
     let mut s = 0.0;
     let mut hull_steps = 0;
-    // The hulls' closest vertices where they came within the contact distance.
-    let mut closest_vertices = None;
-    // And their direction (in a's frame at that time).
-    let mut closest_axis = None;
+    // Where the hulls came within the contact distance: their closest
+    // vertices and direction (in a's frame at that time).
+    let mut hulls_touch = None;
     while hull_steps < HULL_ADVANCE_MAX_STEPS {
         let rotation_a = a.motion.rotation_at(s);
         let rest = duration - s;
@@ -297,8 +296,7 @@ pub fn mesh_time_of_impact(
             return result;
         }
         if margin < contact_distance - target {
-            closest_vertices = gap.support;
-            closest_axis = gap.axis;
+            hulls_touch = gap.support.map(|vertices| (vertices, local));
             break;
         }
         s += margin / closing;
@@ -318,8 +316,8 @@ pub fn mesh_time_of_impact(
     // hulls' closest vertices: for convex meshes the closest pair is
     // there) is the contact, with no search: every time before was proven
     // safe. Otherwise the BVH search decides from here.
-    let touching = match closest_vertices {
-        Some((va, vb)) if kernel == DistanceKernel::Exact => {
+    let touching = match hulls_touch {
+        Some(((va, vb), axis)) if kernel == DistanceKernel::Exact => {
             let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
             let within =
                 |found: Option<(Real, (usize, usize))>| found.filter(|&(d, _)| d <= contact_distance);
@@ -327,8 +325,7 @@ pub fn mesh_time_of_impact(
                 hint.map(|(i, j)| (triangle_pair_distance(a.mesh, i, b.mesh, j, &pos_ab).distance, (i, j)));
             work.triangle_pairs += usize::from(hinted.is_some());
             within(hinted).or_else(|| {
-                let around =
-                    first_within((a.mesh, va), (b.mesh, vb), &pos_ab, closest_axis, contact_distance);
+                let around = first_within((a.mesh, va), (b.mesh, vb), &pos_ab, Some(axis), contact_distance);
                 work.triangle_pairs += around.evaluated;
                 within(around.found)
             })

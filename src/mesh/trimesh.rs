@@ -107,8 +107,9 @@ impl TriMesh {
             }
         }
         let support = SupportTable::build(&vertices);
-        let first = vertices[triangles[0][0] as usize];
-        let bounds = vertices.iter().fold((first, first), |(low, high), v| (low.inf(v), high.sup(v)));
+        // Triangles exist and index vertices: there is a first vertex.
+        let bounds =
+            vertices.iter().fold((vertices[0], vertices[0]), |(low, high), v| (low.inf(v), high.sup(v)));
         Ok(TriMesh { vertices, triangles, bvh, radius, incident_start, incident, support, bounds })
     }
 
