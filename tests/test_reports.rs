@@ -258,3 +258,85 @@ fn sharded_queries_merge_into_one_table() {
     assert_eq!(without_times(&merged), without_times(&whole));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `nearmiss sweep --shard I/N --json` then `nearmiss merge --out`: the same
+/// table and `sweep.csv` as one run, apart from the wall-time column. The
+/// scene states no expectation, so the reference is the finest run, which
+/// every shard computes and carries; a shard whose reference differs (as
+/// from another build) is refused, as is a missing one.
+#[test]
+fn sharded_sweep_merges_into_one_sweep() {
+    let dir = workspace("sweep-shards");
+    let scene_file = dir.join("fall.ron");
+    std::fs::write(&scene_file, scene("fall", "")).unwrap();
+    let path = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let run = |args: &[&str]| Command::new(env!("CARGO_BIN_EXE_nearmiss")).args(args).output().unwrap();
+    let nearmiss = |args: &[&str]| {
+        let output = run(args);
+        assert!(output.status.success(), "{args:?}: {}", String::from_utf8_lossy(&output.stderr));
+        String::from_utf8(output.stdout).unwrap()
+    };
+    let scene_path = path("fall.ron");
+    let grid = [
+        "sweep",
+        scene_path.as_str(),
+        "--dt",
+        "0.02,0.01,0.005",
+        "--kernel",
+        "exact,dyop-heron",
+        "--integrator",
+        "symplectic-euler,rk4",
+    ];
+    let whole_out = path("whole");
+    let whole = nearmiss(&[&grid[..], &["--out", &whole_out]].concat());
+    let shards: Vec<String> = (1..=4).map(|i| path(&format!("sweep{i}.json"))).collect();
+    for (i, file) in shards.iter().enumerate() {
+        let shard = format!("{}/4", i + 1);
+        nearmiss(&[&grid[..], &["--shard", &shard, "--json", file]].concat());
+    }
+    let merged_out = path("merged");
+    let shard_refs: Vec<&str> = shards.iter().map(String::as_str).collect();
+    let merged = nearmiss(&[&["merge"][..], &shard_refs, &["--out", &merged_out]].concat());
+    // Column `column` of each table row or CSV line left out.
+    let without = |text: &str, separator: char, column: usize| -> Vec<String> {
+        text.lines()
+            .filter(|line| !line.starts_with("wrote "))
+            .map(|line| {
+                let mut cells: Vec<&str> = line.split(separator).collect();
+                if cells.len() > column {
+                    cells[column] = "";
+                }
+                cells.join(&separator.to_string())
+            })
+            .collect()
+    };
+    // The reference is the finest exact run: never late on the analytic
+    // contact at t = 1, early by no more than the contact distance allows.
+    let reference: f64 = whole
+        .strip_prefix("sweep of fall: reference ")
+        .and_then(|rest| rest.split_whitespace().next())
+        .and_then(|r| r.parse().ok())
+        .unwrap_or_else(|| panic!("{whole}"));
+    assert!((0.0..1e-5).contains(&(1.0 - reference)) && whole.contains("finest exact run"), "{whole}");
+    assert_eq!(whole.lines().filter(|l| l.contains("first contact")).count(), 12, "{whole}");
+    assert_eq!(without(&merged, '|', 8), without(&whole, '|', 8));
+    let csv = |out: &str| std::fs::read_to_string(format!("{out}/fall/sweep.csv")).unwrap();
+    let (whole_csv, merged_csv) = (csv(&whole_out), csv(&merged_out));
+    assert_eq!(whole_csv.lines().count(), 13);
+    assert_eq!(without(&merged_csv, ',', 8), without(&whole_csv, ',', 8));
+    // Another reference in one shard: refused, naming the disagreement.
+    let text = std::fs::read_to_string(&shards[1]).unwrap();
+    let reference = text.lines().find(|l| l.contains("\"reference\":")).unwrap().to_string();
+    let tampered = text.replace(&reference, "    \"reference\": 0.999,");
+    assert_ne!(tampered, text);
+    std::fs::write(&shards[1], tampered).unwrap();
+    let output = run(&[&["merge"][..], &shard_refs, &["--out", &path("bad")]].concat());
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("disagree on the reference"));
+    assert!(!dir.join("bad").exists(), "nothing written by a refused merge");
+    // A missing shard: refused.
+    let output = run(&["merge", &shards[0], &shards[2], &shards[3], "--out", &path("bad")]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("shard 2/4 is missing"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -9,7 +9,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use super::{FileReport, SuiteCase};
+use super::{FileReport, SuiteCase, SweepShard};
 
 /// One share of the work: the `index`-th (1-based) of `count`.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -62,6 +62,8 @@ pub enum ShardFile {
     Suite(SuiteShard),
     /// A shard of `nearmiss queries`.
     Queries(QueriesShard),
+    /// A shard of `nearmiss sweep`.
+    Sweep(SweepShard),
 }
 
 impl ShardFile {
@@ -113,12 +115,12 @@ pub fn merge_queries(shards: &[QueriesShard]) -> Result<Vec<(String, FileReport)
 
 /// One shard's part of a run: the shard, the run's number of items, and
 /// the shard's items with their positions.
-type ShardPart<'a, T> = (Shard, usize, &'a [(usize, T)]);
+pub(crate) type ShardPart<'a, T> = (Shard, usize, &'a [(usize, T)]);
 
 /// The items of the shards `(shard, total, items with positions)` in one
 /// list, checked: one shard each of the same count, the same total, every
 /// position once and in its shard.
-fn merge_positions<T: Clone>(shards: &[ShardPart<'_, T>]) -> Result<Vec<T>, String> {
+pub(crate) fn merge_positions<T: Clone>(shards: &[ShardPart<'_, T>]) -> Result<Vec<T>, String> {
     let &(first, total, _) = shards.first().ok_or("no shard given")?;
     let count = first.count;
     let mut seen = vec![false; count];

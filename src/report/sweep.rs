@@ -9,8 +9,14 @@
 //! (rational arithmetic on the closest triangle pair of each sample), and
 //! the wall time (the fastest of repeated runs, repeated until 50 ms have
 //! been spent or 20 runs made).
+//!
+//! A sweep shards like `nearmiss test` ([`sweep_share`], [`merge_sweep`]):
+//! each shard runs its share of the grid and carries the reference it
+//! computed, and the merge refuses shards that disagree on it.
 
 use std::time::{Duration, Instant};
+
+use serde::{Deserialize, Serialize};
 
 use crate::kernels::PointEdgeFormula;
 use crate::math::Real;
@@ -19,24 +25,29 @@ use crate::motion::Integrator;
 use crate::scene::{Expectation, Scene, TraceSpec};
 use crate::stepper::{run, RunResult, Termination};
 
+use super::{merge_positions, Shard};
+
 /// The timed runs of a setting stop once they have taken this long...
 pub const SWEEP_TIME_PER_SETTING: Duration = Duration::from_millis(50);
 /// ...or after this many runs; the fastest is reported.
 pub const SWEEP_MAX_REPEATS: usize = 20;
 
-/// One setting of a sweep.
-#[derive(Copy, Clone, Debug, PartialEq)]
+/// One setting of a sweep (in JSON: the kernel and integrator by their
+/// command-line names).
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SweepSetting {
     /// The time step.
     pub dt: Real,
     /// The distance kernel.
+    #[serde(with = "kernel_by_name")]
     pub kernel: DistanceKernel,
     /// The integrator.
+    #[serde(with = "integrator_by_name")]
     pub integrator: Integrator,
 }
 
 /// The outcome of one setting.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SweepRow {
     /// The setting.
     pub setting: SweepSetting,
@@ -66,6 +77,25 @@ pub struct SweepReport {
     pub reference_source: String,
     /// One row per setting, in the order of the grid.
     pub rows: Vec<SweepRow>,
+}
+
+/// One shard's part of a sweep (`nearmiss sweep --shard I/N --json FILE`):
+/// the whole grid and the reference as this shard computed them, and its
+/// rows with their positions in the grid.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepShard {
+    /// Which shard.
+    pub shard: Shard,
+    /// The scene.
+    pub scene: String,
+    /// The reference time of first contact, if there is one.
+    pub reference: Option<Real>,
+    /// Where the reference comes from.
+    pub reference_source: String,
+    /// The whole grid, in order.
+    pub grid: Vec<SweepSetting>,
+    /// This shard's rows with their positions in the grid.
+    pub rows: Vec<(usize, SweepRow)>,
 }
 
 /// The short name of a kernel, as the command line takes it.
@@ -125,7 +155,90 @@ fn run_setting(scene: &Scene, setting: &SweepSetting) -> (RunResult, Real) {
     (traced, fastest)
 }
 
-/// Runs the grid `dts × kernels × integrators`, calling `progress(done, total)`.
+/// The grid `dts × kernels × integrators` in the sweep's order: the
+/// integrators outermost, the time steps innermost.
+pub fn sweep_grid(dts: &[Real], kernels: &[DistanceKernel], integrators: &[Integrator]) -> Vec<SweepSetting> {
+    let mut grid = Vec::with_capacity(dts.len() * kernels.len() * integrators.len());
+    for &integrator in integrators {
+        for &kernel in kernels {
+            for &dt in dts {
+                grid.push(SweepSetting { dt, kernel, integrator });
+            }
+        }
+    }
+    grid
+}
+
+/// The sweep's reference and where it comes from: the scene's analytic
+/// expectation, else the finest run of the grid (smallest `dt`, exact
+/// kernel, RK4 if the grid has it, else its first integrator).
+fn sweep_reference(scene: &Scene, grid: &[SweepSetting]) -> (Option<Real>, String) {
+    if let Some(Expectation::Contact { time, .. }) = &scene.expect {
+        return (Some(*time), "analytic (the scene's expectation)".to_string());
+    }
+    let Some(first) = grid.first() else {
+        return (None, "none (empty grid)".to_string());
+    };
+    let finest = grid.iter().map(|s| s.dt).fold(Real::INFINITY, Real::min);
+    let integrator =
+        if grid.iter().any(|s| s.integrator == Integrator::Rk4) { Integrator::Rk4 } else { first.integrator };
+    let result = run(&scene.with_settings(finest, DistanceKernel::Exact, integrator));
+    let source = format!("finest exact run (dt = {finest}, {})", integrator_name(integrator));
+    (result.first_contact.map(|c| c.time), source)
+}
+
+/// Runs one setting and reports it against `reference`.
+fn sweep_row(scene: &Scene, setting: &SweepSetting, reference: Option<Real>) -> SweepRow {
+    let (result, wall_time_s) = run_setting(scene, setting);
+    let time = result.first_contact.as_ref().map(|c| c.time);
+    let kernel_error = result
+        .trace
+        .iter()
+        .filter_map(|r| r.reference.filter(|&d| d > 0.0).map(|d| (r.distance - d).abs() / d))
+        .fold(0.0, Real::max);
+    SweepRow {
+        setting: *setting,
+        steps: result.steps,
+        time,
+        error: time.zip(reference).map(|(t, r)| t - r),
+        kernel_error,
+        wall_time_s,
+        termination: match &result.termination {
+            Termination::Diverged { reason, .. } => format!("diverged: {reason}"),
+            Termination::FirstContact => "first contact".into(),
+            Termination::Completed => "completed".into(),
+            Termination::Undecided { time, .. } => format!("undecided after t = {time:?}"),
+        },
+    }
+}
+
+/// Runs `shard`'s share of the grid `dts × kernels × integrators` (the
+/// settings at positions `k` with `k mod N = I − 1`) after computing the
+/// reference, calling `progress(done, total)` with the share's count (plus
+/// one for the reference).
+pub fn sweep_share(
+    scene: &Scene,
+    dts: &[Real],
+    kernels: &[DistanceKernel],
+    integrators: &[Integrator],
+    shard: Shard,
+    progress: &mut dyn FnMut(usize, usize),
+) -> SweepShard {
+    let grid = sweep_grid(dts, kernels, integrators);
+    let share: Vec<usize> = (0..grid.len()).filter(|&k| shard.picks(k)).collect();
+    let total = share.len() + 1;
+    let (reference, reference_source) = sweep_reference(scene, &grid);
+    progress(1, total);
+    let mut rows = Vec::with_capacity(share.len());
+    for (done, &k) in share.iter().enumerate() {
+        rows.push((k, sweep_row(scene, &grid[k], reference)));
+        progress(done + 2, total);
+    }
+    SweepShard { shard, scene: scene.name.clone(), reference, reference_source, grid, rows }
+}
+
+/// Runs the whole grid `dts × kernels × integrators` on this machine,
+/// calling `progress(done, total)`.
 pub fn sweep(
     scene: &Scene,
     dts: &[Real],
@@ -133,57 +246,93 @@ pub fn sweep(
     integrators: &[Integrator],
     progress: &mut dyn FnMut(usize, usize),
 ) -> SweepReport {
-    let mut settings = Vec::new();
-    for &integrator in integrators {
-        for &kernel in kernels {
-            for &dt in dts {
-                settings.push(SweepSetting { dt, kernel, integrator });
-            }
-        }
+    let whole = Shard { index: 1, count: 1 };
+    let share = sweep_share(scene, dts, kernels, integrators, whole, progress);
+    let rows = share.rows.into_iter().map(|(_, row)| row).collect();
+    SweepReport {
+        scene: share.scene,
+        reference: share.reference,
+        reference_source: share.reference_source,
+        rows,
     }
-    let total = settings.len() + 1;
-    let (reference, reference_source) = match &scene.expect {
-        Some(Expectation::Contact { time, .. }) => {
-            (Some(*time), "analytic (the scene's expectation)".to_string())
-        }
-        _ => {
-            let finest = dts.iter().copied().fold(Real::INFINITY, Real::min);
-            let integrator =
-                if integrators.contains(&Integrator::Rk4) { Integrator::Rk4 } else { integrators[0] };
-            let setting = SweepSetting { dt: finest, kernel: DistanceKernel::Exact, integrator };
-            let result = run(&scene.with_settings(setting.dt, setting.kernel, setting.integrator));
-            let source = format!("finest exact run (dt = {finest}, {})", integrator_name(integrator));
-            (result.first_contact.map(|c| c.time), source)
-        }
-    };
-    progress(1, total);
-    let mut rows = Vec::with_capacity(settings.len());
-    for (k, setting) in settings.iter().enumerate() {
-        let (result, wall_time_s) = run_setting(scene, setting);
-        let time = result.first_contact.as_ref().map(|c| c.time);
-        let kernel_error = result
-            .trace
-            .iter()
-            .filter_map(|r| r.reference.filter(|&d| d > 0.0).map(|d| (r.distance - d).abs() / d))
-            .fold(0.0, Real::max);
-        rows.push(SweepRow {
-            setting: *setting,
-            steps: result.steps,
-            time,
-            error: time.zip(reference).map(|(t, r)| t - r),
-            kernel_error,
-            wall_time_s,
-            termination: match &result.termination {
-                Termination::Diverged { reason, .. } => format!("diverged: {reason}"),
-                Termination::FirstContact => "first contact".into(),
-                Termination::Completed => "completed".into(),
-                Termination::Undecided { time, .. } => format!("undecided after t = {time:?}"),
-            },
-        });
-        progress(k + 2, total);
-    }
-    SweepReport { scene: scene.name.clone(), reference, reference_source, rows }
 }
+
+/// Puts the shards of one sweep back together: the report one machine
+/// would have made (wall times apart). Refused: shards of different scenes
+/// or grids, shards whose references differ (bit for bit: a reference run
+/// on another build or machine would make the errors of the shards
+/// incomparable), and anything [`merge_positions`] refuses.
+pub fn merge_sweep(shards: &[SweepShard]) -> Result<SweepReport, String> {
+    let first = shards.first().ok_or("no shard given")?;
+    let bits = |r: Option<Real>| r.map(Real::to_bits);
+    for other in shards {
+        if other.scene != first.scene || other.grid != first.grid {
+            return Err(format!(
+                "shard {} sweeps scene `{}` over {} settings, shard {} scene `{}` over {} settings: not one sweep",
+                first.shard,
+                first.scene,
+                first.grid.len(),
+                other.shard,
+                other.scene,
+                other.grid.len()
+            ));
+        }
+        if bits(other.reference) != bits(first.reference) || other.reference_source != first.reference_source
+        {
+            return Err(format!(
+                "shards {} and {} disagree on the reference ({:?} from {}, {:?} from {}): were they run by different builds?",
+                first.shard,
+                other.shard,
+                first.reference,
+                first.reference_source,
+                other.reference,
+                other.reference_source
+            ));
+        }
+    }
+    let parts: Vec<_> = shards.iter().map(|s| (s.shard, s.grid.len(), s.rows.as_slice())).collect();
+    let rows: Vec<SweepRow> = merge_positions(&parts)?;
+    if let Some(k) = (0..rows.len()).find(|&k| rows[k].setting != first.grid[k]) {
+        return Err(format!("the row at position {k} is not the grid's setting there"));
+    }
+    Ok(SweepReport {
+        scene: first.scene.clone(),
+        reference: first.reference,
+        reference_source: first.reference_source.clone(),
+        rows,
+    })
+}
+
+/// A kernel in JSON: its command-line name.
+mod kernel_by_name {
+    use super::{kernel_name, parse_kernel, DistanceKernel};
+    use serde::{de::Error, Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(kernel: &DistanceKernel, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(&kernel_name(*kernel))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<DistanceKernel, D::Error> {
+        let name = String::deserialize(deserializer)?;
+        parse_kernel(&name).ok_or_else(|| D::Error::custom(format!("unknown kernel `{name}`")))
+    }
+}
+
+/// An integrator in JSON: its command-line name.
+mod integrator_by_name {
+    use super::{integrator_name, parse_integrator, Integrator};
+    use serde::{de::Error, Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(integrator: &Integrator, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(integrator_name(*integrator))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Integrator, D::Error> {
+        let name = String::deserialize(deserializer)?;
+        parse_integrator(&name).ok_or_else(|| D::Error::custom(format!("unknown integrator `{name}`")))
+    }
+}
+
 /// The sweep as Markdown: the reference, then one row per setting.
 pub fn sweep_markdown(report: &SweepReport) -> String {
     let mut out = format!(

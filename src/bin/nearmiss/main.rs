@@ -64,10 +64,12 @@ enum Command {
     /// an expectation; one line per scene. Exits 1 if any fails, 2 if a
     /// scene is bad.
     Test(test::Args),
-    /// Put the shards of `nearmiss test --shard I/N --json FILE` back
-    /// together: the lines, the count line, and `--json`/`--junit` reports
-    /// as one machine would have written them (wall times apart). Exits
-    /// like `test`, and 2 if the shards do not make one whole suite.
+    /// Put the shards of `nearmiss test`, `queries` or `sweep` with `--shard
+    /// I/N --json FILE` back together: what one machine would have printed
+    /// and written (wall times apart: `test`'s lines, count line and
+    /// `--json`/`--junit` reports, `queries`' table, `sweep`'s table and
+    /// `--out` folder). Exits like the command, and 2 if the shards do not
+    /// make one whole run.
     Merge(merge::Args),
 }
 

@@ -2,7 +2,10 @@
 
 use crate::progress::bar;
 use crate::{load_scene, CliError, CommandResult};
-use nearmiss::report::{parse_integrator, parse_kernel, sweep, sweep_csv, sweep_markdown};
+use nearmiss::report::{
+    merge_sweep, parse_integrator, parse_kernel, sweep_csv, sweep_markdown, sweep_share, Shard, ShardFile,
+    SweepReport,
+};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -27,6 +30,16 @@ pub struct Args {
     /// before the sweep starts).
     #[arg(long, default_value_t = nearmiss::scene::DEFAULT_MAX_STEPS)]
     max_steps: u64,
+    /// Run only share I of N of the settings (those at positions k of the
+    /// grid, integrators outermost and time steps innermost, with
+    /// k mod N = I − 1), to spread a sweep over machines. Needs `--json`,
+    /// which then gets the shard's rows and its reference for `nearmiss
+    /// merge` (no `sweep.csv` is written).
+    #[arg(long)]
+    shard: Option<Shard>,
+    /// With `--shard`: write the shard's results to this file.
+    #[arg(long)]
+    json: Option<PathBuf>,
 }
 
 /// Parses each name of a list option; an unknown one is bad input naming
@@ -76,16 +89,45 @@ pub fn main(args: Args) -> CommandResult {
     if integrators.is_empty() {
         integrators.push(scene.integrator);
     }
-    let total = (args.dt.len() * kernels.len() * integrators.len() + 1) as u64;
-    let progress = bar(total, "sweep [{bar:40}] {pos}/{len} runs, {eta} left");
-    let report =
-        sweep(&scene, &args.dt, &kernels, &integrators, &mut |done, _| progress.set_position(done as u64));
+    if args.shard.is_some() != args.json.is_some() {
+        return Err(CliError::BadInput(
+            "--shard and --json go together (the shard's rows, for `nearmiss merge`)".into(),
+        ));
+    }
+    let shard = args.shard.unwrap_or(Shard { index: 1, count: 1 });
+    let progress = bar(1, "sweep [{bar:40}] {pos}/{len} runs, {eta} left");
+    let share = sweep_share(&scene, &args.dt, &kernels, &integrators, shard, &mut |done, total| {
+        progress.set_length(total as u64);
+        progress.set_position(done as u64);
+    });
     progress.finish_and_clear();
-    print!("{}", sweep_markdown(&report));
-    let folder = args.out.join(&scene.name);
-    let path = crate::write_report(&folder, "sweep.csv", sweep_csv(&report).as_bytes())?;
+    if let Some(json) = &args.json {
+        // The shard's own rows on the terminal; the merge prints the whole.
+        print!(
+            "{}",
+            sweep_markdown(&SweepReport {
+                scene: format!("{} (shard {shard})", share.scene),
+                reference: share.reference,
+                reference_source: share.reference_source.clone(),
+                rows: share.rows.iter().map(|(_, row)| row.clone()).collect(),
+            })
+        );
+        crate::test::write_beside(json, &ShardFile::Sweep(share).to_json())?;
+        println!("wrote {}", json.display());
+        return Ok(());
+    }
+    let report = merge_sweep(&[share]).map_err(CliError::Failed)?;
+    write_sweep(&report, &args.out)
+}
+
+/// Prints the sweep and writes `<out>/<scene>/sweep.csv` and its chart: one
+/// machine's sweep, or the merge of its shards.
+pub fn write_sweep(report: &SweepReport, out: &std::path::Path) -> CommandResult {
+    print!("{}", sweep_markdown(report));
+    let folder = out.join(&report.scene);
+    let path = crate::write_report(&folder, "sweep.csv", sweep_csv(report).as_bytes())?;
     println!("wrote {}", path.display());
     #[cfg(feature = "plot")]
-    crate::write_chart(&folder, "error_vs_runtime.png", &nearmiss::report::sweep_chart(&report));
+    crate::write_chart(&folder, "error_vs_runtime.png", &nearmiss::report::sweep_chart(report));
     Ok(())
 }
