@@ -247,13 +247,18 @@ pub fn sweep(
     progress: &mut dyn FnMut(usize, usize),
 ) -> SweepReport {
     let whole = Shard { index: 1, count: 1 };
-    let share = sweep_share(scene, dts, kernels, integrators, whole, progress);
-    let rows = share.rows.into_iter().map(|(_, row)| row).collect();
-    SweepReport {
-        scene: share.scene,
-        reference: share.reference,
-        reference_source: share.reference_source,
-        rows,
+    sweep_share(scene, dts, kernels, integrators, whole, progress).report()
+}
+
+impl SweepShard {
+    /// This shard's rows as a report (the whole sweep for shard 1/1).
+    pub fn report(&self) -> SweepReport {
+        SweepReport {
+            scene: self.scene.clone(),
+            reference: self.reference,
+            reference_source: self.reference_source.clone(),
+            rows: self.rows.iter().map(|(_, row)| row.clone()).collect(),
+        }
     }
 }
 

@@ -3,8 +3,7 @@
 use crate::progress::bar;
 use crate::{load_scene, CliError, CommandResult};
 use nearmiss::report::{
-    merge_sweep, parse_integrator, parse_kernel, sweep_csv, sweep_markdown, sweep_share, Shard, ShardFile,
-    SweepReport,
+    parse_integrator, parse_kernel, sweep_csv, sweep_markdown, sweep_share, Shard, ShardFile, SweepReport,
 };
 use std::path::PathBuf;
 
@@ -103,21 +102,13 @@ pub fn main(args: Args) -> CommandResult {
     progress.finish_and_clear();
     if let Some(json) = &args.json {
         // The shard's own rows on the terminal; the merge prints the whole.
-        print!(
-            "{}",
-            sweep_markdown(&SweepReport {
-                scene: format!("{} (shard {shard})", share.scene),
-                reference: share.reference,
-                reference_source: share.reference_source.clone(),
-                rows: share.rows.iter().map(|(_, row)| row.clone()).collect(),
-            })
-        );
+        let own = SweepReport { scene: format!("{} (shard {shard})", share.scene), ..share.report() };
+        print!("{}", sweep_markdown(&own));
         crate::test::write_beside(json, &ShardFile::Sweep(share).to_json())?;
         println!("wrote {}", json.display());
         return Ok(());
     }
-    let report = merge_sweep(&[share]).map_err(CliError::Failed)?;
-    write_sweep(&report, &args.out)
+    write_sweep(&share.report(), &args.out)
 }
 
 /// Prints the sweep and writes `<out>/<scene>/sweep.csv` and its chart: one
