@@ -112,3 +112,37 @@ fn a_crowd_conserves_momentum_and_never_interpenetrates() {
         .sum();
     assert!((end - momentum).norm() <= 1e-9 * (1.0 + momentum.norm()), "momentum {momentum} -> {end}");
 }
+
+#[test]
+fn a_ball_pressed_on_the_floor_keeps_its_redetection_distance() {
+    // The shipped ball_rest scene under Bounce(0.5): the ball bounces lower
+    // and lower and then lies on the floor, bouncing at every step without
+    // leaving it (an episode of contacts that never re-arms). Each contact
+    // of an episode is re-detected within `bounce_redetect_fraction` (0.5)
+    // of the episode's distance; the first contact is declared at no less
+    // than the CCD's target, half its contact distance `c` (the contract),
+    // so no contact distance may fall below 0.5 × 0.5 × c. (It used to
+    // halve at every bounce until conservative advancement crawled at the
+    // rounding floor: the 10,000-body box stopped undecided.)
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ball_rest.ron"))
+        .unwrap()
+        .replace("Simulate(restitution: 0.5)", "Bounce(restitution: 0.5)");
+    let text = text[..text.find("    expect:").unwrap()].to_string() + ")";
+    let scene = Scene::from_ron_str(&text).unwrap();
+    let result = run(&scene);
+    assert!(
+        matches!(result.termination, nearmiss::stepper::Termination::Completed),
+        "{:?}",
+        result.termination
+    );
+    assert!(
+        result.contacts.len() > 100,
+        "{} contacts: the ball should come to lie on the floor",
+        result.contacts.len()
+    );
+    let first = result.contacts[0].contact_distance;
+    let least = result.contacts.iter().map(|c| c.contact_distance).fold(Real::INFINITY, Real::min);
+    assert!(least >= 0.25 * first, "a contact distance of {least:e} against {first:e} at the first contact");
+    // The ball never goes through the floor: every contact is at a positive distance.
+    assert!(result.contacts.iter().all(|c| c.distance > 0.0));
+}

@@ -14,7 +14,11 @@
 //! queried for coming within
 //! [`bounce_redetect_fraction`](crate::stepper::StepParameters) of its
 //! distance at the bounce (an absolute contact distance,
-//! [`ContactRule::Absolute`]), which is a new contact.
+//! [`ContactRule::Absolute`]), which is a new contact of the same episode.
+//! The episode keeps its largest contact distance: a pair pressed together
+//! (a body lying on another under gravity) bounces at every step at the
+//! same re-detection distance, instead of halving it at each bounce down to
+//! the rounding floor, where conservative advancement would crawl.
 
 use super::stop::{hold_stopped_bodies, stop_in_time_order, Stops};
 use super::{apply_impulse, approach_speed, contact_frame, Response, StepContext};

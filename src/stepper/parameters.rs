@@ -15,7 +15,8 @@ pub struct StepParameters {
     pub rearm_distance_factor: Real,
     /// Under `Bounce`, a pair that bounced and is not yet re-armed is a new
     /// contact when it comes within this fraction of its distance at the
-    /// bounce (a ratio; the absolute re-detection distance of
+    /// bounce (the largest of its episode's contacts until it is re-armed;
+    /// a ratio; the absolute re-detection distance of
     /// [`ContactRule::Absolute`](crate::ccd::ContactRule)). Default: `0.5`.
     pub bounce_redetect_fraction: Real,
     /// A run is declared diverged when an integrated body's mechanical

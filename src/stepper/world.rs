@@ -60,12 +60,14 @@ pub(crate) struct PairState {
     pub touching: Option<Touching>,
 }
 
-/// A pair in contact.
+/// A pair in contact: one episode, from its first contact until it is
+/// re-armed (every contact re-detected meanwhile belongs to it).
 #[derive(Copy, Clone, Debug)]
 pub(crate) struct Touching {
-    /// The contact distance of its contact (re-armed beyond a multiple).
+    /// The largest contact distance of the episode's contacts (re-armed
+    /// beyond a multiple).
     pub contact_distance: Real,
-    /// The distance at its contact.
+    /// The largest distance at the episode's contacts.
     pub distance: Real,
 }
 
@@ -175,8 +177,19 @@ impl World {
         let Some(closest) = result.closest else { return };
         let pair = &mut self.pairs[k];
         let (pose_a, pose_b) = (self.motions[pair.a].pose_at(time), self.motions[pair.b].pose_at(time));
-        pair.touching =
-            Some(Touching { contact_distance: result.contact_distance, distance: closest.distance });
+        // A contact re-detected while the pair still touches (under
+        // `Bounce`) belongs to the same episode: the episode keeps the
+        // larger of its distances, so the re-detection distance (a fraction
+        // of it) does not halve at every bounce of a pair pressed together
+        // until conservative advancement crawls at the rounding floor.
+        let (contact_distance, distance) = match pair.touching {
+            Some(episode) => (
+                episode.contact_distance.max(result.contact_distance),
+                episode.distance.max(closest.distance),
+            ),
+            None => (result.contact_distance, closest.distance),
+        };
+        pair.touching = Some(Touching { contact_distance, distance });
         pair.lower_bound = None;
         self.contacts.push(Contact {
             time: t0 + time,
