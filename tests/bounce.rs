@@ -1,6 +1,8 @@
 //! `on_contact: Bounce`: analytic outcomes of simple collisions, momentum
 //! conservation in a crowd, and no body ever inside another.
 
+mod ball_rest;
+
 use nearmiss::math::{Real, Vector};
 use nearmiss::samples::Rng;
 use nearmiss::scene::Scene;
@@ -124,11 +126,7 @@ fn a_ball_pressed_on_the_floor_keeps_its_redetection_distance() {
     // so no contact distance may fall below 0.5 × 0.5 × c. (It used to
     // halve at every bounce until conservative advancement crawled at the
     // rounding floor: the 10,000-body box stopped undecided.)
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ball_rest.ron"))
-        .unwrap()
-        .replace("Simulate(restitution: 0.5)", "Bounce(restitution: 0.5)");
-    let text = text[..text.find("    expect:").unwrap()].to_string() + ")";
-    let scene = Scene::from_ron_str(&text).unwrap();
+    let scene = Scene::from_ron_str(&ball_rest::under_bounce()).unwrap();
     let result = run(&scene);
     assert!(
         matches!(result.termination, nearmiss::stepper::Termination::Completed),

@@ -2,6 +2,8 @@
 //! without a trace is refused.
 #![cfg(feature = "plot")]
 
+mod ball_rest;
+
 use nearmiss::scene::Scene;
 
 /// Width and height from a PNG's IHDR chunk.
@@ -46,11 +48,7 @@ fn a_plot_needs_a_trace() {
 /// distance at the time of impact (inside the step, not at a step's end).
 #[test]
 fn hundreds_of_contacts_stay_legible() {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ball_rest.ron"))
-        .unwrap()
-        .replace("Simulate(restitution: 0.5)", "Bounce(restitution: 0.5)")
-        .replace("plot: (log_y: false)", "plot: ()");
-    let text = text[..text.find("    expect:").unwrap()].to_string() + ")";
+    let text = ball_rest::under_bounce().replace("plot: (log_y: false)", "plot: ()");
     let scene = Scene::from_ron_str(&text).unwrap();
     let result = nearmiss::stepper::run(&scene);
     assert!(result.contacts.len() > 100, "{} contacts", result.contacts.len());
@@ -79,10 +77,7 @@ fn hundreds_of_contacts_stay_legible() {
 /// earlier run that this one does not draw is not kept.
 #[test]
 fn the_first_contacts_and_the_named_ones_are_pictured() {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ball_rest.ron"))
-        .unwrap()
-        .replace("Simulate(restitution: 0.5)", "Bounce(restitution: 0.5)");
-    let text = text[..text.find("    expect:").unwrap()].to_string() + ")";
+    let text = ball_rest::under_bounce();
     let named = text.replace("plot: (log_y: false)", "plot: (log_y: false, contacts: [7, 100000])");
     let scene = Scene::from_ron_str(&named).unwrap();
     let result = nearmiss::stepper::run(&scene);

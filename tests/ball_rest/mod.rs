@@ -1,0 +1,11 @@
+//! The shipped `ball_rest` scene under `Bounce(restitution: 0.5)`, without
+//! its expectation (a Simulate contact time): a ball that bounces lower and
+//! lower and then lies on the floor, with hundreds of contacts.
+
+/// The scene's RON text.
+pub fn under_bounce() -> String {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ball_rest.ron"))
+        .unwrap()
+        .replace("Simulate(restitution: 0.5)", "Bounce(restitution: 0.5)");
+    text[..text.find("    expect:").unwrap()].to_string() + ")"
+}
