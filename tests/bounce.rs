@@ -120,10 +120,11 @@ fn a_ball_pressed_on_the_floor_keeps_its_redetection_distance() {
     // The shipped ball_rest scene under Bounce(0.5): the ball bounces lower
     // and lower and then lies on the floor, bouncing at every step without
     // leaving it (an episode of contacts that never re-arms). Each contact
-    // of an episode is re-detected within `bounce_redetect_fraction` (0.5)
-    // of the episode's distance; the first contact is declared at no less
-    // than the CCD's target, half its contact distance `c` (the contract),
-    // so no contact distance may fall below 0.5 × 0.5 × c. (It used to
+    // of an episode is re-detected within `bounce_redetect_fraction` of
+    // the episode's distance; the first contact is declared at no less than
+    // the CCD's target, `TARGET_FRACTION` of its contact distance `c` (the
+    // contract, with no minimum separation), so no contact distance may
+    // fall below their product times `c`. (It used to
     // halve at every bounce until conservative advancement crawled at the
     // rounding floor: the 10,000-body box stopped undecided.)
     let scene = Scene::from_ron_str(&ball_rest::under_bounce()).unwrap();
@@ -140,7 +141,8 @@ fn a_ball_pressed_on_the_floor_keeps_its_redetection_distance() {
     );
     let first = result.contacts[0].contact_distance;
     let least = result.contacts.iter().map(|c| c.contact_distance).fold(Real::INFINITY, Real::min);
-    assert!(least >= 0.25 * first, "a contact distance of {least:e} against {first:e} at the first contact");
+    let floor = scene.parameters.bounce_redetect_fraction * nearmiss::ccd::TARGET_FRACTION * first;
+    assert!(least >= floor, "a contact distance of {least:e} against {first:e} at the first contact");
     // The ball never goes through the floor: every contact is at a positive distance.
     assert!(result.contacts.iter().all(|c| c.distance > 0.0));
 }
