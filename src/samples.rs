@@ -133,6 +133,32 @@ pub fn triangle_pairs(class: InputClass, count: usize, seed: u64) -> Vec<(Triang
     (0..count).map(|_| triangle_pair(class, &mut rng)).collect()
 }
 
+/// Pairs where candidates of the triangle kernel tie exactly: coincident
+/// and stacked triangles, shared vertices and edges, parallel edges and
+/// faces, repeated and collinear vertices; each also scaled by 1e-120 and
+/// 1e150 (beyond the range computed unscaled).
+pub fn tied_pairs() -> Vec<(Triangle, Triangle)> {
+    let p = Point::new;
+    let unit = [p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0)];
+    let pairs = [
+        (unit, unit),
+        (unit, unit.map(|v| v + Vector::new(0.0, 0.0, 0.25))),
+        (unit, [p(0.0, 0.0, 0.0), p(-1.0, 0.0, 0.5), p(0.0, -1.0, 0.5)]),
+        (unit, [p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0), p(1.0, 1.0, 0.0)]),
+        (unit, [p(2.0, 0.0, 0.0), p(3.0, 0.0, 0.0), p(2.0, 1.0, 0.0)]),
+        (unit, [p(0.0, 0.0, 1.0), p(1.0, 0.0, 1.0), p(0.5, 0.0, 2.0)]),
+        (unit, [p(0.5, 0.5, 1.0), p(0.5, 0.5, 1.0), p(0.5, 0.5, 1.0)]),
+        (unit, [p(2.0, 0.0, 0.0), p(3.0, 0.0, 0.0), p(4.0, 0.0, 0.0)]),
+        ([p(0.0, 0.0, 0.0); 3], [p(0.0, 0.0, 1.0); 3]),
+        (unit, [p(0.25, 0.25, 0.5), p(0.25, 0.25, 0.5), p(0.75, 0.75, 0.5)]),
+    ];
+    let scaled = |k: Real, t: &Triangle| t.map(|v| Point::from(v.coords * k));
+    [1.0, 1e-120, 1e150]
+        .into_iter()
+        .flat_map(|k| pairs.iter().map(move |(a, b)| (scaled(k, a), scaled(k, b))))
+        .collect()
+}
+
 /// `count` nearly touching pairs with gaps log-uniform in `[gap_lo, gap_hi)`
 /// (the benchmark inputs use `1e-3..1e-1`).
 pub fn nearly_touching_pairs(

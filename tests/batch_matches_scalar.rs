@@ -1,11 +1,16 @@
-//! The batched kernels give bit-identical results to the scalar ones, at
+//! The batched kernels give bit-identical results to the scalar ones, and
+//! the single-pair kernel the same result (distance, points, features) at
 //! every instruction-set level this CPU supports, on every input class.
 
 use nearmiss::kernels::batch::{
     point_segment_distances_with, triangle_distances_with, PointsSoa, TrianglesSoa,
 };
-use nearmiss::kernels::{point_segment_distance_with, triangle_distance_with, PointEdgeFormula, SimdLevel};
-use nearmiss::samples::{point_segment_queries, triangle_pairs, InputClass};
+use nearmiss::kernels::{
+    point_segment_distance_with, triangle_distance_with, PointEdgeFormula, SimdLevel, TriangleDistance,
+};
+use nearmiss::samples::{
+    nearly_touching_pairs, point_segment_queries, tied_pairs, triangle_pairs, InputClass,
+};
 
 #[test]
 fn triangle_batches_are_bit_identical() {
@@ -22,6 +27,39 @@ fn triangle_batches_are_bit_identical() {
                 assert_eq!(scalar.to_bits(), reference[i].to_bits(), "{class:?} {level:?} scalar, pair {i}");
                 assert_eq!(out[i].to_bits(), reference[i].to_bits(), "{class:?} {level:?} batch, pair {i}");
             }
+        }
+    }
+}
+
+/// Every field of a triangle distance, as bits.
+fn bits(d: &TriangleDistance) -> (u64, [u64; 6], String, bool) {
+    let (p, q) = (d.point_a, d.point_b);
+    let points = [p.x, p.y, p.z, q.x, q.y, q.z].map(f64::to_bits);
+    (d.distance.to_bits(), points, format!("{:?} {:?}", d.feature_a, d.feature_b), d.within_range)
+}
+
+#[test]
+fn every_level_gives_the_same_points_and_features() {
+    let mut pairs = tied_pairs();
+    for class in InputClass::ALL {
+        pairs.extend(triangle_pairs(class, 2000, 29));
+    }
+    pairs.extend(nearly_touching_pairs(2000, 1e-3, 1e-1, 2024));
+    for (i, (x, y)) in pairs.iter().enumerate() {
+        let reference = bits(&triangle_distance_with(SimdLevel::Baseline, x, y));
+        for level in SimdLevel::available() {
+            assert_eq!(
+                bits(&triangle_distance_with(level, x, y)),
+                reference,
+                "{level:?}, pair {i}: {x:?} {y:?}"
+            );
+            // Swapped, the same pair seen from the other side.
+            let swapped = bits(&triangle_distance_with(level, y, x));
+            assert_eq!(
+                swapped,
+                bits(&triangle_distance_with(SimdLevel::Baseline, y, x)),
+                "{level:?}, pair {i} swapped"
+            );
         }
     }
 }

@@ -13,7 +13,7 @@ use super::lanes::{F64x, Lane, V3};
 use super::point_segment::{point_segment_distance_kernel, PointEdgeFormula};
 use super::refine::refined_distance;
 use super::separated::{closest_separated, local_frame};
-use super::triangle_triangle::triangle_distance_kernel;
+use super::triangle_triangle::{triangle_distance_kernel, Sequential};
 use crate::math::{Point, Real, Triangle};
 
 /// Points in structure-of-arrays layout: one column per coordinate.
@@ -182,12 +182,12 @@ multiversioned! {
         }
         let tail_start = n - chunks.into_remainder().len();
         for (i, o) in out.iter_mut().enumerate().skip(tail_start) {
-            *o = triangle_distance_kernel(&a.get(i), &b.get(i)).distance;
+            *o = triangle_distance_kernel::<Sequential>(&a.get(i), &b.get(i)).distance;
         }
         // Scalar pass over the few marked pairs, with the exact test.
         for (i, o) in out.iter_mut().enumerate() {
             if *o < 0.0 {
-                *o = triangle_distance_kernel(&a.get(i), &b.get(i)).distance;
+                *o = triangle_distance_kernel::<Sequential>(&a.get(i), &b.get(i)).distance;
             }
         }
     }

@@ -28,6 +28,8 @@
 //! - [`dyop_distance`]: the seed's approximate DyOP kernel.
 //! - [`batch`]: the same kernels over structure-of-arrays batches, vectorized
 //!   with runtime CPU-feature dispatch, bit-identical to the scalar ones.
+//!   A single triangle pair runs its own candidates in vector lanes
+//!   (AVX2), with the same result.
 
 pub mod batch;
 mod compensated;
@@ -36,6 +38,8 @@ mod double_double;
 mod dyop;
 mod feature;
 pub mod lanes;
+#[cfg(target_arch = "x86_64")]
+mod pair_lanes;
 mod point_segment;
 mod point_triangle;
 mod refine;

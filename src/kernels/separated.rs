@@ -98,6 +98,8 @@ pub(crate) struct ClosestSeparated<L: Lane> {
     pub s: L,
     /// Edge parameter on b of an edge–edge winner.
     pub t: L,
+    /// The winning pair's point on b minus its point on a.
+    pub separation: V3<L>,
     /// Whether the plane normal to the direction between the winning pair
     /// certainly separates the triangles (then they are disjoint and the
     /// minimum is their distance); false means "not certain": the exact test
@@ -125,6 +127,7 @@ impl<const N: usize> ClosestSeparated<F64x<N>> {
             candidate: self.candidate.0[k],
             s: self.s.0[k],
             t: self.t.0[k],
+            separation: V3::new(self.separation.x.0[k], self.separation.y.0[k], self.separation.z.0[k]),
             certified: self.certified.0[k] != 0,
             extent: self.extent.0[k],
         }
@@ -159,18 +162,15 @@ pub(crate) fn triangle_lanes(t: &Triangle) -> [V3<Real>; 3] {
 /// The first minimum in the fixed candidate order wins ties.
 #[inline(always)]
 pub(crate) fn closest_separated<L: Lane>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> ClosestSeparated<L> {
-    let zero = L::splat(0.0);
-    let infinity = L::splat(Real::INFINITY);
-    let mut best = Best {
-        distance_squared: infinity,
-        runner_up_squared: infinity,
-        candidate: zero,
-        s: zero,
-        t: zero,
-        separation: V3::zeros(),
-    };
+    let mut best = Best::empty();
     visit_candidates(a, b, &mut best);
-    // Separating-axis certificate along the closest direction.
+    certify(a, b, &best)
+}
+
+/// The pass's result from its minimum: the separating-axis certificate
+/// along the winning pair's direction, and the pair's extent.
+#[inline(always)]
+pub(super) fn certify<L: Lane>(a: &[V3<L>; 3], b: &[V3<L>; 3], best: &Best<L>) -> ClosestSeparated<L> {
     let u = best.separation;
     let highest_a = u.dot(&a[0]).max(u.dot(&a[1])).max(u.dot(&a[2]));
     let lowest_b = u.dot(&b[0]).min(u.dot(&b[1])).min(u.dot(&b[2]));
@@ -183,19 +183,42 @@ pub(crate) fn closest_separated<L: Lane>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> Clos
         candidate: best.candidate,
         s: best.s,
         t: best.t,
+        separation: best.separation,
         certified: margin.lt(lowest_b - highest_a),
         extent,
     }
 }
 
 /// The running minimum and runner-up of [`closest_separated`].
-struct Best<L: Lane> {
-    distance_squared: L,
-    runner_up_squared: L,
-    candidate: L,
-    s: L,
-    t: L,
-    separation: V3<L>,
+pub(super) struct Best<L: Lane> {
+    /// The least squared distance so far.
+    pub distance_squared: L,
+    /// The least of the others.
+    pub runner_up_squared: L,
+    /// The code of the candidate attaining the least.
+    pub candidate: L,
+    /// Its edge parameter on a.
+    pub s: L,
+    /// Its edge parameter on b.
+    pub t: L,
+    /// Its separation, from a to b.
+    pub separation: V3<L>,
+}
+
+impl<L: Lane> Best<L> {
+    /// Before any candidate: everything at `+∞`, candidate 0.
+    #[inline(always)]
+    pub fn empty() -> Best<L> {
+        let (zero, infinity) = (L::splat(0.0), L::splat(Real::INFINITY));
+        Best {
+            distance_squared: infinity,
+            runner_up_squared: infinity,
+            candidate: zero,
+            s: zero,
+            t: zero,
+            separation: V3::zeros(),
+        }
+    }
 }
 
 impl<L: Lane> CandidateSink<L> for Best<L> {

@@ -26,19 +26,21 @@
 //!
 //! Steps 1 and 2 have no branches and are shared, lane by lane, with the
 //! batched kernel ([`super::batch::triangle_distances`]), which gives
-//! bit-identical distances.
+//! bit-identical distances. On one pair, from AVX2 on, they run with the
+//! pair's 15 candidates side by side in vector lanes (`pair_lanes.rs`),
+//! again bit for bit the same.
 
-use super::dispatch::multiversioned;
+use super::dispatch::SimdLevel;
 use super::feature::Feature;
 use super::lanes::V3;
-use super::point_triangle::{point_face_interior, point_triangle, FacePlane};
+use super::point_triangle::point_triangle;
 use super::refine::refined_distance;
 use super::scale::{
-    largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point, triangle_extent,
+    largest_magnitude_of_pair, normalising_exponent, scale_by_power_of_two, scale_point, triangle_extent,
     MIN_RELATIVE_SIZE,
 };
 use super::segment_segment::point_on_segment;
-use super::separated::{closest_separated, local_frame, triangle_lanes, Candidate};
+use super::separated::{closest_separated, local_frame, triangle_lanes, Candidate, ClosestSeparated};
 use super::triangle_intersection::triangles_intersect;
 use crate::math::{Point, Real, Triangle};
 
@@ -64,40 +66,92 @@ pub struct TriangleDistance {
     pub within_range: bool,
 }
 
-multiversioned! {
-    /// Distance between triangles `a` and `b`.
-    ///
-    /// Degenerate triangles (repeated or collinear vertices) are treated as the
-    /// segments or points they are. Never panics, never NaN on finite input.
-    ///
-    /// ```
-    /// use nearmiss::kernels::{triangle_distance, Feature};
-    /// use nearmiss::math::Point;
-    /// let a = [Point::new(0.0, 0.0, 0.0), Point::new(1.0, 0.0, 0.0), Point::new(0.0, 1.0, 0.0)];
-    /// let b = [Point::new(0.2, 0.2, 0.5), Point::new(2.0, 2.0, 3.0), Point::new(2.0, 0.0, 3.0)];
-    /// let d = triangle_distance(&a, &b);
-    /// assert_eq!(d.distance, 0.5);
-    /// assert_eq!((d.feature_a, d.feature_b), (Feature::Face, Feature::Vertex(0)));
-    /// assert_eq!(d.point_a, Point::new(0.2, 0.2, 0.0));
-    /// ```
-    pub fn triangle_distance / triangle_distance_with(a: &Triangle, b: &Triangle) -> TriangleDistance {
-        normalised_triangle_distance(a, b)
+/// Distance between triangles `a` and `b`.
+///
+/// Degenerate triangles (repeated or collinear vertices) are treated as the
+/// segments or points they are. Never panics, never NaN on finite input.
+///
+/// ```
+/// use nearmiss::kernels::{triangle_distance, Feature};
+/// use nearmiss::math::Point;
+/// let a = [Point::new(0.0, 0.0, 0.0), Point::new(1.0, 0.0, 0.0), Point::new(0.0, 1.0, 0.0)];
+/// let b = [Point::new(0.2, 0.2, 0.5), Point::new(2.0, 2.0, 3.0), Point::new(2.0, 0.0, 3.0)];
+/// let d = triangle_distance(&a, &b);
+/// assert_eq!(d.distance, 0.5);
+/// assert_eq!((d.feature_a, d.feature_b), (Feature::Face, Feature::Vertex(0)));
+/// assert_eq!(d.point_a, Point::new(0.2, 0.2, 0.0));
+/// ```
+#[inline]
+pub fn triangle_distance(a: &Triangle, b: &Triangle) -> TriangleDistance {
+    triangle_distance_with(SimdLevel::detect(), a, b)
+}
+
+/// [`triangle_distance`] at the given [`SimdLevel`] (lowered to the best the
+/// CPU supports): for tests and benchmarks. Results are bit-identical at
+/// every level. From AVX2 on, the pair's 15 candidates run side by side in
+/// vector lanes (`pair_lanes.rs`); at the baseline one after another.
+pub fn triangle_distance_with(level: SimdLevel, a: &Triangle, b: &Triangle) -> TriangleDistance {
+    #[cfg(target_arch = "x86_64")]
+    if level.min(SimdLevel::detect()) >= SimdLevel::Avx2 {
+        // SAFETY: the CPU has AVX2 and FMA (the level is lowered to what it supports).
+        return unsafe { super::pair_lanes::triangle_distance(a, b) };
+    }
+    let _ = level;
+    normalised_triangle_distance::<Sequential>(a, b)
+}
+
+/// A pair's sizes, for the normalisation and the range check.
+#[derive(Copy, Clone, Debug)]
+pub(super) struct PairSizes {
+    /// The largest coordinate magnitude of the six vertices (NaN passed over).
+    pub largest: Real,
+    /// Each triangle's extent (`scale.rs`'s `triangle_extent`).
+    pub extents: [Real; 2],
+}
+
+/// How an instruction set runs the parts of [`triangle_distance`] that
+/// differ between them. Static methods, always inlined: a closure or a
+/// function item passed instead is compiled on its own, without the
+/// caller's target features, and its intrinsics (and `mul_add`) become calls.
+pub(crate) trait PairPass {
+    /// The candidate pass on local coordinates ([`closest_separated`]'s result).
+    fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real>;
+    /// The pair's sizes.
+    fn sizes(a: &Triangle, b: &Triangle) -> PairSizes;
+}
+
+/// The candidates one after another, the sizes one coordinate at a time:
+/// the baseline, and the batch's scalar pass.
+pub(crate) struct Sequential;
+
+impl PairPass for Sequential {
+    #[inline(always)]
+    fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real> {
+        closest_separated(a, b)
+    }
+
+    #[inline(always)]
+    fn sizes(a: &Triangle, b: &Triangle) -> PairSizes {
+        PairSizes {
+            largest: largest_magnitude_of_pair(a, b),
+            extents: [triangle_extent(a), triangle_extent(b)],
+        }
     }
 }
 
 /// [`triangle_distance_kernel`] behind the power-of-two normalisation of
 /// `scale.rs`, with the range check.
 #[inline(always)]
-fn normalised_triangle_distance(a: &Triangle, b: &Triangle) -> TriangleDistance {
-    let largest = largest_magnitude(a.iter().chain(b));
-    let Some(exponent) = normalising_exponent(largest) else {
-        let mut found = triangle_distance_kernel(a, b);
-        found.within_range &= within_range(a, b, found.distance, largest);
+pub(super) fn normalised_triangle_distance<P: PairPass>(a: &Triangle, b: &Triangle) -> TriangleDistance {
+    let measured = P::sizes(a, b);
+    let Some(exponent) = normalising_exponent(measured.largest) else {
+        let mut found = triangle_distance_kernel::<P>(a, b);
+        found.within_range &= within_range(&measured, found.distance);
         return found;
     };
     let (a, b) = (a.map(|p| scale_point(&p, -exponent)), b.map(|p| scale_point(&p, -exponent)));
-    let mut found = triangle_distance_kernel(&a, &b);
-    found.within_range &= within_range(&a, &b, found.distance, largest_magnitude(a.iter().chain(&b)));
+    let mut found = triangle_distance_kernel::<P>(&a, &b);
+    found.within_range &= within_range(&P::sizes(&a, &b), found.distance);
     found.distance = scale_by_power_of_two(found.distance, exponent);
     found.point_a = scale_point(&found.point_a, exponent);
     found.point_b = scale_point(&found.point_b, exponent);
@@ -105,21 +159,22 @@ fn normalised_triangle_distance(a: &Triangle, b: &Triangle) -> TriangleDistance 
 }
 
 /// Whether each triangle's extent and the distance (unless zero: touching,
-/// decided exactly) are at least `MIN_RELATIVE_SIZE` of `largest`.
+/// decided exactly) are at least `MIN_RELATIVE_SIZE` of the largest
+/// coordinate magnitude.
 #[inline(always)]
-fn within_range(a: &Triangle, b: &Triangle, distance: Real, largest: Real) -> bool {
-    let limit = MIN_RELATIVE_SIZE * largest;
+fn within_range(sizes: &PairSizes, distance: Real) -> bool {
+    let limit = MIN_RELATIVE_SIZE * sizes.largest;
     let fine = |size: Real| size == 0.0 || size >= limit;
-    fine(triangle_extent(a)) && fine(triangle_extent(b)) && fine(distance)
+    fine(sizes.extents[0]) && fine(sizes.extents[1]) && fine(distance)
 }
 
 /// The body of [`triangle_distance`], inlined into each instruction-set
 /// version and into the batched kernel's scalar pass.
 #[inline(always)]
-pub(crate) fn triangle_distance_kernel(a: &Triangle, b: &Triangle) -> TriangleDistance {
+pub(crate) fn triangle_distance_kernel<P: PairPass>(a: &Triangle, b: &Triangle) -> TriangleDistance {
     let origin = V3::from(&a[0]);
     let (local_a, local_b) = local_frame(&triangle_lanes(a), &triangle_lanes(b));
-    let closest = closest_separated(&local_a, &local_b);
+    let closest = P::closest(&local_a, &local_b);
     if !closest.certified {
         if let Some(common) = triangles_intersect(a, b) {
             return TriangleDistance {
@@ -134,14 +189,20 @@ pub(crate) fn triangle_distance_kernel(a: &Triangle, b: &Triangle) -> TriangleDi
     }
     let to_world = |v: V3<Real>| (v + origin).to_point();
     let (point_a, point_b, feature_a, feature_b) = match closest.winner() {
-        Candidate::VertexOfBOverFaceOfA(vertex) => {
-            let (_, offset) = point_face_interior(&local_b[vertex], &FacePlane::new(&local_a));
-            (to_world(local_b[vertex] - offset), b[vertex], Feature::Face, Feature::Vertex(vertex as u8))
-        }
-        Candidate::VertexOfAOverFaceOfB(vertex) => {
-            let (_, offset) = point_face_interior(&local_a[vertex], &FacePlane::new(&local_b));
-            (a[vertex], to_world(local_a[vertex] - offset), Feature::Vertex(vertex as u8), Feature::Face)
-        }
+        // The separation runs from the vertex's projection to the vertex
+        // (b over a) or from the vertex to its projection (a over b).
+        Candidate::VertexOfBOverFaceOfA(vertex) => (
+            to_world(local_b[vertex] - closest.separation),
+            b[vertex],
+            Feature::Face,
+            Feature::Vertex(vertex as u8),
+        ),
+        Candidate::VertexOfAOverFaceOfB(vertex) => (
+            a[vertex],
+            to_world(local_a[vertex] + closest.separation),
+            Feature::Vertex(vertex as u8),
+            Feature::Face,
+        ),
         Candidate::Edges(i, j) => (
             point_on_segment(&a[i], &a[(i + 1) % 3], closest.s),
             point_on_segment(&b[j], &b[(j + 1) % 3], closest.t),

@@ -1,0 +1,510 @@
+//! The candidate pass of *one* triangle pair with its candidates side by
+//! side in the four lanes of an AVX2 register.
+//!
+//! [`closest_separated`](super::separated::closest_separated) visits the 15
+//! candidates one after another; the batch runs it with one pair per lane.
+//! A single pair has no other pairs to fill lanes with, so here the lanes
+//! hold its candidates:
+//!
+//! - both face planes are built at once, in lanes `[a, b, a, b]`, and the
+//!   six vertex–face candidates are two registers against them: lanes
+//!   `[b0, a0, b1, a1]` (codes 0–3) and `[b2, a2, –, –]` (codes 4, 5);
+//! - the nine edge–edge candidates are three registers: edge `i` of a in
+//!   every lane against b's edges `[0, 1, 2, –]` (codes `6 + 3i + j`).
+//!
+//! Each lane runs the operations the sequential pass runs for its candidate
+//! (the same generic code, [`FacePlane`], [`point_face_interior`],
+//! [`segment_segment_lanes`], on the [`Ymm`] lane type), and the reduction
+//! takes the least, the first candidate in the sequential order attaining it
+//! and the least of the others, as [`Best`] does: the result is the
+//! sequential pass's bit for bit (the unit test below compares every field
+//! on every input class and on exact ties;
+//! `tests/batch_matches_scalar.rs` compares whole results at every level).
+//! On one pair it is about twice as fast as the sequential pass, whose
+//! scalar arithmetic leaves three of four lanes idle (`BENCHMARKS.md`).
+//!
+//! `Ymm` wraps the AVX2 intrinsics. It is private to this module and only
+//! created inside its `#[target_feature(enable = "avx2,fma")]` functions,
+//! which are only called where the CPU has both (the caller checks
+//! [`SimdLevel`](super::SimdLevel)).
+
+use super::lanes::{Lane, V3};
+use super::point_triangle::{point_face_interior, FacePlane};
+use super::segment_segment::{segment_segment_lanes, Edge};
+use super::separated::{certify, Best, ClosestSeparated};
+use super::triangle_triangle::{normalised_triangle_distance, PairPass, PairSizes, TriangleDistance};
+use crate::math::{Real, Triangle};
+use std::arch::x86_64::*;
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
+
+/// Four `f64` lanes in one AVX2 register.
+#[derive(Copy, Clone)]
+struct Ymm(__m256d);
+
+/// A lane mask: all bits set (true) or clear (false) in each lane.
+#[derive(Copy, Clone)]
+struct YmmMask(__m256d);
+
+// SAFETY (every `unsafe` block on `Ymm` and `YmmMask` below): the values
+// only exist inside this module's AVX2 + FMA functions (see the module
+// docs), into which these `#[inline(always)]` operations are inlined; the
+// intrinsics need no more than AVX2 and FMA.
+
+macro_rules! ymm_binary {
+    ($trait:ident, $method:ident, $intrinsic:ident) => {
+        impl $trait for Ymm {
+            type Output = Ymm;
+            #[inline(always)]
+            fn $method(self, other: Ymm) -> Ymm {
+                // SAFETY: see above.
+                Ymm(unsafe { $intrinsic(self.0, other.0) })
+            }
+        }
+    };
+}
+ymm_binary!(Add, add, _mm256_add_pd);
+ymm_binary!(Sub, sub, _mm256_sub_pd);
+ymm_binary!(Mul, mul, _mm256_mul_pd);
+ymm_binary!(Div, div, _mm256_div_pd);
+
+impl Neg for Ymm {
+    type Output = Ymm;
+    /// Flips the sign bit, as `-x` on `f64` does.
+    #[inline(always)]
+    fn neg(self) -> Ymm {
+        // SAFETY: see above.
+        Ymm(unsafe { _mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)) })
+    }
+}
+
+impl BitAnd for YmmMask {
+    type Output = YmmMask;
+    #[inline(always)]
+    fn bitand(self, other: YmmMask) -> YmmMask {
+        // SAFETY: see above.
+        YmmMask(unsafe { _mm256_and_pd(self.0, other.0) })
+    }
+}
+
+impl BitOr for YmmMask {
+    type Output = YmmMask;
+    #[inline(always)]
+    fn bitor(self, other: YmmMask) -> YmmMask {
+        // SAFETY: see above.
+        YmmMask(unsafe { _mm256_or_pd(self.0, other.0) })
+    }
+}
+
+impl Not for YmmMask {
+    type Output = YmmMask;
+    #[inline(always)]
+    fn not(self) -> YmmMask {
+        // SAFETY: see above.
+        YmmMask(unsafe { _mm256_xor_pd(self.0, _mm256_castsi256_pd(_mm256_set1_epi64x(-1))) })
+    }
+}
+
+/// Each operation is the IEEE operation `f64` performs, lane by lane; the
+/// comparisons are ordered (`<`, `<=` false on NaN) except `!=` (true on
+/// NaN), as in Rust; `min` and `max` are `vminpd`/`vmaxpd`, whose
+/// definition (`a < b ? a : b`, `a > b ? a : b`) is the trait's default.
+impl Lane for Ymm {
+    type Mask = YmmMask;
+    #[inline(always)]
+    fn splat(x: Real) -> Ymm {
+        // SAFETY: see above.
+        Ymm(unsafe { _mm256_set1_pd(x) })
+    }
+    #[inline(always)]
+    fn mul_add(self, a: Ymm, b: Ymm) -> Ymm {
+        // SAFETY: see above.
+        Ymm(unsafe { _mm256_fmadd_pd(self.0, a.0, b.0) })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Ymm {
+        // SAFETY: see above.
+        Ymm(unsafe { _mm256_sqrt_pd(self.0) })
+    }
+    #[inline(always)]
+    fn abs(self) -> Ymm {
+        // SAFETY: see above.
+        Ymm(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
+    }
+    #[inline(always)]
+    fn lt(self, other: Ymm) -> YmmMask {
+        // SAFETY: see above.
+        YmmMask(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, other.0) })
+    }
+    #[inline(always)]
+    fn le(self, other: Ymm) -> YmmMask {
+        // SAFETY: see above.
+        YmmMask(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, other.0) })
+    }
+    #[inline(always)]
+    fn ne(self, other: Ymm) -> YmmMask {
+        // SAFETY: see above.
+        YmmMask(unsafe { _mm256_cmp_pd::<_CMP_NEQ_UQ>(self.0, other.0) })
+    }
+    #[inline(always)]
+    fn select(mask: YmmMask, yes: Ymm, no: Ymm) -> Ymm {
+        // SAFETY: see above.
+        Ymm(unsafe { _mm256_blendv_pd(no.0, yes.0, mask.0) })
+    }
+    #[inline(always)]
+    fn min(self, other: Ymm) -> Ymm {
+        // SAFETY: see above.
+        Ymm(unsafe { _mm256_min_pd(self.0, other.0) })
+    }
+    #[inline(always)]
+    fn max(self, other: Ymm) -> Ymm {
+        // SAFETY: see above.
+        Ymm(unsafe { _mm256_max_pd(self.0, other.0) })
+    }
+}
+
+impl Ymm {
+    /// The four lanes.
+    #[inline(always)]
+    fn lanes(self) -> [Real; 4] {
+        let mut out = [0.0; 4];
+        // SAFETY: see above; `out` holds four f64.
+        unsafe { _mm256_storeu_pd(out.as_mut_ptr(), self.0) };
+        out
+    }
+
+    /// Lane `K` in every lane (`K` given as the permutation `0x55 · K`).
+    #[inline(always)]
+    fn broadcast<const PERMUTATION: i32>(self) -> Ymm {
+        // SAFETY: see above.
+        Ymm(unsafe { _mm256_permute4x64_pd::<PERMUTATION>(self.0) })
+    }
+
+    /// Bit `k` set where lane `k` equals `value`.
+    #[inline(always)]
+    fn equal_bits(self, value: Real) -> u32 {
+        // SAFETY: see above.
+        unsafe { _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_EQ_OQ>(self.0, _mm256_set1_pd(value))) as u32 }
+    }
+
+    /// The least lane (no lane NaN).
+    #[inline(always)]
+    fn least(self) -> Real {
+        // SAFETY: see above.
+        unsafe {
+            let halves = _mm256_min_pd(self.0, _mm256_permute4x64_pd::<0b01_00_11_10>(self.0));
+            let least = _mm256_min_pd(halves, _mm256_permute4x64_pd::<0b10_11_00_01>(halves));
+            _mm256_cvtsd_f64(least)
+        }
+    }
+
+    /// Lanes equal to `other`'s (false on NaN).
+    #[inline(always)]
+    fn equal(self, other: Ymm) -> YmmMask {
+        // SAFETY: see above.
+        YmmMask(unsafe { _mm256_cmp_pd::<_CMP_EQ_OQ>(self.0, other.0) })
+    }
+
+    /// `+∞` in lane `lane`, the lanes of `self` elsewhere.
+    #[inline(always)]
+    fn knock_out(self, lane: usize) -> Ymm {
+        let index = constants(0.0, 1.0, 2.0, 3.0);
+        Ymm::select(index.equal(Ymm::splat(lane as Real)), Ymm::splat(Real::INFINITY), self)
+    }
+}
+
+/// Lanes `[p0, p1, p2, p3]`.
+#[inline(always)]
+fn gather(p: [&V3<Real>; 4]) -> V3<Ymm> {
+    // SAFETY: see above.
+    unsafe {
+        V3::new(
+            Ymm(_mm256_setr_pd(p[0].x, p[1].x, p[2].x, p[3].x)),
+            Ymm(_mm256_setr_pd(p[0].y, p[1].y, p[2].y, p[3].y)),
+            Ymm(_mm256_setr_pd(p[0].z, p[1].z, p[2].z, p[3].z)),
+        )
+    }
+}
+
+/// Lane `k` of a vector.
+#[inline(always)]
+fn lane_of(v: &V3<Ymm>, k: usize) -> V3<Real> {
+    V3::new(v.x.lanes()[k], v.y.lanes()[k], v.z.lanes()[k])
+}
+
+/// Edge lane `K` in every lane (`PERMUTATION = 0x55 · K`).
+#[inline(always)]
+fn broadcast_edge<const PERMUTATION: i32>(e: &Edge<Ymm>) -> Edge<Ymm> {
+    Edge {
+        start: broadcast_vector::<PERMUTATION>(&e.start),
+        direction: broadcast_vector::<PERMUTATION>(&e.direction),
+        length_squared: e.length_squared.broadcast::<PERMUTATION>(),
+        inverse_length_squared: e.inverse_length_squared.broadcast::<PERMUTATION>(),
+    }
+}
+
+/// Vector lane `K` in every lane (`PERMUTATION = 0x55 · K`).
+#[inline(always)]
+fn broadcast_vector<const PERMUTATION: i32>(v: &V3<Ymm>) -> V3<Ymm> {
+    V3::new(v.x.broadcast::<PERMUTATION>(), v.y.broadcast::<PERMUTATION>(), v.z.broadcast::<PERMUTATION>())
+}
+
+/// Four constants in lanes.
+#[inline(always)]
+fn constants(w: Real, x: Real, y: Real, z: Real) -> Ymm {
+    // SAFETY: see above.
+    Ymm(unsafe { _mm256_setr_pd(w, x, y, z) })
+}
+
+/// The running least of each lane over the groups of candidates it holds
+/// (visited in the sequential order), as [`Best`] keeps it for one pair:
+/// within a lane the codes grow from group to group, so the lane's least
+/// is its first least in the sequential order.
+struct LaneBest {
+    /// The least squared distance of each lane.
+    squared: Ymm,
+    /// The least of the lane's other candidates.
+    runner_up: Ymm,
+    /// The code of the candidate attaining the lane's least.
+    code: Ymm,
+    /// Its edge parameters and separation (from a to b).
+    s: Ymm,
+    t: Ymm,
+    separation: V3<Ymm>,
+}
+
+impl LaneBest {
+    /// Takes a group of candidates: lane `k` of `squared` is candidate
+    /// `code[k]` where `used[k]`; the sequential pass never takes an
+    /// infinite (inapplicable) candidate, so neither is taken here.
+    #[inline(always)]
+    fn consider(&mut self, squared: Ymm, used: YmmMask, code: Ymm, s: Ymm, t: Ymm, separation: V3<Ymm>) {
+        let infinity = Ymm::splat(Real::INFINITY);
+        let squared = Ymm::select(squared.lt(infinity) & used, squared, infinity);
+        let better = squared.lt(self.squared);
+        self.runner_up = Ymm::select(better, self.squared, squared.min(self.runner_up));
+        self.squared = Ymm::select(better, squared, self.squared);
+        self.code = Ymm::select(better, code, self.code);
+        self.s = Ymm::select(better, s, self.s);
+        self.t = Ymm::select(better, t, self.t);
+        self.separation = V3::select(better, separation, self.separation);
+    }
+}
+
+/// Lanes `k` with `lanes[k]` set.
+#[inline(always)]
+fn lane_mask(lanes: [bool; 4]) -> YmmMask {
+    let [w, x, y, z] = lanes;
+    // SAFETY: see above.
+    YmmMask(unsafe {
+        _mm256_castsi256_pd(_mm256_setr_epi64x(-(w as i64), -(x as i64), -(y as i64), -(z as i64)))
+    })
+}
+
+/// [`closest_separated`](super::separated::closest_separated) of one pair
+/// (local coordinates), its candidates in lanes; the same result bit for bit.
+#[target_feature(enable = "avx2,fma")]
+pub(super) fn closest_separated_pair(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real> {
+    let [a0, a1, a2] = a;
+    let [b0, b1, b2] = b;
+    let zero = Ymm::splat(0.0);
+    let infinity = Ymm::splat(Real::INFINITY);
+    let mut best = LaneBest {
+        squared: infinity,
+        runner_up: infinity,
+        code: zero,
+        s: zero,
+        t: zero,
+        separation: V3::zeros(),
+    };
+    // Vertex over face: both planes at once, in lanes [a, b, a, b]. The
+    // separation of a vertex of a over b's face (odd lanes, odd codes) is
+    // the opposite of its offset.
+    let faces =
+        FacePlane::new(&[gather([a0, b0, a0, b0]), gather([a1, b1, a1, b1]), gather([a2, b2, a2, b2])]);
+    let flip = constants(0.0, -0.0, 0.0, -0.0);
+    let towards_b = |offset: V3<Ymm>| {
+        // SAFETY: see above.
+        let sign = |c: Ymm| Ymm(_mm256_xor_pd(c.0, flip.0));
+        V3::new(sign(offset.x), sign(offset.y), sign(offset.z))
+    };
+    let (squared, offset) = point_face_interior(&gather([b0, a0, b1, a1]), &faces);
+    best.consider(
+        squared,
+        lane_mask([true; 4]),
+        constants(0.0, 1.0, 2.0, 3.0),
+        zero,
+        zero,
+        towards_b(offset),
+    );
+    let (squared, offset) = point_face_interior(&gather([b2, a2, b2, a2]), &faces);
+    let used = lane_mask([true, true, false, false]);
+    best.consider(squared, used, constants(4.0, 5.0, 4.0, 5.0), zero, zero, towards_b(offset));
+    // Edge against edge: lane j is edge i of a against edge j of b (code 6 + 3i + j).
+    let edges_a = Edge::new(&gather([a0, a1, a2, a0]), &gather([a1, a2, a0, a1]));
+    let edges_b = Edge::new(&gather([b0, b1, b2, b0]), &gather([b1, b2, b0, b1]));
+    let used = lane_mask([true, true, true, false]);
+    let found = segment_segment_lanes(&broadcast_edge::<0x00>(&edges_a), &edges_b);
+    best.consider(found.distance_squared, used, constants(6.0, 7.0, 8.0, 8.0), found.s, found.t, -found.gap);
+    let found = segment_segment_lanes(&broadcast_edge::<0x55>(&edges_a), &edges_b);
+    best.consider(
+        found.distance_squared,
+        used,
+        constants(9.0, 10.0, 11.0, 11.0),
+        found.s,
+        found.t,
+        -found.gap,
+    );
+    let found = segment_segment_lanes(&broadcast_edge::<0xAA>(&edges_a), &edges_b);
+    best.consider(
+        found.distance_squared,
+        used,
+        constants(12.0, 13.0, 14.0, 14.0),
+        found.s,
+        found.t,
+        -found.gap,
+    );
+
+    let least = best.squared.least();
+    if least == Real::INFINITY {
+        // No candidate: the sequential pass's starting state.
+        return certify(a, b, &Best::empty());
+    }
+    // The first candidate in the sequential order attaining the least: the
+    // least code among the lanes attaining it (lanes hold distinct codes).
+    let attaining = best.squared.equal(Ymm::splat(least));
+    let code = Ymm::select(attaining, best.code, infinity).least();
+    let lane = Ymm::select(attaining, best.code, infinity).equal_bits(code).trailing_zeros() as usize;
+    // The least of the others: the lane's own runner-up and the other lanes' least.
+    let others = best.squared.knock_out(lane).least();
+    let runner_up_squared = others.min(best.runner_up.lanes()[lane]);
+    let winner = Best {
+        distance_squared: least,
+        runner_up_squared,
+        candidate: code,
+        s: best.s.lanes()[lane],
+        t: best.t.lanes()[lane],
+        separation: lane_of(&best.separation, lane),
+    };
+    certify(a, b, &winner)
+}
+
+/// [`triangle_distance`](super::triangle_distance) with this module's pass.
+#[target_feature(enable = "avx2,fma")]
+pub(super) fn triangle_distance(a: &Triangle, b: &Triangle) -> TriangleDistance {
+    normalised_triangle_distance::<InLanes>(a, b)
+}
+
+/// This module's [`PairPass`]. Private: only [`triangle_distance`], an
+/// AVX2 + FMA function, runs it.
+struct InLanes;
+
+impl PairPass for InLanes {
+    #[inline(always)]
+    fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real> {
+        // SAFETY: see above (only run inside `triangle_distance`).
+        unsafe { closest_separated_pair(a, b) }
+    }
+
+    #[inline(always)]
+    fn sizes(a: &Triangle, b: &Triangle) -> PairSizes {
+        pair_sizes(a, b)
+    }
+}
+
+/// A triangle's nine coordinates `c0..c8` (`x0 y0 z0 x1 …`) as four
+/// overlapping loads: `c0..c3`, `c3..c6`, `c5..c8`, `c2..c5`.
+#[inline(always)]
+fn triangle_loads(t: &Triangle) -> [Ymm; 4] {
+    const { assert!(std::mem::size_of::<Triangle>() == 9 * std::mem::size_of::<Real>()) };
+    let c = t.as_ptr() as *const Real;
+    // SAFETY: see above; a triangle is nine contiguous `f64` (nalgebra's
+    // points are `repr(C)` arrays, size checked above), and every load
+    // reads four of them from offset 0, 3, 5 or 2.
+    unsafe {
+        [
+            Ymm(_mm256_loadu_pd(c)),
+            Ymm(_mm256_loadu_pd(c.add(3))),
+            Ymm(_mm256_loadu_pd(c.add(5))),
+            Ymm(_mm256_loadu_pd(c.add(2))),
+        ]
+    }
+}
+
+/// The largest lane (no lane NaN).
+#[inline(always)]
+fn largest_lane(v: Ymm) -> Real {
+    -(-v).least()
+}
+
+/// Lane magnitudes, NaN passed over (`vmaxpd` returns its second operand then).
+#[inline(always)]
+fn magnitude(v: Ymm) -> Ymm {
+    v.abs().max(Ymm::splat(0.0))
+}
+
+/// A triangle's extent from its [`triangle_loads`]: `c3..c6 - c0..c3` is
+/// edge 0 and x of edge 1; `c5..c8 - c2..c5` is z of edge 0 and edge 1;
+/// `c5..c8 - (_, c0, c1, c2)` is edge 2 after a first lane set to 0.
+#[inline(always)]
+fn extent([t0, t1, t2, t3]: [Ymm; 4]) -> Real {
+    // SAFETY: see above.
+    let shifted = Ymm(unsafe { _mm256_permute4x64_pd::<0b10_01_00_00>(t0.0) });
+    let edge_2 = Ymm::select(lane_mask([false, true, true, true]), t2 - shifted, Ymm::splat(0.0));
+    largest_lane((t1 - t0).abs().max((t2 - t3).abs()).max(edge_2.abs()))
+}
+
+/// [`pair_sizes`](super::triangle_triangle::pair_sizes) four coordinates at
+/// a time; the same values (maxima of the same magnitudes and differences).
+#[inline(always)]
+fn pair_sizes(a: &Triangle, b: &Triangle) -> PairSizes {
+    let (of_a, of_b) = (triangle_loads(a), triangle_loads(b));
+    let largest_a = magnitude(of_a[0]).max(magnitude(of_a[1])).max(magnitude(of_a[2]));
+    let largest_b = magnitude(of_b[0]).max(magnitude(of_b[1])).max(magnitude(of_b[2]));
+    PairSizes { largest: largest_lane(largest_a.max(largest_b)), extents: [extent(of_a), extent(of_b)] }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernels::lanes::V3;
+    use crate::kernels::separated::{closest_separated, local_frame, triangle_lanes};
+    use crate::kernels::SimdLevel;
+    use crate::samples::{nearly_touching_pairs, tied_pairs, triangle_pairs, InputClass};
+
+    /// Every field, as bits.
+    fn bits(c: &ClosestSeparated<Real>) -> ([u64; 9], bool) {
+        let fields = [c.distance_squared, c.runner_up_squared, c.candidate, c.s, c.t].into_iter().chain([
+            c.separation.x,
+            c.separation.y,
+            c.separation.z,
+            c.extent,
+        ]);
+        let mut out = [0; 9];
+        for (o, f) in out.iter_mut().zip(fields) {
+            *o = f.to_bits();
+        }
+        (out, c.certified)
+    }
+
+    #[test]
+    fn the_pass_in_lanes_is_the_sequential_pass_bit_for_bit() {
+        if SimdLevel::detect() < SimdLevel::Avx2 {
+            eprintln!("skipped: this CPU has no AVX2 + FMA, the pass in lanes never runs here");
+            return;
+        }
+        let mut pairs = tied_pairs();
+        for class in InputClass::ALL {
+            pairs.extend(triangle_pairs(class, 3000, 41));
+        }
+        pairs.extend(nearly_touching_pairs(3000, 1e-3, 1e-1, 2024));
+        for (i, (a, b)) in pairs.iter().enumerate() {
+            for (a, b) in [(a, b), (b, a)] {
+                let (la, lb): ([V3<Real>; 3], [V3<Real>; 3]) =
+                    local_frame(&triangle_lanes(a), &triangle_lanes(b));
+                // SAFETY: the CPU has AVX2 and FMA (checked above).
+                let in_lanes = unsafe { closest_separated_pair(&la, &lb) };
+                assert_eq!(bits(&in_lanes), bits(&closest_separated(&la, &lb)), "pair {i}: {a:?} {b:?}");
+            }
+        }
+    }
+}
