@@ -168,7 +168,7 @@ multiversioned! {
             let tb = [load(&b.vertices[0], start), load(&b.vertices[1], start), load(&b.vertices[2], start)];
             let (local_a, local_b) = local_frame(&ta, &tb);
             let closest = closest_separated(&local_a, &local_b);
-            let plain = closest.distance_squared.sqrt();
+            let plain = closest.best.distance_squared.sqrt();
             let refine = closest.needs_refinement();
             for (k, o) in o.iter_mut().enumerate() {
                 *o = if closest.certified.0[k] == 0 {

@@ -343,26 +343,14 @@ pub(super) fn closest_separated_pair(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> Cl
     let edges_a = Edge::new(&gather([a0, a1, a2, a0]), &gather([a1, a2, a0, a1]));
     let edges_b = Edge::new(&gather([b0, b1, b2, b0]), &gather([b1, b2, b0, b1]));
     let used = lane_mask([true, true, true, false]);
-    let found = segment_segment_lanes(&broadcast_edge::<0x00>(&edges_a), &edges_b);
-    best.consider(found.distance_squared, used, constants(6.0, 7.0, 8.0, 8.0), found.s, found.t, -found.gap);
-    let found = segment_segment_lanes(&broadcast_edge::<0x55>(&edges_a), &edges_b);
-    best.consider(
-        found.distance_squared,
-        used,
-        constants(9.0, 10.0, 11.0, 11.0),
-        found.s,
-        found.t,
-        -found.gap,
-    );
-    let found = segment_segment_lanes(&broadcast_edge::<0xAA>(&edges_a), &edges_b);
-    best.consider(
-        found.distance_squared,
-        used,
-        constants(12.0, 13.0, 14.0, 14.0),
-        found.s,
-        found.t,
-        -found.gap,
-    );
+    let mut edge_group = |edge_a: &Edge<Ymm>, first: Real| {
+        let found = segment_segment_lanes(edge_a, &edges_b);
+        let codes = constants(first, first + 1.0, first + 2.0, first + 2.0);
+        best.consider(found.distance_squared, used, codes, found.s, found.t, -found.gap);
+    };
+    edge_group(&broadcast_edge::<0x00>(&edges_a), 6.0);
+    edge_group(&broadcast_edge::<0x55>(&edges_a), 9.0);
+    edge_group(&broadcast_edge::<0xAA>(&edges_a), 12.0);
 
     let least = best.squared.least();
     if least == Real::INFINITY {
@@ -473,12 +461,10 @@ mod tests {
 
     /// Every field, as bits.
     fn bits(c: &ClosestSeparated<Real>) -> ([u64; 9], bool) {
-        let fields = [c.distance_squared, c.runner_up_squared, c.candidate, c.s, c.t].into_iter().chain([
-            c.separation.x,
-            c.separation.y,
-            c.separation.z,
-            c.extent,
-        ]);
+        let fields =
+            [c.best.distance_squared, c.best.runner_up_squared, c.best.candidate, c.best.s, c.best.t]
+                .into_iter()
+                .chain([c.best.separation.x, c.best.separation.y, c.best.separation.z, c.extent]);
         let mut out = [0; 9];
         for (o, f) in out.iter_mut().zip(fields) {
             *o = f.to_bits();

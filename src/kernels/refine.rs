@@ -42,7 +42,7 @@ impl<L: Lane> ClosestSeparated<L> {
     #[inline(always)]
     pub fn needs_refinement(&self) -> L::Mask {
         let threshold = L::splat(REFINE_BELOW_EXTENT) * self.extent;
-        self.distance_squared.lt(threshold * threshold)
+        self.best.distance_squared.lt(threshold * threshold)
     }
 }
 
@@ -59,11 +59,11 @@ multiversioned! {
 
 #[inline(always)]
 fn refined_distance_kernel(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
-    let plain = closest.distance_squared.sqrt();
+    let plain = closest.best.distance_squared.sqrt();
     let band = plain + REFINE_TIE_BAND_ULPS * Real::EPSILON * closest.extent;
     let band_squared = band * band;
-    if closest.runner_up_squared > band_squared {
-        return candidate_distance(a, b, closest.winner(), closest.s, closest.t).unwrap_or(plain);
+    if closest.best.runner_up_squared > band_squared {
+        return candidate_distance(a, b, closest.winner(), closest.best.s, closest.best.t).unwrap_or(plain);
     }
     // A tie within rounding: recompute the candidates and refine every one
     // in the band. (Carrying the runner-up's identity through the vector

@@ -87,19 +87,10 @@ pub(crate) fn visit_candidates<L: Lane, S: CandidateSink<L>>(a: &[V3<L>; 3], b: 
 /// triangles are certainly disjoint.
 #[derive(Copy, Clone, Debug)]
 pub(crate) struct ClosestSeparated<L: Lane> {
-    /// The smallest squared candidate distance.
-    pub distance_squared: L,
-    /// The second smallest (a tie with the smallest makes the choice of
-    /// winner a matter of rounding).
-    pub runner_up_squared: L,
-    /// The code of the candidate attaining the minimum ([`Candidate::code`]).
-    pub candidate: L,
-    /// Edge parameter on a of an edge–edge winner.
-    pub s: L,
-    /// Edge parameter on b of an edge–edge winner.
-    pub t: L,
-    /// The winning pair's point on b minus its point on a.
-    pub separation: V3<L>,
+    /// The least candidate: its squared distance, the runner-up (a tie with
+    /// the least makes the choice of winner a matter of rounding), which
+    /// candidate, its edge parameters and separation.
+    pub best: Best<L>,
     /// Whether the plane normal to the direction between the winning pair
     /// certainly separates the triangles (then they are disjoint and the
     /// minimum is their distance); false means "not certain": the exact test
@@ -113,7 +104,7 @@ impl ClosestSeparated<Real> {
     /// The winning candidate.
     #[inline]
     pub fn winner(&self) -> Candidate {
-        Candidate::decode(self.candidate as usize)
+        Candidate::decode(self.best.candidate as usize)
     }
 }
 
@@ -121,13 +112,17 @@ impl<const N: usize> ClosestSeparated<F64x<N>> {
     /// Lane `k` as a scalar result.
     #[inline(always)]
     pub fn lane(&self, k: usize) -> ClosestSeparated<Real> {
+        let best = &self.best;
+        let separation = &best.separation;
         ClosestSeparated {
-            distance_squared: self.distance_squared.0[k],
-            runner_up_squared: self.runner_up_squared.0[k],
-            candidate: self.candidate.0[k],
-            s: self.s.0[k],
-            t: self.t.0[k],
-            separation: V3::new(self.separation.x.0[k], self.separation.y.0[k], self.separation.z.0[k]),
+            best: Best {
+                distance_squared: best.distance_squared.0[k],
+                runner_up_squared: best.runner_up_squared.0[k],
+                candidate: best.candidate.0[k],
+                s: best.s.0[k],
+                t: best.t.0[k],
+                separation: V3::new(separation.x.0[k], separation.y.0[k], separation.z.0[k]),
+            },
             certified: self.certified.0[k] != 0,
             extent: self.extent.0[k],
         }
@@ -177,20 +172,12 @@ pub(super) fn certify<L: Lane>(a: &[V3<L>; 3], b: &[V3<L>; 3], best: &Best<L>) -
     let extent_a = a[0].max_abs().max(a[1].max_abs()).max(a[2].max_abs());
     let extent = extent_a.max(b[0].max_abs()).max(b[1].max_abs()).max(b[2].max_abs());
     let margin = L::splat(SEPARATION_MARGIN_ULPS * Real::EPSILON) * u.norm_l1() * extent;
-    ClosestSeparated {
-        distance_squared: best.distance_squared,
-        runner_up_squared: best.runner_up_squared,
-        candidate: best.candidate,
-        s: best.s,
-        t: best.t,
-        separation: best.separation,
-        certified: margin.lt(lowest_b - highest_a),
-        extent,
-    }
+    ClosestSeparated { best: *best, certified: margin.lt(lowest_b - highest_a), extent }
 }
 
 /// The running minimum and runner-up of [`closest_separated`].
-pub(super) struct Best<L: Lane> {
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Best<L: Lane> {
     /// The least squared distance so far.
     pub distance_squared: L,
     /// The least of the others.

@@ -192,28 +192,28 @@ pub(crate) fn triangle_distance_kernel<P: PairPass>(a: &Triangle, b: &Triangle) 
         // The separation runs from the vertex's projection to the vertex
         // (b over a) or from the vertex to its projection (a over b).
         Candidate::VertexOfBOverFaceOfA(vertex) => (
-            to_world(local_b[vertex] - closest.separation),
+            to_world(local_b[vertex] - closest.best.separation),
             b[vertex],
             Feature::Face,
             Feature::Vertex(vertex as u8),
         ),
         Candidate::VertexOfAOverFaceOfB(vertex) => (
             a[vertex],
-            to_world(local_a[vertex] + closest.separation),
+            to_world(local_a[vertex] + closest.best.separation),
             Feature::Vertex(vertex as u8),
             Feature::Face,
         ),
         Candidate::Edges(i, j) => (
-            point_on_segment(&a[i], &a[(i + 1) % 3], closest.s),
-            point_on_segment(&b[j], &b[(j + 1) % 3], closest.t),
-            Feature::on_edge(i as u8, closest.s),
-            Feature::on_edge(j as u8, closest.t),
+            point_on_segment(&a[i], &a[(i + 1) % 3], closest.best.s),
+            point_on_segment(&b[j], &b[(j + 1) % 3], closest.best.t),
+            Feature::on_edge(i as u8, closest.best.s),
+            Feature::on_edge(j as u8, closest.best.t),
         ),
     };
     let distance = if closest.needs_refinement() {
         refined_distance(a, b, &closest)
     } else {
-        closest.distance_squared.sqrt()
+        closest.best.distance_squared.sqrt()
     };
     // Separated triangles at distance 0: the distance underflowed (the
     // exact intersection test said they do not meet).
