@@ -8,8 +8,9 @@ use nearmiss::kernels::batch::{
 use nearmiss::kernels::{
     point_segment_distance_with, triangle_distance_with, PointEdgeFormula, SimdLevel, TriangleDistance,
 };
+use nearmiss::math::Point;
 use nearmiss::samples::{
-    nearly_touching_pairs, point_segment_queries, tied_pairs, triangle_pairs, InputClass,
+    nearly_touching_pairs, point_segment_queries, tied_pairs, triangle_pairs, InputClass, Rng,
 };
 
 #[test]
@@ -60,6 +61,44 @@ fn every_level_gives_the_same_points_and_features() {
                 bits(&triangle_distance_with(SimdLevel::Baseline, y, x)),
                 "{level:?}, pair {i} swapped"
             );
+        }
+    }
+}
+
+/// A coordinate drawn from extremes: zeros of both signs, subnormals,
+/// tiny, unit, huge and near-overflow magnitudes; with `non_finite`, also
+/// NaN and infinities.
+fn extreme(rng: &mut Rng, non_finite: bool) -> f64 {
+    const FINITE: [f64; 10] = [0.0, -0.0, 5e-324, -1e-310, 1e-300, 1.0, -0.75, 3e150, -1e300, f64::MAX];
+    const OTHERS: [f64; 3] = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY];
+    let k = rng.index(if non_finite { FINITE.len() + OTHERS.len() } else { FINITE.len() });
+    let base = if k < FINITE.len() { FINITE[k] } else { OTHERS[k - FINITE.len()] };
+    // Mostly the value shrunk a little (never past the finite range),
+    // sometimes exactly it (ties, repeats).
+    if rng.index(3) == 0 {
+        base
+    } else {
+        base * rng.range(0.25, 1.0)
+    }
+}
+
+#[test]
+fn every_level_agrees_on_extreme_and_non_finite_input() {
+    let mut rng = Rng::new(77);
+    let triangle = |rng: &mut Rng, non_finite: bool| {
+        [0, 1, 2]
+            .map(|_| Point::new(extreme(rng, non_finite), extreme(rng, non_finite), extreme(rng, non_finite)))
+    };
+    for i in 0..20_000 {
+        let non_finite = i % 2 == 1;
+        let (a, b) = (triangle(&mut rng, non_finite), triangle(&mut rng, non_finite));
+        let reference = triangle_distance_with(SimdLevel::Baseline, &a, &b);
+        for level in SimdLevel::available() {
+            let found = triangle_distance_with(level, &a, &b);
+            assert_eq!(bits(&found), bits(&reference), "{level:?}, pair {i}: {a:?} {b:?}");
+            if !non_finite {
+                assert!(found.distance >= 0.0, "{level:?}, pair {i}: {found:?}");
+            }
         }
     }
 }

@@ -432,13 +432,14 @@ fn magnitude(v: Ymm) -> Ymm {
 
 /// A triangle's extent from its [`triangle_loads`]: `c3..c6 - c0..c3` is
 /// edge 0 and x of edge 1; `c5..c8 - c2..c5` is z of edge 0 and edge 1;
-/// `c5..c8 - (_, c0, c1, c2)` is edge 2 after a first lane set to 0.
+/// `c5..c8 - (_, c0, c1, c2)` is edge 2 after a first lane set to 0. NaN
+/// differences are passed over, as `triangle_extent` passes them.
 #[inline(always)]
 fn extent([t0, t1, t2, t3]: [Ymm; 4]) -> Real {
     // SAFETY: see above.
     let shifted = Ymm(unsafe { _mm256_permute4x64_pd::<0b10_01_00_00>(t0.0) });
     let edge_2 = Ymm::select(lane_mask([false, true, true, true]), t2 - shifted, Ymm::splat(0.0));
-    largest_lane((t1 - t0).abs().max((t2 - t3).abs()).max(edge_2.abs()))
+    largest_lane(magnitude(t1 - t0).max(magnitude(t2 - t3)).max(magnitude(edge_2)))
 }
 
 /// [`pair_sizes`](super::triangle_triangle::pair_sizes) four coordinates at
