@@ -30,8 +30,11 @@
 
 use super::lanes::{Lane, V3};
 use super::point_triangle::{point_face_interior, FacePlane};
+use super::refine::{refined_distance_of, CandidateSource, LeastRefined};
 use super::segment_segment::{segment_segment_lanes, Edge};
-use super::separated::{certify, Best, ClosestSeparated};
+use super::separated::{
+    certify, local_frame, triangle_lanes, Best, Candidate, CandidateSink, ClosestSeparated,
+};
 use super::triangle_triangle::{normalised_triangle_distance, PairPass, PairSizes, TriangleDistance};
 use crate::math::{Real, Triangle};
 use std::arch::x86_64::*;
@@ -255,6 +258,89 @@ fn constants(w: Real, x: Real, y: Real, z: Real) -> Ymm {
     Ymm(unsafe { _mm256_setr_pd(w, x, y, z) })
 }
 
+/// A group of candidates in lanes: lane `k` is candidate `code[k]` where
+/// `used[k]` (the other lanes repeat one).
+struct LaneGroup {
+    /// Which group (0 to 4).
+    index: usize,
+    /// The squared distances.
+    squared: Ymm,
+    used: YmmMask,
+    code: Ymm,
+    /// The edge parameters and the separation (from a to b).
+    s: Ymm,
+    t: Ymm,
+    separation: V3<Ymm>,
+}
+
+/// Receives the candidates of [`visit_groups`] a group of lanes at a time.
+trait GroupSink {
+    /// Takes a group.
+    fn group(&mut self, group: LaneGroup);
+}
+
+/// Feeds the 15 candidates of triangles `a`, `b` (local coordinates) to
+/// `sink` in five groups of lanes, in the sequential order of their codes:
+/// codes 0–3, 4–5, 6–8, 9–11, 12–14. (With the target features, unlike
+/// the always-inlined helpers: its closures inherit them.)
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn visit_groups(a: &[V3<Real>; 3], b: &[V3<Real>; 3], sink: &mut impl GroupSink) {
+    let [a0, a1, a2] = a;
+    let [b0, b1, b2] = b;
+    let zero = Ymm::splat(0.0);
+    // Vertex over face: both planes at once, in lanes [a, b, a, b]. The
+    // separation of a vertex of a over b's face (odd lanes, odd codes) is
+    // the opposite of its offset.
+    let faces =
+        FacePlane::new(&[gather([a0, b0, a0, b0]), gather([a1, b1, a1, b1]), gather([a2, b2, a2, b2])]);
+    let towards_b = |offset: V3<Ymm>| {
+        let flip = constants(0.0, -0.0, 0.0, -0.0);
+        let sign = |c: Ymm| Ymm(_mm256_xor_pd(c.0, flip.0));
+        V3::new(sign(offset.x), sign(offset.y), sign(offset.z))
+    };
+    let (squared, offset) = point_face_interior(&gather([b0, a0, b1, a1]), &faces);
+    sink.group(LaneGroup {
+        index: 0,
+        squared,
+        used: lane_mask([true; 4]),
+        code: constants(0.0, 1.0, 2.0, 3.0),
+        s: zero,
+        t: zero,
+        separation: towards_b(offset),
+    });
+    let (squared, offset) = point_face_interior(&gather([b2, a2, b2, a2]), &faces);
+    sink.group(LaneGroup {
+        index: 1,
+        squared,
+        used: lane_mask([true, true, false, false]),
+        code: constants(4.0, 5.0, 4.0, 5.0),
+        s: zero,
+        t: zero,
+        separation: towards_b(offset),
+    });
+    // Edge against edge: lane j is edge i of a against edge j of b (code 6 + 3i + j).
+    let edges_a = Edge::new(&gather([a0, a1, a2, a0]), &gather([a1, a2, a0, a1]));
+    let edges_b = Edge::new(&gather([b0, b1, b2, b0]), &gather([b1, b2, b0, b1]));
+    let used = lane_mask([true, true, true, false]);
+    let mut edge_group = |index: usize, edge_a: &Edge<Ymm>| {
+        let found = segment_segment_lanes(edge_a, &edges_b);
+        let first = (3 * index) as Real;
+        sink.group(LaneGroup {
+            index,
+            squared: found.distance_squared,
+            used,
+            code: constants(first, first + 1.0, first + 2.0, first + 2.0),
+            s: found.s,
+            t: found.t,
+            separation: -found.gap,
+        });
+    };
+    edge_group(2, &broadcast_edge::<0x00>(&edges_a));
+    edge_group(3, &broadcast_edge::<0x55>(&edges_a));
+    edge_group(4, &broadcast_edge::<0xAA>(&edges_a));
+}
+
 /// The running least of each lane over the groups of candidates it holds
 /// (visited in the sequential order), as [`Best`] keeps it for one pair:
 /// within a lane the codes grow from group to group, so the lane's least
@@ -272,12 +358,12 @@ struct LaneBest {
     separation: V3<Ymm>,
 }
 
-impl LaneBest {
-    /// Takes a group of candidates: lane `k` of `squared` is candidate
-    /// `code[k]` where `used[k]`; the sequential pass never takes an
-    /// infinite (inapplicable) candidate, so neither is taken here.
+impl GroupSink for LaneBest {
+    /// The sequential pass never takes an infinite (inapplicable)
+    /// candidate, nor does this.
     #[inline(always)]
-    fn consider(&mut self, squared: Ymm, used: YmmMask, code: Ymm, s: Ymm, t: Ymm, separation: V3<Ymm>) {
+    fn group(&mut self, group: LaneGroup) {
+        let LaneGroup { squared, used, code, s, t, separation, .. } = group;
         let infinity = Ymm::splat(Real::INFINITY);
         let squared = Ymm::select(squared.lt(infinity) & used, squared, infinity);
         let better = squared.lt(self.squared);
@@ -304,8 +390,6 @@ fn lane_mask(lanes: [bool; 4]) -> YmmMask {
 /// (local coordinates), its candidates in lanes; the same result bit for bit.
 #[target_feature(enable = "avx2,fma")]
 pub(super) fn closest_separated_pair(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real> {
-    let [a0, a1, a2] = a;
-    let [b0, b1, b2] = b;
     let zero = Ymm::splat(0.0);
     let infinity = Ymm::splat(Real::INFINITY);
     let mut best = LaneBest {
@@ -316,42 +400,7 @@ pub(super) fn closest_separated_pair(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> Cl
         t: zero,
         separation: V3::zeros(),
     };
-    // Vertex over face: both planes at once, in lanes [a, b, a, b]. The
-    // separation of a vertex of a over b's face (odd lanes, odd codes) is
-    // the opposite of its offset.
-    let faces =
-        FacePlane::new(&[gather([a0, b0, a0, b0]), gather([a1, b1, a1, b1]), gather([a2, b2, a2, b2])]);
-    let flip = constants(0.0, -0.0, 0.0, -0.0);
-    let towards_b = |offset: V3<Ymm>| {
-        // SAFETY: see above.
-        let sign = |c: Ymm| Ymm(_mm256_xor_pd(c.0, flip.0));
-        V3::new(sign(offset.x), sign(offset.y), sign(offset.z))
-    };
-    let (squared, offset) = point_face_interior(&gather([b0, a0, b1, a1]), &faces);
-    best.consider(
-        squared,
-        lane_mask([true; 4]),
-        constants(0.0, 1.0, 2.0, 3.0),
-        zero,
-        zero,
-        towards_b(offset),
-    );
-    let (squared, offset) = point_face_interior(&gather([b2, a2, b2, a2]), &faces);
-    let used = lane_mask([true, true, false, false]);
-    best.consider(squared, used, constants(4.0, 5.0, 4.0, 5.0), zero, zero, towards_b(offset));
-    // Edge against edge: lane j is edge i of a against edge j of b (code 6 + 3i + j).
-    let edges_a = Edge::new(&gather([a0, a1, a2, a0]), &gather([a1, a2, a0, a1]));
-    let edges_b = Edge::new(&gather([b0, b1, b2, b0]), &gather([b1, b2, b0, b1]));
-    let used = lane_mask([true, true, true, false]);
-    let mut edge_group = |edge_a: &Edge<Ymm>, first: Real| {
-        let found = segment_segment_lanes(edge_a, &edges_b);
-        let codes = constants(first, first + 1.0, first + 2.0, first + 2.0);
-        best.consider(found.distance_squared, used, codes, found.s, found.t, -found.gap);
-    };
-    edge_group(&broadcast_edge::<0x00>(&edges_a), 6.0);
-    edge_group(&broadcast_edge::<0x55>(&edges_a), 9.0);
-    edge_group(&broadcast_edge::<0xAA>(&edges_a), 12.0);
-
+    visit_groups(a, b, &mut best);
     let least = best.squared.least();
     if least == Real::INFINITY {
         // No candidate: the sequential pass's starting state.
@@ -376,6 +425,55 @@ pub(super) fn closest_separated_pair(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> Cl
     certify(a, b, &winner)
 }
 
+/// Every candidate's squared distance and edge parameters, by group,
+/// column (squared, s, t) and lane: what the refinement's tie path needs.
+struct CandidateTable {
+    groups: [[[Real; 4]; 3]; 5],
+    /// How many lanes of each group are in use.
+    used: [usize; 5],
+}
+
+impl GroupSink for CandidateTable {
+    #[inline(always)]
+    fn group(&mut self, group: LaneGroup) {
+        for (column, value) in self.groups[group.index].iter_mut().zip([group.squared, group.s, group.t]) {
+            // SAFETY: see above; the column holds four f64.
+            unsafe { _mm256_storeu_pd(column.as_mut_ptr(), value.0) };
+        }
+        // SAFETY: see above.
+        self.used[group.index] = unsafe { _mm256_movemask_pd(group.used.0) }.count_ones() as usize;
+    }
+}
+
+/// The candidates of one pair recomputed in lanes, for the refinement's
+/// tie path (instead of one after another).
+struct InLanesAgain;
+
+impl CandidateSource for InLanesAgain {
+    #[inline(always)]
+    fn visit(&self, a: &Triangle, b: &Triangle, sink: &mut LeastRefined) {
+        let (local_a, local_b) = local_frame(&triangle_lanes(a), &triangle_lanes(b));
+        let mut table = CandidateTable { groups: [[[0.0; 4]; 3]; 5], used: [0; 5] };
+        // SAFETY: see above (only run inside `refined_in_lanes`).
+        unsafe { visit_groups(&local_a, &local_b, &mut table) };
+        let mut code = 0;
+        for (&[squared, s, t], used) in table.groups.iter().zip(table.used) {
+            for lane in 0..used {
+                sink.consider(squared[lane], Candidate::decode(code), s[lane], t[lane], V3::zeros());
+                code += 1;
+            }
+        }
+    }
+}
+
+/// The refinement, its tie path recomputing the candidates in lanes. Out
+/// of line: about one pair in fifteen needs it.
+#[target_feature(enable = "avx2,fma")]
+#[inline(never)]
+fn refined_in_lanes(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
+    refined_distance_of(a, b, closest, &InLanesAgain)
+}
+
 /// [`triangle_distance`](super::triangle_distance) with this module's pass.
 #[target_feature(enable = "avx2,fma")]
 pub(super) fn triangle_distance(a: &Triangle, b: &Triangle) -> TriangleDistance {
@@ -391,6 +489,12 @@ impl PairPass for InLanes {
     fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real> {
         // SAFETY: see above (only run inside `triangle_distance`).
         unsafe { closest_separated_pair(a, b) }
+    }
+
+    #[inline(always)]
+    fn refined(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
+        // SAFETY: as above.
+        unsafe { refined_in_lanes(a, b, closest) }
     }
 
     #[inline(always)]

@@ -59,6 +59,37 @@ multiversioned! {
 
 #[inline(always)]
 fn refined_distance_kernel(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
+    refined_distance_of(a, b, closest, &Sequentially)
+}
+
+/// Where the refinement's tie path gets the candidates again.
+pub(crate) trait CandidateSource {
+    /// Feeds every candidate of `a`, `b` (world coordinates) to `sink`, each
+    /// with the squared distance and edge parameters the candidate pass
+    /// computes for it (in any order: the sink keeps a minimum).
+    fn visit(&self, a: &Triangle, b: &Triangle, sink: &mut LeastRefined);
+}
+
+/// The candidates recomputed one after another.
+struct Sequentially;
+
+impl CandidateSource for Sequentially {
+    #[inline(always)]
+    fn visit(&self, a: &Triangle, b: &Triangle, sink: &mut LeastRefined) {
+        let (local_a, local_b) = local_frame(&triangle_lanes(a), &triangle_lanes(b));
+        visit_candidates(&local_a, &local_b, sink);
+    }
+}
+
+/// The refined distance of triangles `a`, `b` (world coordinates) given
+/// their candidate pass; on a tie, the candidates again from `candidates`.
+#[inline(always)]
+pub(crate) fn refined_distance_of(
+    a: &Triangle,
+    b: &Triangle,
+    closest: &ClosestSeparated<Real>,
+    candidates: &impl CandidateSource,
+) -> Real {
     let plain = closest.best.distance_squared.sqrt();
     let band = plain + REFINE_TIE_BAND_ULPS * Real::EPSILON * closest.extent;
     let band_squared = band * band;
@@ -68,14 +99,14 @@ fn refined_distance_kernel(a: &Triangle, b: &Triangle, closest: &ClosestSeparate
     // A tie within rounding: recompute the candidates and refine every one
     // in the band. (Carrying the runner-up's identity through the vector
     // pass instead was measured slower: register pressure.)
-    let (local_a, local_b) = local_frame(&triangle_lanes(a), &triangle_lanes(b));
     let mut least = LeastRefined { a, b, band_squared, least: Real::INFINITY };
-    visit_candidates(&local_a, &local_b, &mut least);
+    candidates.visit(a, b, &mut least);
     least.least
 }
 
-/// Refines every candidate within the band, keeping the least.
-struct LeastRefined<'t> {
+/// Refines every candidate within the band, keeping the least (in any
+/// order of the candidates).
+pub(crate) struct LeastRefined<'t> {
     a: &'t Triangle,
     b: &'t Triangle,
     band_squared: Real,
