@@ -1,5 +1,6 @@
 //! Triangle–triangle distance kernels against parry, on the same 10,000
-//! pre-generated nearly touching pairs (gap 1e-3..1e-1, unit size).
+//! pre-generated nearly touching pairs (gap 1e-3..1e-1, unit size), and on
+//! 10,000 nearer ones (1e-6..1e-3: refined).
 //!
 //! `cargo bench --bench triangle_distance`; criterion reports the time per
 //! batch of 10,000 pairs and the throughput in pairs per second.
@@ -52,6 +53,34 @@ fn triangle_kernels(c: &mut Criterion) {
         group.bench_function(format!("nearmiss dyop_distance ({})", formula.name()), |bench| {
             bench.iter(|| {
                 pairs.iter().map(|(x, y)| dyop_distance(black_box(x), black_box(y), formula)).sum::<f64>()
+            })
+        });
+    }
+    group.finish();
+
+    // Nearer pairs, where the CCD works: most are refined in double-double,
+    // and most of those take the refinement's tie path.
+    let near = nearly_touching_pairs(PAIRS, 1e-6, 1e-3, 2025);
+    let (a, b) = TrianglesSoa::from_pairs(&near);
+    let mut group = c.benchmark_group("triangle_distance, pairs 1e-6..1e-3 apart");
+    group.throughput(Throughput::Elements(PAIRS as u64));
+    group.bench_function("parry3d-f64 query::distance", |bench| {
+        bench.iter(|| {
+            near.iter().map(|(x, y)| parry_triangle_distance(black_box(x), black_box(y))).sum::<f64>()
+        })
+    });
+    for level in SimdLevel::available() {
+        group.bench_function(format!("nearmiss triangle_distance (scalar, {})", level.name()), |bench| {
+            bench.iter(|| {
+                near.iter()
+                    .map(|(x, y)| triangle_distance_with(level, black_box(x), black_box(y)).distance)
+                    .sum::<f64>()
+            })
+        });
+        group.bench_function(format!("nearmiss triangle_distances (batch, {})", level.name()), |bench| {
+            bench.iter(|| {
+                triangle_distances_with(level, black_box(&a), black_box(&b), &mut out);
+                out[PAIRS - 1]
             })
         });
     }

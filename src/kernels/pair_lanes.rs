@@ -466,11 +466,12 @@ impl CandidateSource for InLanesAgain {
     }
 }
 
-/// The refinement, its tie path recomputing the candidates in lanes. Out
-/// of line: about one pair in fifteen needs it.
+/// The refinement, its tie path recomputing the candidates in lanes
+/// ([`refined_distance`](super::refine) from AVX2 on, for the single pair
+/// and the batch). Out of line: about one pair in fifteen needs it.
 #[target_feature(enable = "avx2,fma")]
 #[inline(never)]
-fn refined_in_lanes(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
+pub(super) fn refined_in_lanes(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
     refined_distance_of(a, b, closest, &InLanesAgain)
 }
 
@@ -489,12 +490,6 @@ impl PairPass for InLanes {
     fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real> {
         // SAFETY: see above (only run inside `triangle_distance`).
         unsafe { closest_separated_pair(a, b) }
-    }
-
-    #[inline(always)]
-    fn refined(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
-        // SAFETY: as above.
-        unsafe { refined_in_lanes(a, b, closest) }
     }
 
     #[inline(always)]

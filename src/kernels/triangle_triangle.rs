@@ -116,8 +116,7 @@ pub(super) struct PairSizes {
 pub(crate) trait PairPass {
     /// The candidate pass on local coordinates ([`closest_separated`]'s result).
     fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real>;
-    /// The refined distance of `a`, `b` (world coordinates) after the pass.
-    fn refined(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real;
+
     /// The pair's sizes.
     fn sizes(a: &Triangle, b: &Triangle) -> PairSizes;
 }
@@ -130,12 +129,6 @@ impl PairPass for Sequential {
     #[inline(always)]
     fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real> {
         closest_separated(a, b)
-    }
-
-    /// Out of line (dispatched): about one pair in fifteen needs it.
-    #[inline(always)]
-    fn refined(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
-        refined_distance(a, b, closest)
     }
 
     #[inline(always)]
@@ -219,7 +212,7 @@ pub(crate) fn triangle_distance_kernel<P: PairPass>(a: &Triangle, b: &Triangle) 
         ),
     };
     let distance = if closest.needs_refinement() {
-        P::refined(a, b, &closest)
+        refined_distance(a, b, &closest)
     } else {
         closest.best.distance_squared.sqrt()
     };
