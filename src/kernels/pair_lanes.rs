@@ -23,6 +23,11 @@
 //! On one pair it is about twice as fast as the sequential pass, whose
 //! scalar arithmetic leaves three of four lanes idle (`BENCHMARKS.md`).
 //!
+//! The module also holds the rest of the single pair's AVX2 front door
+//! ([`triangle_distance`]: the pair's sizes four coordinates at a time) and
+//! the refinement's tie path in lanes ([`refined_in_lanes`], for the single
+//! pair and the batch: the same groups recomputed into a table).
+//!
 //! `Ymm` wraps the AVX2 intrinsics. It is private to this module and only
 //! created inside its `#[target_feature(enable = "avx2,fma")]` functions,
 //! which are only called where the CPU has both (the caller checks
