@@ -70,7 +70,7 @@ fn larger(m: Real, x: Real) -> Real {
 /// The largest coordinate magnitude of `p` (NaN coordinates passed over).
 #[inline(always)]
 fn point_magnitude(p: &Point) -> Real {
-    larger(larger(larger(0.0, p.x.abs()), p.y.abs()), p.z.abs())
+    vector_magnitude(&p.coords)
 }
 
 /// The largest coordinate magnitude of `points` (0 if all are zero; NaN
