@@ -10,10 +10,14 @@ use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::ccd::{first_within, hull_gap};
-use crate::math::{Real, Vector};
+use nalgebra::UnitQuaternion;
+use rayon::prelude::*;
+
+use crate::ccd::{convex_distance, first_within, hull_gap, ConvexDistance, WarmSimplex};
+use crate::math::{Pose, Real, Vector};
 use crate::mesh::{
     mesh_distance_relative, triangle_pair_distance, DistanceKernel, DistanceSearch, MeshDistanceScratch,
+    TriMesh,
 };
 use crate::motion::StepMotion;
 use crate::scene::{Scene, TraceSpec};
@@ -46,14 +50,17 @@ pub struct TraceObserver {
     scene: Arc<Scene>,
     spec: TraceSpec,
     records: Vec<TraceRecord>,
+    /// What each traced pair's next sample starts from.
+    states: Vec<PairTrace>,
+    /// Sample the pairs on rayon's threads (the run's `parallel` option).
+    parallel: bool,
+    /// Kept between samples: the bodies' orientations at the sample's time,
+    /// the sequential path's search scratch, and the samples' results.
+    rotations: Vec<UnitQuaternion<Real>>,
     scratch: MeshDistanceScratch,
-    /// Each traced pair's closest triangle pair at its last sample: the
-    /// next sample's search starts from it (its distance bounds the search
-    /// at once, so the BVH descent prunes most of both meshes).
-    hints: Vec<Option<(usize, usize)>>,
-    /// Each traced pair's last hull-gap direction (world frame).
-    axes: Vec<Option<Vector>>,
-    /// Samples settled by the certificate (see [`TraceObserver::sample`]).
+    samples: Vec<PairSample>,
+    /// Samples settled without a search: by the convex meshes' GJK bounds
+    /// or by the hulls' certificate (see [`TraceObserver::sample`]).
     pub certified: usize,
     /// Mesh distance queries made.
     pub distance_queries: usize,
@@ -61,17 +68,52 @@ pub struct TraceObserver {
     pub seconds: Real,
 }
 
+/// One traced pair's state between samples.
+#[derive(Copy, Clone, Debug, Default)]
+struct PairTrace {
+    /// The closest triangle pair at its last search or certificate: the
+    /// next search starts from it (its distance bounds the search at once,
+    /// so the BVH descent prunes most of both meshes).
+    hint: Option<(usize, usize)>,
+    /// The last hull-gap direction (world frame).
+    axis: Option<Vector>,
+    /// GJK's last simplex, for two convex meshes.
+    warm: WarmSimplex,
+}
+
+/// One pair's sample, before it becomes a record.
+#[derive(Copy, Clone, Debug)]
+struct PairSample {
+    distance: Real,
+    reference: Option<Real>,
+    certified: bool,
+}
+
+/// What every pair's sample in one call shares: the scene, the motions,
+/// the bodies' orientations and the time.
+struct SampleAt<'a> {
+    scene: &'a Scene,
+    motions: &'a [StepMotion],
+    rotations: &'a [UnitQuaternion<Real>],
+    s: Real,
+    reference: bool,
+}
+
 impl TraceObserver {
-    /// The observer of `scene`'s trace, or `None` if it asks for none.
-    pub fn of(scene: &Arc<Scene>) -> Option<TraceObserver> {
+    /// The observer of `scene`'s trace (its pairs sampled on rayon's
+    /// threads when `parallel`; the samples are the same either way), or
+    /// `None` if it asks for none.
+    pub fn of(scene: &Arc<Scene>, parallel: bool) -> Option<TraceObserver> {
         scene.trace.clone().map(|spec| TraceObserver {
-            hints: vec![None; spec.pairs.len()],
-            axes: vec![None; spec.pairs.len()],
+            states: vec![PairTrace::default(); spec.pairs.len()],
+            parallel,
+            rotations: Vec::new(),
+            scratch: MeshDistanceScratch::default(),
+            samples: Vec::new(),
             certified: 0,
             scene: Arc::clone(scene),
             spec,
             records: Vec::new(),
-            scratch: MeshDistanceScratch::default(),
             distance_queries: 0,
             seconds: 0.0,
         })
@@ -89,108 +131,184 @@ impl TraceObserver {
     /// their current step motions (`time` in all), after `step` steps.
     ///
     /// A sample is the smallest kernel distance over the two meshes'
-    /// triangle pairs. It starts from the pair's last closest triangle pair:
-    /// when the gap between the two meshes' vertex hulls (GJK, a lower
-    /// bound on every triangle pair's distance) comes within
-    /// [`CERTIFICATE_ULPS`] ulps of the pair's scale of that pair's
-    /// distance, that distance is the smallest (to that rounding) and no
-    /// search is needed: the usual case for convex meshes, near or far;
-    /// otherwise (and with a DyOP kernel) the BVH search runs, seeded with
-    /// it.
+    /// triangle pairs, found by the first of these that settles it:
+    /// - two convex meshes ([`TriMesh::is_convex`]), exact kernel: GJK on
+    ///   the meshes themselves, started from the pair's last simplex, once
+    ///   its upper bound (the distance between a point of each mesh) is
+    ///   within [`CERTIFICATE_ULPS`] ulps of the pair's scale (the centres'
+    ///   distance plus both radii) of its lower bound (a gap between the
+    ///   two meshes' shadows on a direction); the sample is the upper
+    ///   bound. Between samples a few steps apart the closest features
+    ///   rarely change, and this costs two supports and the closest point
+    ///   of a simplex of at most three points;
+    /// - the hulls' certificate, exact kernel: when the gap between the two
+    ///   meshes' vertex hulls (GJK, a lower bound on every triangle pair's
+    ///   distance) comes within those ulps of the distance of the pair's
+    ///   last closest triangle pair (or of one around the hulls' closest
+    ///   vertices), that distance is the smallest (to that rounding);
+    /// - otherwise (and with a DyOP kernel), the BVH search, seeded with the
+    ///   pair's last closest triangle pair.
+    ///
+    /// With `reference` the convex path is skipped: the exact distance is
+    /// that of the closest triangle pair, which the other two name.
     pub fn sample(&mut self, step: u64, time: Real, s: Real, motions: &[StepMotion]) {
         let clock = Instant::now();
-        let scene = Arc::clone(&self.scene);
-        let scene = &*scene;
-        for k in 0..self.spec.pairs.len() {
-            let (a, b) = self.spec.pairs[k];
-            let pos_ab = StepMotion::relative_pose(&motions[a], &motions[b], s);
-            let (mesh_a, mesh_b) = (&scene.bodies[a].mesh, &scene.bodies[b].mesh);
-            let distance = match self.certify(k, (a, b), &pos_ab, &motions[a].rotation_at(s)) {
-                Some(distance) => {
-                    self.certified += 1;
-                    distance
-                }
-                None => {
-                    let search = DistanceSearch::new(scene.kernel, self.hints[k]);
-                    let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, &mut self.scratch);
-                    self.hints[k] = Some((d.triangle_a, d.triangle_b));
-                    d.distance
-                }
-            };
-            self.distance_queries += 1;
-            let reference = self.spec.reference.then(|| {
-                let exact = DistanceSearch::new(DistanceKernel::Exact, self.hints[k]);
-                let exact = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &exact, &mut self.scratch);
-                // The closest pair as the kernels see it: b in a's frame.
-                let tb = mesh_b.triangle(exact.triangle_b).map(|p| pos_ab * p);
-                crate::exact::triangle_distance_f64(&mesh_a.triangle(exact.triangle_a), &tb)
+        self.rotations.clear();
+        self.rotations.extend(motions.iter().map(|m| m.rotation_at(s)));
+        let at = SampleAt {
+            scene: &self.scene,
+            motions,
+            rotations: &self.rotations,
+            s,
+            reference: self.spec.reference,
+        };
+        let pairs = &self.spec.pairs;
+        if self.parallel && pairs.len() >= PARALLEL_TRACE_PAIRS {
+            self.states
+                .par_iter_mut()
+                .zip(pairs.par_iter())
+                .map_init(MeshDistanceScratch::default, |scratch, (state, &pair)| {
+                    at.pair_sample(pair, state, scratch)
+                })
+                .collect_into_vec(&mut self.samples);
+        } else {
+            self.samples.clear();
+            let scratch = &mut self.scratch;
+            self.samples.extend(
+                self.states.iter_mut().zip(pairs).map(|(state, &pair)| at.pair_sample(pair, state, scratch)),
+            );
+        }
+        for (sample, &pair) in self.samples.iter().zip(pairs) {
+            self.certified += usize::from(sample.certified);
+            self.records.push(TraceRecord {
+                step,
+                time,
+                pair,
+                distance: sample.distance,
+                reference: sample.reference,
             });
-            self.records.push(TraceRecord { step, time, pair: (a, b), distance, reference });
         }
+        self.distance_queries += pairs.len();
         self.seconds += clock.elapsed().as_secs_f64();
-    }
-
-    /// The distance of traced pair `k` = `(a, b)` at `pos_ab` (`rotation_a`:
-    /// a's orientation) without a search, if the certificate holds (see
-    /// [`TraceObserver::sample`]): from the pair's last closest triangle
-    /// pair, then from the triangles around the hulls' closest vertices.
-    fn certify(
-        &mut self,
-        k: usize,
-        (a, b): (usize, usize),
-        pos_ab: &crate::math::Pose,
-        rotation_a: &nalgebra::UnitQuaternion<Real>,
-    ) -> Option<Real> {
-        let scene = Arc::clone(&self.scene);
-        let scene = &*scene;
-        // The certificate holds for the exact kernel's values (DyOP's own
-        // error may exceed its slack: always searched).
-        if scene.kernel != DistanceKernel::Exact {
-            return None;
-        }
-        let (mesh_a, mesh_b) = (&scene.bodies[a].mesh, &scene.bodies[b].mesh);
-        let scale = pos_ab.translation.vector.norm() + mesh_a.radius() + mesh_b.radius();
-        let slack = CERTIFICATE_ULPS * Real::EPSILON * scale;
-        let mut best = self.hints[k]
-            .map(|(i, j)| (triangle_pair_distance(mesh_a, i, mesh_b, j, pos_ab).distance, (i, j)));
-        let mut axis = self.axes[k].map(|axis| rotation_a.inverse_transform_vector(&axis));
-        for _ in 0..2 {
-            let wanted = best.map_or(Real::INFINITY, |(d, _)| d - slack);
-            // Converged (no early stop where the hulls come closer than a
-            // stale pair): only then can its bound certify a pair.
-            let gap = hull_gap(mesh_a, mesh_b, pos_ab, axis, (0.0, wanted));
-            axis = gap.axis.or(axis);
-            if let Some(axis) = gap.axis {
-                self.axes[k] = Some(rotation_a * axis);
-            }
-            let certified = |best: Option<(Real, (usize, usize))>| {
-                best.filter(|&(d, _)| d > 0.0 && gap.lower >= d - slack)
-            };
-            if let Some((d, pair)) = certified(best) {
-                self.hints[k] = Some(pair);
-                return Some(d);
-            }
-            // The triangles around the hulls' closest vertices.
-            let (va, vb) = gap.support?;
-            let enough = gap.lower + slack;
-            if let Some((d, pair)) = first_within((mesh_a, va), (mesh_b, vb), pos_ab, gap.axis, enough).found
-            {
-                if best.is_none_or(|(b, _)| d < b) {
-                    best = Some((d, pair));
-                }
-            }
-            if let Some((d, pair)) = certified(best) {
-                self.hints[k] = Some(pair);
-                return Some(d);
-            }
-        }
-        None
     }
 
     /// The samples taken.
     pub fn into_records(self) -> Vec<TraceRecord> {
         self.records
     }
+}
+
+/// Two convex meshes' sample is GJK's certified upper bound when the
+/// certificate's slack is at most this fraction of it: within the accuracy
+/// the exact kernel states (its plain pass is used above 1e-3 of the pair's
+/// extent for the same reason). Nearer pairs take the kernel's distance of
+/// the closest features' triangles. Default `1e-12`.
+pub const CONVEX_VALUE_RELATIVE_ERROR: Real = 1e-12;
+
+/// Traces of at least this many pairs are sampled on rayon's threads (when
+/// the run is parallel): below it, handing out the work costs more than a
+/// few samples of convex meshes.
+pub const PARALLEL_TRACE_PAIRS: usize = 64;
+
+impl SampleAt<'_> {
+    /// Pair `(a, b)`'s sample (see [`TraceObserver::sample`]).
+    fn pair_sample(
+        &self,
+        (a, b): (usize, usize),
+        state: &mut PairTrace,
+        scratch: &mut MeshDistanceScratch,
+    ) -> PairSample {
+        let scene = self.scene;
+        let pos_ab = StepMotion::relative_pose_turned(
+            (&self.motions[a], &self.rotations[a]),
+            (&self.motions[b], &self.rotations[b]),
+            self.s,
+        );
+        let (mesh_a, mesh_b) = (&*scene.bodies[a].mesh, &*scene.bodies[b].mesh);
+        let scale = pos_ab.translation.vector.norm() + mesh_a.radius() + mesh_b.radius();
+        let slack = CERTIFICATE_ULPS * Real::EPSILON * scale;
+        // The certificates hold for the exact kernel's values (DyOP's own
+        // error may exceed their slack: always searched).
+        let exact = scene.kernel == DistanceKernel::Exact;
+        if exact && !self.reference && mesh_a.is_convex() && mesh_b.is_convex() {
+            if let ConvexDistance::Certified(upper) =
+                convex_distance(mesh_a, mesh_b, &pos_ab, &mut state.warm, slack)
+            {
+                if slack <= CONVEX_VALUE_RELATIVE_ERROR * upper {
+                    return PairSample { distance: upper, reference: None, certified: true };
+                }
+                // Near: the kernel's distance of triangles holding the
+                // closest features (at most the upper bound, at least the
+                // meshes' distance), which the hulls' certificate below
+                // starts from.
+                state.hint = state.warm.triangles(mesh_a, mesh_b).or(state.hint);
+            }
+        }
+        let certified = exact.then(|| certify(state, (mesh_a, mesh_b), &pos_ab, &self.rotations[a], slack));
+        let (distance, certified) = match certified.flatten() {
+            Some(distance) => (distance, true),
+            None => {
+                let search = DistanceSearch::new(scene.kernel, state.hint);
+                let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, scratch);
+                state.hint = Some((d.triangle_a, d.triangle_b));
+                (d.distance, false)
+            }
+        };
+        let reference = self.reference.then(|| {
+            let exact = DistanceSearch::new(DistanceKernel::Exact, state.hint);
+            let exact = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &exact, scratch);
+            // The closest pair as the kernels see it: b in a's frame.
+            let tb = mesh_b.triangle(exact.triangle_b).map(|p| pos_ab * p);
+            crate::exact::triangle_distance_f64(&mesh_a.triangle(exact.triangle_a), &tb)
+        });
+        PairSample { distance, reference, certified }
+    }
+}
+
+/// The distance of a traced pair's meshes at `pos_ab` (`rotation_a`: a's
+/// orientation) without a search, if the hulls' certificate holds within
+/// `slack` (see [`TraceObserver::sample`]): from the pair's last closest
+/// triangle pair, then from the triangles around the hulls' closest
+/// vertices.
+fn certify(
+    state: &mut PairTrace,
+    (mesh_a, mesh_b): (&TriMesh, &TriMesh),
+    pos_ab: &Pose,
+    rotation_a: &UnitQuaternion<Real>,
+    slack: Real,
+) -> Option<Real> {
+    let mut best =
+        state.hint.map(|(i, j)| (triangle_pair_distance(mesh_a, i, mesh_b, j, pos_ab).distance, (i, j)));
+    let mut axis = state.axis.map(|axis| rotation_a.inverse_transform_vector(&axis));
+    for _ in 0..2 {
+        let wanted = best.map_or(Real::INFINITY, |(d, _)| d - slack);
+        // Converged (no early stop where the hulls come closer than a
+        // stale pair): only then can its bound certify a pair.
+        let gap = hull_gap(mesh_a, mesh_b, pos_ab, axis, (0.0, wanted));
+        axis = gap.axis.or(axis);
+        if let Some(axis) = gap.axis {
+            state.axis = Some(rotation_a * axis);
+        }
+        let certified =
+            |best: Option<(Real, (usize, usize))>| best.filter(|&(d, _)| d > 0.0 && gap.lower >= d - slack);
+        if let Some((d, pair)) = certified(best) {
+            state.hint = Some(pair);
+            return Some(d);
+        }
+        // The triangles around the hulls' closest vertices.
+        let (va, vb) = gap.support?;
+        let enough = gap.lower + slack;
+        if let Some((d, pair)) = first_within((mesh_a, va), (mesh_b, vb), pos_ab, gap.axis, enough).found {
+            if best.is_none_or(|(b, _)| d < b) {
+                best = Some((d, pair));
+            }
+        }
+        if let Some((d, pair)) = certified(best) {
+            state.hint = Some(pair);
+            return Some(d);
+        }
+    }
+    None
 }
 
 /// Writes `step,time,body_a,body_b,distance` lines with a header; numbers

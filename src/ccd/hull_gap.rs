@@ -67,21 +67,10 @@ pub(crate) fn hull_gap(
     start: Option<Vector>,
     (close, enough): (Real, Real),
 ) -> HullGap {
-    let rotation = pos_ab.rotation;
-    let translation = pos_ab.translation.vector;
-    // The point of b − a farthest along `-v`: b's lowest vertex along v
-    // minus a's highest.
-    let support = |v: &Vector| -> (Vector, (usize, usize)) {
-        let in_b = rotation.inverse_transform_vector(v);
-        let lowest_b = b.farthest_vertex(&-in_b);
-        let highest_a = a.farthest_vertex(v);
-        let point = rotation * b.vertices()[lowest_b].coords + translation - a.vertices()[highest_a].coords;
-        (point, (highest_a, lowest_b))
-    };
+    let support = |v: &Vector| difference_support(a, b, pos_ab, v);
     let mut v = match start {
         Some(axis) if axis.norm_squared() > 0.0 => axis,
-        _ if translation.norm_squared() > 0.0 => translation,
-        _ => Vector::x(),
+        _ => first_direction(pos_ab),
     };
     let mut answer = HullGap { lower: Real::NEG_INFINITY, axis: None, support: None, iterations: 0 };
     let mut simplex = Simplex::default();
@@ -98,7 +87,7 @@ pub(crate) fn hull_gap(
         if gap > answer.lower {
             answer.lower = gap;
             answer.axis = Some(v / norm);
-            answer.support = Some(vertices);
+            answer.support = Some((vertices.0 as usize, vertices.1 as usize));
         }
         if answer.lower > enough {
             break;
@@ -112,7 +101,7 @@ pub(crate) fn hull_gap(
                 break;
             }
         }
-        simplex.push(w);
+        simplex.push(w, vertices);
         let closer = simplex.closest_to_origin();
         if on_simplex && closer.norm_squared() >= v.norm_squared() {
             // No progress (rounding at a face): the bound stands.
@@ -121,6 +110,140 @@ pub(crate) fn hull_gap(
         v = closer;
         on_simplex = true;
     }
+    answer
+}
+
+/// The point of the hulls' difference `b − a` (b at `pos_ab` in a's frame)
+/// farthest along `-v`: b's lowest vertex along `v` minus a's highest, and
+/// the two vertices.
+#[inline]
+fn difference_support(a: &TriMesh, b: &TriMesh, pos_ab: &Pose, v: &Vector) -> (Vector, (u32, u32)) {
+    let in_b = pos_ab.rotation.inverse_transform_vector(v);
+    let lowest_b = b.farthest_vertex(&-in_b);
+    let highest_a = a.farthest_vertex(v);
+    (difference_point(a, b, pos_ab, (highest_a as u32, lowest_b as u32)), (highest_a as u32, lowest_b as u32))
+}
+
+/// The point `b[j] − a[i]` of the hulls' difference (in a's frame).
+#[inline]
+fn difference_point(a: &TriMesh, b: &TriMesh, pos_ab: &Pose, (i, j): (u32, u32)) -> Vector {
+    pos_ab.rotation * b.vertices()[j as usize].coords + pos_ab.translation.vector
+        - a.vertices()[i as usize].coords
+}
+
+/// GJK's first direction without a hint: the line between the frames'
+/// origins (any axis when they coincide).
+fn first_direction(pos_ab: &Pose) -> Vector {
+    let translation = pos_ab.translation.vector;
+    if translation.norm_squared() > 0.0 {
+        translation
+    } else {
+        Vector::x()
+    }
+}
+
+/// GJK's simplex at the end of one [`convex_distance`] query, as the vertex
+/// pairs (a's, b's) that span it: the pair's next query starts from it.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub(crate) struct WarmSimplex {
+    pairs: [(u32, u32); 3],
+    len: usize,
+}
+
+impl WarmSimplex {
+    /// A triangle of `a` that has every vertex of `a` in the simplex as a
+    /// corner, and one of `b` likewise (`None` when a mesh has none, e.g.
+    /// a box face's diagonal): for a certified simplex, triangles that hold
+    /// the closest points, so their distance is the meshes'.
+    pub(crate) fn triangles(&self, a: &TriMesh, b: &TriMesh) -> Option<(usize, usize)> {
+        let pairs = &self.pairs[..self.len];
+        let holding = |mesh: &TriMesh, corner: fn(&(u32, u32)) -> u32| {
+            let first = corner(pairs.first()?) as usize;
+            mesh.triangles_at(first).iter().map(|&t| t as usize).find(|&t| {
+                let vertices = mesh.triangles()[t];
+                pairs.iter().all(|pair| vertices.contains(&corner(pair)))
+            })
+        };
+        Some((holding(a, |pair| pair.0)?, holding(b, |pair| pair.1)?))
+    }
+}
+
+/// How a [`convex_distance`] query ended.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) enum ConvexDistance {
+    /// Certified: GJK's upper bound (the distance between a point of each
+    /// hull) is within the slack of its lower bound (a gap along a
+    /// direction); the value is the upper bound.
+    Certified(Real),
+    /// Not certified within [`HULL_GAP_MAX_ITERATIONS`], or GJK stopped
+    /// without progress (rounding at a face), or the hulls overlap or touch:
+    /// the caller finds the distance another way.
+    Undecided,
+}
+
+/// The distance between two convex meshes (`a` in its own frame, `b` at
+/// `pos_ab`), by GJK started from the pair's last simplex `warm` (updated):
+/// certified once GJK's upper and lower bounds agree within `slack`.
+///
+/// Why the value is the meshes' distance: the lower bound is a gap between
+/// the two vertex sets' shadows on a direction, which no pair of points of
+/// the meshes can beat (see the module); the upper bound is the distance
+/// between a point of each vertex hull, and for meshes that are the
+/// boundaries of their hulls ([`TriMesh::is_convex`], to
+/// [`CONVEX_SURFACE_TOLERANCE`](crate::mesh::CONVEX_SURFACE_TOLERANCE) of
+/// their radius) the closest points of two disjoint hulls lie on the
+/// meshes. So the meshes' distance lies between the two, and the upper
+/// bound is within `slack` (plus the rounding of the bounds) of it. The
+/// caller checks convexity: for other meshes the upper bound may be below
+/// their distance.
+///
+/// A pair whose closest features are those of its last query (the usual
+/// case between samples a few steps apart) is certified at the first
+/// iteration: two supports and the closest point of a simplex of at most
+/// three points.
+pub(crate) fn convex_distance(
+    a: &TriMesh,
+    b: &TriMesh,
+    pos_ab: &Pose,
+    warm: &mut WarmSimplex,
+    slack: Real,
+) -> ConvexDistance {
+    let mut simplex = Simplex::default();
+    for &pair in &warm.pairs[..warm.len] {
+        simplex.push(difference_point(a, b, pos_ab, pair), pair);
+    }
+    if simplex.len == 0 {
+        let (w, pair) = difference_support(a, b, pos_ab, &first_direction(pos_ab));
+        simplex.push(w, pair);
+    }
+    let mut v = simplex.closest_to_origin();
+    let mut lower = Real::NEG_INFINITY;
+    let mut answer = ConvexDistance::Undecided;
+    for _ in 0..HULL_GAP_MAX_ITERATIONS {
+        let upper = v.norm();
+        // Overlapping or touching hulls (no positive distance to certify),
+        // or a non-finite pose.
+        if simplex.len == 0 || !(upper > 0.0 && upper.is_finite()) {
+            break;
+        }
+        let (w, pair) = difference_support(a, b, pos_ab, &v);
+        lower = lower.max(v.dot(&w) / upper);
+        if upper - lower <= slack {
+            answer = ConvexDistance::Certified(upper);
+            break;
+        }
+        if simplex.pairs[..simplex.len].contains(&pair) {
+            break;
+        }
+        simplex.push(w, pair);
+        let closer = simplex.closest_to_origin();
+        if closer.norm_squared() >= v.norm_squared() {
+            break;
+        }
+        v = closer;
+    }
+    warm.len = simplex.len.min(3);
+    warm.pairs[..warm.len].copy_from_slice(&simplex.pairs[..warm.len]);
     answer
 }
 
@@ -217,16 +340,19 @@ impl Facing {
     }
 }
 
-/// GJK's simplex: up to four points of the hulls' difference.
+/// GJK's simplex: up to four points of the hulls' difference, each with
+/// the vertices (a's, b's) it is the difference of.
 #[derive(Copy, Clone, Debug, Default)]
 struct Simplex {
     points: [Vector; 4],
+    pairs: [(u32, u32); 4],
     len: usize,
 }
 
 impl Simplex {
-    fn push(&mut self, w: Vector) {
+    fn push(&mut self, w: Vector, pair: (u32, u32)) {
         self.points[self.len] = w;
+        self.pairs[self.len] = pair;
         self.len += 1;
     }
 
@@ -234,7 +360,7 @@ impl Simplex {
     /// only the points that span it (empty when the origin is inside: the
     /// hulls overlap, and the zero vector is returned).
     fn closest_to_origin(&mut self) -> Vector {
-        let p = self.points;
+        let (p, pairs) = (self.points, self.pairs);
         let (closest, kept) = match self.len {
             1 => (p[0], Kept::of(&[0])),
             2 => closest_on_segment(p[0], p[1]),
@@ -243,8 +369,7 @@ impl Simplex {
         };
         self.len = 0;
         for k in kept.indices() {
-            self.points[self.len] = p[k];
-            self.len += 1;
+            self.push(p[k], pairs[k]);
         }
         closest
     }
@@ -363,6 +488,7 @@ fn closest_on_tetrahedron(p: &[Vector; 4]) -> (Vector, Kept) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Point;
     use crate::mesh::{box_mesh, icosphere};
     use nalgebra::{Translation3, UnitQuaternion};
 
@@ -451,5 +577,87 @@ mod tests {
                 assert!(gap.lower <= exact + 1e-12, "case {k}: bound {} above distance {exact}", gap.lower);
             }
         }
+    }
+
+    /// Two convex meshes' certified distance is the exact triangle search's
+    /// to the slack, cold and warm-started along a tumbling motion (the
+    /// trace's use), the triangles it names hold the closest points, and
+    /// it is undecided (not a wrong value) where the meshes overlap.
+    #[test]
+    fn the_convex_distance_is_the_mesh_distance() {
+        let meshes = [
+            icosphere(0.7, 2).expect("an icosphere"),
+            unit_box(),
+            icosphere(0.4, 0).expect("an icosahedron"),
+            box_mesh(&Vector::new(2.0, 0.1, 0.5)).expect("a plank"),
+        ];
+        let search = crate::mesh::DistanceSearch::new(crate::mesh::DistanceKernel::Exact, None);
+        let mut scratch = crate::mesh::MeshDistanceScratch::default();
+        let mut rng = crate::samples::Rng::new(11);
+        let (mut certified, mut overlapping) = (0, 0);
+        for k in 0..48 {
+            let (a, b) = (&meshes[k % 4], &meshes[(k / 4) % 4]);
+            let (start, spin) = (rng.in_unit_ball() * 5.0, rng.in_unit_ball() * 2.0);
+            let (velocity, turn) = (rng.in_unit_ball() * 2.0, rng.in_unit_ball() * 3.0);
+            let mut warm = WarmSimplex::default();
+            for step in 0..12 {
+                let s = step as Real * 0.25;
+                let rotation = UnitQuaternion::from_scaled_axis(spin + turn * s);
+                let pose = Pose::from_parts(Translation3::from(start + velocity * s), rotation);
+                let exact = crate::mesh::mesh_distance_relative(a, b, &pose, &search, &mut scratch);
+                let scale = pose.translation.vector.norm() + a.radius() + b.radius();
+                let slack = 64.0 * Real::EPSILON * scale;
+                let mut cold = WarmSimplex::default();
+                for (name, simplex) in [("warm", &mut warm), ("cold", &mut cold)] {
+                    match convex_distance(a, b, &pose, simplex, slack) {
+                        ConvexDistance::Certified(d) => {
+                            certified += 1;
+                            assert!(
+                                (d - exact.distance).abs() <= slack,
+                                "case {k} step {step} {name}: {d} against {}",
+                                exact.distance
+                            );
+                            if let Some((i, j)) = simplex.triangles(a, b) {
+                                let pair = crate::mesh::triangle_pair_distance(a, i, b, j, &pose).distance;
+                                assert!(pair <= d + slack && pair >= exact.distance - slack);
+                            }
+                        }
+                        ConvexDistance::Undecided => overlapping += usize::from(exact.distance == 0.0),
+                    }
+                }
+            }
+        }
+        // Most samples are apart and certified; some overlap (the scan's
+        // distance is zero there).
+        assert!(certified > 700 && overlapping > 10, "{certified} certified, {overlapping} overlapping");
+    }
+
+    /// Meshes that are not convex are never taken as convex, and the convex
+    /// primitives are, whichever way their triangles face.
+    #[test]
+    fn which_meshes_are_convex() {
+        assert!(unit_box().is_convex());
+        assert!(icosphere(1.0, 3).expect("an icosphere").is_convex());
+        let turned_inside_out = |mesh: TriMesh| {
+            let triangles = mesh.triangles().iter().map(|&[p, q, r]| [p, r, q]).collect();
+            TriMesh::new(mesh.vertices().to_vec(), triangles).expect("a mesh")
+        };
+        assert!(turned_inside_out(unit_box()).is_convex());
+        // An icosphere with one vertex pushed in below its neighbours (which
+        // lie about 0.05 of the radius below it): a dent.
+        let ball = icosphere(1.0, 2).expect("an icosphere");
+        let mut dented = ball.vertices().to_vec();
+        dented[5] *= 0.9;
+        assert!(!TriMesh::new(dented, ball.triangles().to_vec()).expect("a mesh").is_convex());
+        // Open meshes bound no solid.
+        assert!(!crate::mesh::single_triangle(
+            Point::origin(),
+            Point::new(1.0, 0.0, 0.0),
+            Point::new(0.0, 1.0, 0.0)
+        )
+        .expect("a triangle")
+        .is_convex());
+        let open = ball.triangles()[1..].to_vec();
+        assert!(!TriMesh::new(ball.vertices().to_vec(), open).expect("a mesh").is_convex());
     }
 }

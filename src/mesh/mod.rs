@@ -23,4 +23,4 @@ pub use mass::MassProperties;
 pub use obj::{load_obj, parse_obj, ObjError};
 pub use primitives::{box_mesh, icosphere, needle, single_triangle, tetrahedron, MAX_ICOSPHERE_SUBDIVISIONS};
 pub use support::{SUPPORT_TABLE_MARGIN, SUPPORT_TABLE_MIN_VERTICES};
-pub use trimesh::{MeshError, TriMesh};
+pub use trimesh::{MeshError, TriMesh, CONVEX_SURFACE_TOLERANCE};

@@ -59,7 +59,18 @@ pub struct TriMesh {
     support: Option<SupportTable>,
     /// The box of the vertices in the mesh's frame: smallest and largest corners.
     bounds: (Point, Point),
+    /// Whether the mesh is the boundary of its vertices' hull (see
+    /// [`TriMesh::is_convex`]), decided at the first call.
+    convex: std::sync::OnceLock<bool>,
 }
+
+/// How far a vertex may lie outside a triangle's plane, as a fraction of
+/// the mesh's radius, for [`TriMesh::is_convex`]: about twenty times the
+/// rounding of the plane test (the fourth corner of a box's split face, a
+/// rotated convex OBJ), and within what the trace's certificate allows for
+/// rounding (64 ulps of the pair's scale): a mesh taken as convex is its
+/// hull's boundary to that rounding. Default `4e-15`.
+pub const CONVEX_SURFACE_TOLERANCE: Real = 4e-15;
 
 impl TriMesh {
     /// Validates the mesh and builds its BVH.
@@ -110,7 +121,17 @@ impl TriMesh {
         // Triangles exist and index vertices: there is a first vertex.
         let bounds =
             vertices.iter().fold((vertices[0], vertices[0]), |(low, high), v| (low.inf(v), high.sup(v)));
-        Ok(TriMesh { vertices, triangles, bvh, radius, incident_start, incident, support, bounds })
+        Ok(TriMesh {
+            vertices,
+            triangles,
+            bvh,
+            radius,
+            incident_start,
+            incident,
+            support,
+            bounds,
+            convex: std::sync::OnceLock::new(),
+        })
     }
 
     /// The triangles that have vertex `v` as a corner.
@@ -171,6 +192,39 @@ impl TriMesh {
     /// of rotation): bounds the speed of any point of the rotating mesh.
     pub fn radius(&self) -> Real {
         self.radius
+    }
+
+    /// Whether the mesh is closed (see [`TriMesh::check_closed`]) and every
+    /// vertex lies on the same side of every triangle's plane, within
+    /// [`CONVEX_SURFACE_TOLERANCE`] of the radius: then the surface is the
+    /// boundary of its vertices' convex hull, and the closest points of two
+    /// such hulls (apart) lie on the meshes. Decided once per mesh, by the
+    /// farthest vertex along each triangle's normal and against it.
+    pub fn is_convex(&self) -> bool {
+        *self.convex.get_or_init(|| {
+            if self.check_closed().is_err() {
+                return false;
+            }
+            let slack = CONVEX_SURFACE_TOLERANCE * self.radius;
+            // Every triangle's plane bounds the vertices on its normal's
+            // side (outward-facing) or on the other side (inward-facing);
+            // closed and consistently oriented, one of the two holds for all.
+            let (mut outward, mut inward) = (true, true);
+            for t in 0..self.triangles.len() {
+                let [p, q, r] = self.triangle(t);
+                let normal = (q - p).cross(&(r - p));
+                let beyond = |n: Vector| {
+                    let far = self.vertices[self.farthest_vertex(&n)];
+                    far.coords.dot(&n) - p.coords.dot(&n) > slack * n.norm()
+                };
+                outward = outward && !beyond(normal);
+                inward = inward && !beyond(-normal);
+                if !(outward || inward) {
+                    return false;
+                }
+            }
+            true
+        })
     }
 
     /// Checks that the surface is closed and consistently oriented: every

@@ -132,9 +132,20 @@ impl StepMotion {
     /// distance from the origin.
     #[inline]
     pub fn relative_pose(a: &StepMotion, b: &StepMotion, s: Real) -> Pose {
-        let rotation_a = a.rotation_at(s);
+        StepMotion::relative_pose_turned((a, &a.rotation_at(s)), (b, &b.rotation_at(s)), s)
+    }
+
+    /// [`StepMotion::relative_pose`] given each body's orientation at `s`
+    /// (its [`StepMotion::rotation_at`]), for callers that place one body
+    /// in many pairs.
+    #[inline]
+    pub fn relative_pose_turned(
+        (a, rotation_a): (&StepMotion, &UnitQuaternion<Real>),
+        (b, rotation_b): (&StepMotion, &UnitQuaternion<Real>),
+        s: Real,
+    ) -> Pose {
         let translation = rotation_a.inverse_transform_vector(&StepMotion::center_offset(a, b, s));
-        Pose::from_parts(Translation3::from(translation), rotation_a.inverse() * b.rotation_at(s))
+        Pose::from_parts(Translation3::from(translation), rotation_a.inverse() * rotation_b)
     }
 
     /// `b`'s centre minus `a`'s at time `s` (world frame), from the

@@ -186,7 +186,7 @@ impl Stepper {
             options,
             response,
             broad: (options.broad_phase && scene.bodies.len() > 2).then(BroadPhase::default),
-            trace: TraceObserver::of(&scene),
+            trace: TraceObserver::of(&scene, options.parallel),
             poses: scene.poses.as_ref().map(|spec| PoseObserver::new(spec.every, scene.steps)),
             scratch: Scratch::default(),
             counters: Counters::default(),
