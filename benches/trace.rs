@@ -10,7 +10,15 @@
 //!   Cuboid), at the 256 poses of the fall. The trace's own cost per sample
 //!   is the difference of the two runs above over 256.
 //!
-//! `cargo bench --bench trace` (about a minute).
+//! - Fifty tumbling convex bodies in a closed box
+//!   (`benches/scenes/tumbling_convex.ron`), every pair (1,525) traced every
+//!   10 steps (25 samples): the run untraced and traced, with one thread
+//!   and with rayon's, and parry3d-f64's `query::distance` between the
+//!   bodies' convex hulls (`ConvexPolyhedron`) for the same 38,125
+//!   pair-samples at the same poses. The trace's cost per pair-sample is
+//!   the difference of the one-thread runs over 38,125.
+//!
+//! `cargo bench --bench trace` (about two minutes).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use nearmiss::math::{pose_to_parry, to_parry, Real, Vector};
@@ -107,5 +115,77 @@ fn bunny_fall(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bunny_fall);
+const CONVEX: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/scenes/tumbling_convex.ron");
+
+fn tumbling_convex(c: &mut Criterion) {
+    let traced = Scene::load(CONVEX).expect("the shipped bench scene");
+    let untraced = Scene { trace: None, poses: None, ..traced.clone() };
+    let traced = Scene { poses: None, ..traced };
+    let serial = RunOptions { parallel: false, ..RunOptions::default() };
+    let mut group = c.benchmark_group("50 tumbling convex bodies, every pair traced every 10 steps");
+    group.sample_size(10).measurement_time(Duration::from_secs(15));
+    for (name, options) in [("one thread", serial), ("rayon", RunOptions::default())] {
+        group.bench_function(format!("untraced, {name}"), |b| {
+            b.iter(|| run_with(black_box(&untraced), options, &mut |_| {}).steps)
+        });
+        group.bench_function(format!("traced, {name}"), |b| {
+            b.iter(|| run_with(black_box(&traced), options, &mut |_| {}).trace.len())
+        });
+    }
+    // parry on the same pair-samples: the poses at every sampled step.
+    let with_poses = Scene::load(CONVEX).expect("the shipped bench scene");
+    let result = run_with(&with_poses, serial, &mut |_| {});
+    let shapes: Vec<_> = with_poses
+        .bodies
+        .iter()
+        .map(|body| {
+            let points: Vec<_> = body.mesh.vertices().iter().map(to_parry).collect();
+            parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(&points).expect("a hull")
+        })
+        .collect();
+    let poses: Vec<_> = result
+        .poses
+        .iter()
+        .map(|r| pose_to_parry(&nalgebra::Isometry3::from_parts(r.position.coords.into(), r.orientation)))
+        .collect();
+    let bodies = with_poses.bodies.len();
+    // Every traced pair at every sample: the records' pairs, and the index
+    // of each body's pose at that sample.
+    let samples: Vec<(usize, usize)> = result
+        .trace
+        .iter()
+        .map(|r| {
+            let first = result.poses.iter().position(|p| p.step == r.step).expect("the sample's poses");
+            (first + r.pair.0, first + r.pair.1)
+        })
+        .collect();
+    assert!(result.poses.len() % bodies == 0 && samples.len() == result.trace.len());
+    // The two compute the same distances (parry's GJK to its own tolerance).
+    let worst = samples
+        .iter()
+        .zip(&result.trace)
+        .map(|(&(i, j), record)| {
+            let d =
+                parry3d_f64::query::distance(&poses[i], &shapes[i % bodies], &poses[j], &shapes[j % bodies]);
+            (d.expect("supported").distance - record.distance).abs()
+        })
+        .fold(0.0, Real::max);
+    eprintln!("{} pair-samples; largest difference between parry and the trace: {worst:e}", samples.len());
+    group.bench_function("parry3d-f64 query::distance, the same pair-samples", |b| {
+        b.iter(|| {
+            samples
+                .iter()
+                .map(|&(i, j)| {
+                    let (a, b) = (i % bodies, j % bodies);
+                    parry3d_f64::query::distance(&poses[i], &shapes[a], &poses[j], &shapes[b])
+                        .expect("supported")
+                        .distance
+                })
+                .sum::<Real>()
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bunny_fall, tumbling_convex);
 criterion_main!(benches);
