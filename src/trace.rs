@@ -54,8 +54,11 @@ pub struct TraceObserver {
     states: Vec<PairTrace>,
     /// Sample the pairs on rayon's threads (the run's `parallel` option).
     parallel: bool,
-    /// Kept between samples: the bodies' orientations at the sample's time,
-    /// the sequential path's search scratch, and the samples' results.
+    /// The bodies in traced pairs (each once, in order).
+    traced_bodies: Vec<usize>,
+    /// Kept between samples: the bodies' orientations at the sample's time
+    /// (set for the traced bodies), the sequential path's search scratch,
+    /// and the samples' results.
     rotations: Vec<UnitQuaternion<Real>>,
     scratch: MeshDistanceScratch,
     samples: Vec<PairSample>,
@@ -107,7 +110,13 @@ impl TraceObserver {
         scene.trace.clone().map(|spec| TraceObserver {
             states: vec![PairTrace::default(); spec.pairs.len()],
             parallel,
-            rotations: Vec::new(),
+            traced_bodies: {
+                let mut bodies: Vec<usize> = spec.pairs.iter().flat_map(|&(a, b)| [a, b]).collect();
+                bodies.sort_unstable();
+                bodies.dedup();
+                bodies
+            },
+            rotations: vec![UnitQuaternion::identity(); scene.bodies.len()],
             scratch: MeshDistanceScratch::default(),
             samples: Vec::new(),
             certified: 0,
@@ -153,8 +162,9 @@ impl TraceObserver {
     /// that of the closest triangle pair, which the other two name.
     pub fn sample(&mut self, step: u64, time: Real, s: Real, motions: &[StepMotion]) {
         let clock = Instant::now();
-        self.rotations.clear();
-        self.rotations.extend(motions.iter().map(|m| m.rotation_at(s)));
+        for &body in &self.traced_bodies {
+            self.rotations[body] = motions[body].rotation_at(s);
+        }
         let at = SampleAt {
             scene: &self.scene,
             motions,
