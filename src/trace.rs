@@ -6,6 +6,7 @@
 //! at a contact that ends the run); with `reference`, also the exact
 //! distance of the closest triangle pair in rational arithmetic.
 
+use std::cell::RefCell;
 use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
@@ -147,9 +148,11 @@ impl TraceObserver {
     ///   within [`CERTIFICATE_ULPS`] ulps of the pair's scale (the centres'
     ///   distance plus both radii) of its lower bound (a gap between the
     ///   two meshes' shadows on a direction); the sample is the upper
-    ///   bound. Between samples a few steps apart the closest features
-    ///   rarely change, and this costs two supports and the closest point
-    ///   of a simplex of at most three points;
+    ///   bound (for pairs nearer than [`CONVEX_VALUE_RELATIVE_ERROR`] asks,
+    ///   the kernel's distance of the closest features' triangles, by the
+    ///   next way). Where the closest features are the last sample's, this
+    ///   costs two supports and the closest point of a simplex of at most
+    ///   three points;
     /// - the hulls' certificate, exact kernel: when the gap between the two
     ///   meshes' vertex hulls (GJK, a lower bound on every triangle pair's
     ///   distance) comes within those ulps of the distance of the pair's
@@ -177,8 +180,8 @@ impl TraceObserver {
             self.states
                 .par_iter_mut()
                 .zip(pairs.par_iter())
-                .map_init(MeshDistanceScratch::default, |scratch, (state, &pair)| {
-                    at.pair_sample(pair, state, scratch)
+                .map(|(state, &pair)| {
+                    THREAD_SCRATCH.with(|scratch| at.pair_sample(pair, state, &mut scratch.borrow_mut()))
                 })
                 .collect_into_vec(&mut self.samples);
         } else {
@@ -216,9 +219,15 @@ impl TraceObserver {
 pub const CONVEX_VALUE_RELATIVE_ERROR: Real = 1e-12;
 
 /// Traces of at least this many pairs are sampled on rayon's threads (when
-/// the run is parallel): below it, handing out the work costs more than a
-/// few samples of convex meshes.
+/// the run is parallel); fewer are sampled in turn. Not tuned: a sample of
+/// two convex meshes is a few hundred nanoseconds, so a handful of pairs is
+/// not worth handing out. Default `64`.
 pub const PARALLEL_TRACE_PAIRS: usize = 64;
+
+thread_local! {
+    /// Each rayon thread's search scratch, kept between samples and runs.
+    static THREAD_SCRATCH: RefCell<MeshDistanceScratch> = RefCell::new(MeshDistanceScratch::default());
+}
 
 impl SampleAt<'_> {
     /// Pair `(a, b)`'s sample (see [`TraceObserver::sample`]).
