@@ -309,3 +309,23 @@ fn a_contact_picture_numbered_zero_is_refused() {
     );
     assert_rejected("picture_zero", &text, &["plot.contacts", "numbered from 1"]);
 }
+
+#[test]
+fn a_trace_or_poses_too_large_to_keep_are_refused_before_the_run() {
+    // Every pair of 500 bodies (124,750) at each of 1,000 steps (1,002
+    // samples at most): 125 million records, more than MAX_RECORDS.
+    let bodies: String = (0..500)
+        .map(|k| {
+            format!("(name: \"b{k}\", mesh: Tetrahedron(circumradius: 0.1), position: ({k}.0, 0.0, 0.0)),")
+        })
+        .collect();
+    let text =
+        format!("Scene(name: \"bad\", dt: 0.01, steps: 1000, trace: (pairs: All), bodies: [{bodies}])");
+    assert_rejected("trace-limit", &text, &["`trace`", "124750 pairs × 1002 samples", "pairs: Only"]);
+    // Half as many steps fit.
+    let fits = text.replace("steps: 1000", "steps: 500");
+    assert!(nearmiss::scene::Scene::from_ron_str(&fits).is_ok());
+    // Two bodies' poses at each of 60 million steps: 120 million records.
+    let text = format!("Scene(name: \"bad\", dt: 0.01, steps: 60000000, poses: (every: 1), {GOOD_BODIES})");
+    assert_rejected("poses-limit", &text, &["`poses`", "2 bodies × 60000002 samples"]);
+}

@@ -156,7 +156,7 @@ impl Builder<'_> {
         if matches!(file.on_contact, OnContact::Simulate { .. }) {
             self.simulate_contact_distances(&ccd, &bodies)?;
         }
-        let trace = self.trace(file.trace.as_ref(), &names, &bodies)?;
+        let trace = self.trace(file.trace.as_ref(), &names, &bodies, steps)?;
         let poses = match &file.poses {
             None => None,
             Some(poses) => match poses.every {
@@ -165,6 +165,9 @@ impl Builder<'_> {
                 None => Some(super::PosesSpec { every: trace.as_ref().map_or(1, |t| t.every) }),
             },
         };
+        if let Some(poses) = &poses {
+            self.records_within_limit("poses", "bodies", bodies.len() as u64, (steps, poses.every))?;
+        }
         let plot = match &file.plot {
             None => None,
             Some(_) if trace.is_none() => {
@@ -405,6 +408,7 @@ impl Builder<'_> {
         trace: Option<&TraceSettings>,
         names: &Names<'_>,
         bodies: &[Body],
+        steps: u64,
     ) -> Result<Option<TraceSpec>> {
         let Some(trace) = trace else { return Ok(None) };
         if trace.every == 0 {
@@ -414,6 +418,11 @@ impl Builder<'_> {
             TracePairs::All => {
                 let fixed = |i: usize| bodies[i].motion == BodyMotion::Fixed;
                 let n = bodies.len();
+                // Counted before they are listed: every pair of a large scene
+                // would not fit in memory.
+                let held = bodies.iter().filter(|b| b.motion == BodyMotion::Fixed).count();
+                let count = (n * n.saturating_sub(1) / 2 - held * held.saturating_sub(1) / 2) as u64;
+                self.records_within_limit("trace", "pairs", count, (steps, trace.every))?;
                 (0..n)
                     .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
                     .filter(|&(i, j)| !(fixed(i) && fixed(j)))
@@ -430,10 +439,38 @@ impl Builder<'_> {
                     }
                     pairs.push((i.min(j), i.max(j)));
                 }
+                self.records_within_limit("trace", "pairs", pairs.len() as u64, (steps, trace.every))?;
                 pairs
             }
         };
         Ok(Some(TraceSpec { pairs, every: trace.every, reference: false }))
+    }
+
+    /// Refuses a trace or poses (`field`) of `count` pairs or bodies (`what`)
+    /// sampled every `every` of `steps` steps that would keep more than
+    /// [`MAX_RECORDS`](super::MAX_RECORDS) records.
+    fn records_within_limit(
+        &self,
+        field: &str,
+        what: &str,
+        count: u64,
+        (steps, every): (u64, u64),
+    ) -> Result<()> {
+        // The first state, every `every` steps, the last step and a contact
+        // that ends the run: at most this many samples.
+        let samples = steps / every + 2;
+        let records = count.saturating_mul(samples);
+        if records <= super::MAX_RECORDS {
+            return Ok(());
+        }
+        self.invalid(
+            field,
+            format!(
+                "would keep {records} records ({count} {what} × {samples} samples), more than the limit of {}: {} or sample less often (`every`)",
+                super::MAX_RECORDS,
+                if field == "trace" { "trace fewer pairs (`pairs: Only([...])`)" } else { "record fewer steps" }
+            ),
+        )
     }
 
     /// What `nearmiss test` checks.

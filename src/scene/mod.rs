@@ -186,6 +186,13 @@ pub enum Expectation {
 /// would run for days.
 pub const DEFAULT_MAX_STEPS: u64 = 100_000_000;
 
+/// The most records a run's trace (pairs × samples) or poses (bodies ×
+/// samples) may keep: 100 million, about 5.6 GB of trace records in memory
+/// and more as CSV. A scene asking for more (every pair of a 10,000-body
+/// scene: 50 million a sample) is refused at load with the count, instead
+/// of running out of memory mid-run.
+pub const MAX_RECORDS: u64 = 100_000_000;
+
 pub(crate) fn steps_for(duration: Real, dt: Real) -> u64 {
     ((duration / dt) * (1.0 - 4.0 * Real::EPSILON)).ceil().max(1.0) as u64
 }
