@@ -661,4 +661,34 @@ mod tests {
         let open = ball.triangles()[1..].to_vec();
         assert!(!TriMesh::new(ball.vertices().to_vec(), open).expect("a mesh").is_convex());
     }
+
+    /// The certified distance holds at the ends of the sizes a scene may
+    /// give (1e±30): the same pairs scaled by 2^±90 (about 1e±27) give the
+    /// exact search's distance, scaled, to the slack.
+    #[test]
+    fn the_convex_distance_holds_at_extreme_sizes() {
+        let search = crate::mesh::DistanceSearch::new(crate::mesh::DistanceKernel::Exact, None);
+        let mut scratch = crate::mesh::MeshDistanceScratch::default();
+        for k in [2f64.powi(-90), 1.0, 2f64.powi(90)] {
+            let a = icosphere(0.7 * k, 2).expect("an icosphere");
+            let b = box_mesh(&(Vector::new(0.5, 0.3, 0.2) * k)).expect("a box");
+            let mut rng = crate::samples::Rng::new(5);
+            let mut certified = 0;
+            for case in 0..40 {
+                let rotation = UnitQuaternion::from_scaled_axis(rng.in_unit_ball() * 3.0);
+                let offset = rng.in_unit_ball() * 3.0 * k;
+                let pose = Pose::from_parts(Translation3::from(offset), rotation);
+                let exact =
+                    crate::mesh::mesh_distance_relative(&a, &b, &pose, &search, &mut scratch).distance;
+                let slack = 64.0 * Real::EPSILON * (offset.norm() + a.radius() + b.radius());
+                if let ConvexDistance::Certified(d) =
+                    convex_distance(&a, &b, &pose, &mut WarmSimplex::default(), slack)
+                {
+                    certified += 1;
+                    assert!((d - exact).abs() <= slack, "scale {k:e} case {case}: {d:e} against {exact:e}");
+                }
+            }
+            assert!(certified >= 20, "scale {k:e}: {certified} of 40 certified");
+        }
+    }
 }
