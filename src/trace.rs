@@ -4,7 +4,10 @@
 //! A sample is the distance of each traced pair by the scene's kernel at
 //! the step's end (every `every` steps, at the start and the last step, and
 //! at a contact that ends the run); with `reference`, also the exact
-//! distance of the closest triangle pair in rational arithmetic.
+//! distance of the closest triangle pair in rational arithmetic. Each pair
+//! keeps what its last sample found (closest triangles, GJK's simplex and
+//! direction), so a sample is a warm start, not a search from scratch (see
+//! [`TraceObserver::sample`]).
 
 use std::cell::RefCell;
 use std::io::Write;

@@ -23,6 +23,11 @@
 //! `enough` (the pair can be skipped), or a point of the hulls' difference
 //! within `close` of the origin (the hulls come that close, so no
 //! direction can prove more than `close`), or converged.
+//!
+//! For two convex meshes the same GJK also gives their distance from above
+//! (the distance between a point of each hull), so [`convex_distance`]
+//! certifies a distance where the two bounds meet: the trace's sample of
+//! convex pairs, warm-started from the pair's last simplex.
 
 use crate::kernels::triangle_distance;
 use crate::math::{Pose, Real, Vector};

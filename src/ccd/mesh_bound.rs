@@ -122,7 +122,7 @@ pub(crate) fn first_root(gap: Real, rate: Real, curvature: Real) -> Real {
 }
 
 /// A node pair's bound is also sought among the spin-swept regions (see
-/// [`node_pair_time`]) once the two bodies together turn at least this many
+/// `node_pair_time`) once the two bodies together turn at least this many
 /// radians over the rest of the interval: then the rate bounds, which grow
 /// with the spin, are short. `1.0`.
 pub const SPIN_SWEEP_MIN_TURN: Real = 1.0;

@@ -123,7 +123,7 @@ pub struct MeshCcdResult {
     /// settled the step).
     pub iterations: usize,
     /// Advancement steps taken on the hulls' gap alone, before any search
-    /// (at most [`HULL_ADVANCE_MAX_STEPS`]).
+    /// (at most `HULL_ADVANCE_MAX_STEPS`).
     pub hull_steps: usize,
     /// Triangle pairs evaluated over all searches.
     pub triangle_pairs: usize,

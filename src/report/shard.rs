@@ -99,7 +99,7 @@ pub struct SuiteShard {
 }
 
 /// Puts the shards of one suite back together: every case in its place,
-/// checked (see [`merge_positions`]). The merged cases give the same
+/// checked (see `merge_positions`). The merged cases give the same
 /// `suite_json` and `junit_xml` as one machine's run, apart from wall times.
 pub fn merge_suite(shards: &[SuiteShard]) -> Result<Vec<SuiteCase>, String> {
     let parts: Vec<_> = shards.iter().map(|s| (s.shard, s.total, s.cases.as_slice())).collect();
@@ -107,7 +107,7 @@ pub fn merge_suite(shards: &[SuiteShard]) -> Result<Vec<SuiteCase>, String> {
 }
 
 /// Puts the shards of one `queries` run back together (see
-/// [`merge_positions`]): each file's path and report, in order.
+/// `merge_positions`): each file's path and report, in order.
 pub fn merge_queries(shards: &[QueriesShard]) -> Result<Vec<(String, FileReport)>, String> {
     let parts: Vec<_> = shards.iter().map(|s| (s.shard, s.total, s.files.as_slice())).collect();
     merge_positions(&parts)

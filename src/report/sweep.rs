@@ -266,7 +266,7 @@ impl SweepShard {
 /// would have made (wall times apart). Refused: shards of different scenes
 /// or grids, shards whose references differ (bit for bit: a reference run
 /// on another build or machine would make the errors of the shards
-/// incomparable), and anything [`merge_positions`] refuses.
+/// incomparable), and anything `merge_positions` refuses.
 pub fn merge_sweep(shards: &[SweepShard]) -> Result<SweepReport, String> {
     let first = shards.first().ok_or("no shard given")?;
     let bits = |r: Option<Real>| r.map(Real::to_bits);

@@ -1,4 +1,4 @@
-//! Scenes: the RON file format ([`file`]), its validation, and the
+//! Scenes: the RON file format ([`file`](mod@file)), its validation, and the
 //! validated [`Scene`] that the [`stepper`](crate::stepper) runs.
 //!
 //! Loading resolves everything a run needs and checks it: numbers finite
