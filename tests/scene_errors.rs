@@ -329,3 +329,43 @@ fn a_trace_or_poses_too_large_to_keep_are_refused_before_the_run() {
     let text = format!("Scene(name: \"bad\", dt: 0.01, steps: 60000000, poses: (every: 1), {GOOD_BODIES})");
     assert_rejected("poses-limit", &text, &["`poses`", "2 bodies × 60000002 samples"]);
 }
+
+#[test]
+fn a_sweep_whose_step_makes_the_trace_too_large_is_refused() {
+    // Every pair of 100 bodies (4,950) fits at the scene's own dt (12
+    // samples); `--dt 4e-5` gives 25,000 steps: about 124 million records.
+    let dir = workspace("sweep-records");
+    let bodies: String = (0..100)
+        .map(|k| {
+            format!("(name: \"b{k}\", mesh: Tetrahedron(circumradius: 0.1), position: ({k}.0, 0.0, 0.0)),")
+        })
+        .collect();
+    let scene = dir.join("scene.ron");
+    std::fs::write(
+        &scene,
+        format!("Scene(name: \"s\", dt: 0.1, duration: 1.0, trace: (pairs: All), bodies: [{bodies}])"),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let output = Command::new(env!("CARGO_BIN_EXE_nearmiss"))
+        .args([
+            "sweep",
+            scene.to_str().unwrap(),
+            "--dt",
+            "4e-5",
+            "--kernel",
+            "exact",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--dt") && stderr.contains("124 million") || stderr.contains("records"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "output was written");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -456,10 +456,8 @@ impl Builder<'_> {
         count: u64,
         (steps, every): (u64, u64),
     ) -> Result<()> {
-        // The first state, every `every` steps, the last step and a contact
-        // that ends the run: at most this many samples.
         let samples = steps / every + 2;
-        let records = count.saturating_mul(samples);
+        let records = super::most_records(count, steps, every);
         if records <= super::MAX_RECORDS {
             return Ok(());
         }

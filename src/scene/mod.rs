@@ -193,6 +193,13 @@ pub const DEFAULT_MAX_STEPS: u64 = 100_000_000;
 /// of running out of memory mid-run.
 pub const MAX_RECORDS: u64 = 100_000_000;
 
+/// The most records `count` pairs or bodies sampled every `every` of
+/// `steps` steps keep: the first state, every `every` steps, the last step
+/// and a contact that ends the run.
+pub(crate) fn most_records(count: u64, steps: u64, every: u64) -> u64 {
+    count.saturating_mul(steps / every + 2)
+}
+
 pub(crate) fn steps_for(duration: Real, dt: Real) -> u64 {
     ((duration / dt) * (1.0 - 4.0 * Real::EPSILON)).ceil().max(1.0) as u64
 }
@@ -260,6 +267,14 @@ impl Scene {
                 crate::output::shortest(self.dt)
             ),
         })
+    }
+
+    /// The most records the scene's trace and poses keep together over a
+    /// run of `steps` steps (see [`MAX_RECORDS`]).
+    pub fn most_records(&self, steps: u64) -> u64 {
+        let trace = self.trace.as_ref().map_or(0, |t| most_records(t.pairs.len() as u64, steps, t.every));
+        let poses = self.poses.as_ref().map_or(0, |p| most_records(self.bodies.len() as u64, steps, p.every));
+        trace.max(poses)
     }
 
     /// The index of the body with this name.

@@ -72,6 +72,14 @@ pub fn main(args: Args) -> CommandResult {
                 scene.duration, args.max_steps
             )));
         }
+        // The scene's trace and poses were checked at load for its own dt.
+        let records = scene.most_records(steps as u64);
+        if records > nearmiss::scene::MAX_RECORDS {
+            return Err(CliError::BadInput(format!(
+                "--dt: {dt:?} gives {steps:e} steps, at which the scene's trace or poses would keep {records} records, more than the limit of {}: trace fewer pairs or sample less often (`every`)",
+                nearmiss::scene::MAX_RECORDS
+            )));
+        }
     }
     let kernels = parse_names(
         &args.kernel,
