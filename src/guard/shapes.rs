@@ -33,20 +33,12 @@ impl ColliderShape {
 /// shape.
 pub const CONVEXITY_TOLERANCE: Real = 1e-9;
 
-/// Whether a closed mesh is convex: every vertex on the inner side of every
-/// face's plane (within [`CONVEXITY_TOLERANCE`] of the radius). An open
-/// mesh (a plate of triangles, a single triangle) is not a solid: `false`.
+/// Whether a closed mesh is convex: every vertex on the same side of every
+/// face's plane (within [`CONVEXITY_TOLERANCE`] of the radius;
+/// [`TriMesh::convex_within`]). An open mesh (a plate of triangles, a single
+/// triangle) is not a solid: `false`.
 pub fn is_convex(mesh: &TriMesh) -> bool {
-    if mesh.check_closed().is_err() {
-        return false;
-    }
-    let slack = CONVEXITY_TOLERANCE * mesh.radius();
-    mesh.triangles().iter().all(|t| {
-        let [a, b, c] = t.map(|i| mesh.vertices()[i as usize]);
-        let normal = (b - a).cross(&(c - a));
-        let length = normal.norm();
-        length > 0.0 && mesh.vertices().iter().all(|v| (v - a).dot(&normal) <= slack * length)
-    })
+    mesh.convex_within(CONVEXITY_TOLERANCE)
 }
 
 /// The collider rapier is given for `mesh` (vertices in the body frame):

@@ -198,33 +198,38 @@ impl TriMesh {
     /// vertex lies on the same side of every triangle's plane, within
     /// [`CONVEX_SURFACE_TOLERANCE`] of the radius: then the surface is the
     /// boundary of its vertices' convex hull, and the closest points of two
-    /// such hulls (apart) lie on the meshes. Decided once per mesh, by the
-    /// farthest vertex along each triangle's normal and against it.
+    /// such hulls (apart) lie on the meshes. Decided once per mesh
+    /// ([`TriMesh::convex_within`]).
     pub fn is_convex(&self) -> bool {
-        *self.convex.get_or_init(|| {
-            if self.check_closed().is_err() {
+        *self.convex.get_or_init(|| self.convex_within(CONVEX_SURFACE_TOLERANCE))
+    }
+
+    /// Whether the mesh is closed and every vertex lies on the same side of
+    /// every triangle's plane (all on the inner side, or all on the outer
+    /// side for a mesh turned inside out) within `fraction` of the radius;
+    /// a triangle whose normal rounds to zero is not convex. Decided by the
+    /// farthest vertex along each triangle's normal and against it.
+    pub fn convex_within(&self, fraction: Real) -> bool {
+        if self.check_closed().is_err() {
+            return false;
+        }
+        let slack = fraction * self.radius;
+        let (mut outward, mut inward) = (true, true);
+        for t in 0..self.triangles.len() {
+            let [p, q, r] = self.triangle(t);
+            let normal = (q - p).cross(&(r - p));
+            let length = normal.norm();
+            let beyond = |n: Vector| {
+                let far = self.vertices[self.farthest_vertex(&n)];
+                far.coords.dot(&n) - p.coords.dot(&n) > slack * length
+            };
+            outward = outward && !beyond(normal);
+            inward = inward && !beyond(-normal);
+            if !(length > 0.0 && (outward || inward)) {
                 return false;
             }
-            let slack = CONVEX_SURFACE_TOLERANCE * self.radius;
-            // Every triangle's plane bounds the vertices on its normal's
-            // side (outward-facing) or on the other side (inward-facing);
-            // closed and consistently oriented, one of the two holds for all.
-            let (mut outward, mut inward) = (true, true);
-            for t in 0..self.triangles.len() {
-                let [p, q, r] = self.triangle(t);
-                let normal = (q - p).cross(&(r - p));
-                let beyond = |n: Vector| {
-                    let far = self.vertices[self.farthest_vertex(&n)];
-                    far.coords.dot(&n) - p.coords.dot(&n) > slack * n.norm()
-                };
-                outward = outward && !beyond(normal);
-                inward = inward && !beyond(-normal);
-                if !(outward || inward) {
-                    return false;
-                }
-            }
-            true
-        })
+        }
+        true
     }
 
     /// Checks that the surface is closed and consistently oriented: every

@@ -420,7 +420,7 @@ impl Builder<'_> {
                 let n = bodies.len();
                 // Counted before they are listed: every pair of a large scene
                 // would not fit in memory.
-                let held = bodies.iter().filter(|b| b.motion == BodyMotion::Fixed).count();
+                let held = (0..n).filter(|&i| fixed(i)).count();
                 let count = (n * n.saturating_sub(1) / 2 - held * held.saturating_sub(1) / 2) as u64;
                 self.records_within_limit("trace", "pairs", count, (steps, trace.every))?;
                 (0..n)

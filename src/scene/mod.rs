@@ -269,8 +269,8 @@ impl Scene {
         })
     }
 
-    /// The most records the scene's trace and poses keep together over a
-    /// run of `steps` steps (see [`MAX_RECORDS`]).
+    /// The most records the scene's trace or its poses (the larger of the
+    /// two, each held to [`MAX_RECORDS`]) keep over a run of `steps` steps.
     pub fn most_records(&self, steps: u64) -> u64 {
         let trace = self.trace.as_ref().map_or(0, |t| most_records(t.pairs.len() as u64, steps, t.every));
         let poses = self.poses.as_ref().map_or(0, |p| most_records(self.bodies.len() as u64, steps, p.every));
