@@ -25,8 +25,10 @@
 //!
 //! The module also holds the rest of the single pair's AVX2 front door
 //! ([`triangle_distance`]: the pair's sizes four coordinates at a time) and
-//! the refinement's tie path in lanes ([`refined_in_lanes`], for the single
-//! pair and the batch: the same groups recomputed into a table).
+//! the refinement's tie path: the single pair's pass keeps every candidate
+//! in a [`CandidateTable`] as it goes, which the tie path reads; the
+//! batch's refinement ([`refined_in_lanes`]) recomputes one pair's groups
+//! into such a table.
 //!
 //! `Ymm` wraps the AVX2 intrinsics. It is private to this module and only
 //! created inside its `#[target_feature(enable = "avx2,fma")]` functions,
@@ -265,6 +267,7 @@ fn constants(w: Real, x: Real, y: Real, z: Real) -> Ymm {
 
 /// A group of candidates in lanes: lane `k` is candidate `code[k]` where
 /// `used[k]` (the other lanes repeat one).
+#[derive(Clone)]
 struct LaneGroup {
     /// Which group (0 to 4).
     index: usize,
@@ -286,10 +289,10 @@ trait GroupSink {
 
 /// Feeds the 15 candidates of triangles `a`, `b` (local coordinates) to
 /// `sink` in five groups of lanes, in the sequential order of their codes:
-/// codes 0–3, 4–5, 6–8, 9–11, 12–14. (With the target features, unlike
-/// the always-inlined helpers: its closures inherit them.)
-#[target_feature(enable = "avx2,fma")]
-#[inline]
+/// codes 0–3, 4–5, 6–8, 9–11, 12–14. Always inlined into this module's
+/// AVX2 functions (no closures: one this size is not inlined, and out of
+/// line its arguments go through memory).
+#[inline(always)]
 fn visit_groups(a: &[V3<Real>; 3], b: &[V3<Real>; 3], sink: &mut impl GroupSink) {
     let [a0, a1, a2] = a;
     let [b0, b1, b2] = b;
@@ -299,11 +302,6 @@ fn visit_groups(a: &[V3<Real>; 3], b: &[V3<Real>; 3], sink: &mut impl GroupSink)
     // the opposite of its offset.
     let faces =
         FacePlane::new(&[gather([a0, b0, a0, b0]), gather([a1, b1, a1, b1]), gather([a2, b2, a2, b2])]);
-    let towards_b = |offset: V3<Ymm>| {
-        let flip = constants(0.0, -0.0, 0.0, -0.0);
-        let sign = |c: Ymm| Ymm(_mm256_xor_pd(c.0, flip.0));
-        V3::new(sign(offset.x), sign(offset.y), sign(offset.z))
-    };
     let (squared, offset) = point_face_interior(&gather([b0, a0, b1, a1]), &faces);
     sink.group(LaneGroup {
         index: 0,
@@ -327,23 +325,41 @@ fn visit_groups(a: &[V3<Real>; 3], b: &[V3<Real>; 3], sink: &mut impl GroupSink)
     // Edge against edge: lane j is edge i of a against edge j of b (code 6 + 3i + j).
     let edges_a = Edge::new(&gather([a0, a1, a2, a0]), &gather([a1, a2, a0, a1]));
     let edges_b = Edge::new(&gather([b0, b1, b2, b0]), &gather([b1, b2, b0, b1]));
-    let used = lane_mask([true, true, true, false]);
-    let mut edge_group = |index: usize, edge_a: &Edge<Ymm>| {
-        let found = segment_segment_lanes(edge_a, &edges_b);
-        let first = (3 * index) as Real;
-        sink.group(LaneGroup {
-            index,
-            squared: found.distance_squared,
-            used,
-            code: constants(first, first + 1.0, first + 2.0, first + 2.0),
-            s: found.s,
-            t: found.t,
-            separation: -found.gap,
-        });
-    };
-    edge_group(2, &broadcast_edge::<0x00>(&edges_a));
-    edge_group(3, &broadcast_edge::<0x55>(&edges_a));
-    edge_group(4, &broadcast_edge::<0xAA>(&edges_a));
+    edge_group(2, &broadcast_edge::<0x00>(&edges_a), &edges_b, sink);
+    edge_group(3, &broadcast_edge::<0x55>(&edges_a), &edges_b, sink);
+    edge_group(4, &broadcast_edge::<0xAA>(&edges_a), &edges_b, sink);
+}
+
+/// Edge `index - 2` of a (in every lane) against b's edges `[0, 1, 2, –]`:
+/// codes `3 · index + j`.
+#[inline(always)]
+fn edge_group(index: usize, edge_a: &Edge<Ymm>, edges_b: &Edge<Ymm>, sink: &mut impl GroupSink) {
+    let found = segment_segment_lanes(edge_a, edges_b);
+    let first = (3 * index) as Real;
+    sink.group(LaneGroup {
+        index,
+        squared: found.distance_squared,
+        used: lane_mask([true, true, true, false]),
+        code: constants(first, first + 1.0, first + 2.0, first + 2.0),
+        s: found.s,
+        t: found.t,
+        separation: -found.gap,
+    });
+}
+
+/// A vertex's offset from its projection, as the separation from a to b:
+/// the opposite in the odd lanes (vertices of a over b's face).
+#[inline(always)]
+fn towards_b(offset: V3<Ymm>) -> V3<Ymm> {
+    let flip = constants(0.0, -0.0, 0.0, -0.0);
+    // SAFETY: see above.
+    unsafe {
+        V3::new(
+            Ymm(_mm256_xor_pd(offset.x.0, flip.0)),
+            Ymm(_mm256_xor_pd(offset.y.0, flip.0)),
+            Ymm(_mm256_xor_pd(offset.z.0, flip.0)),
+        )
+    }
 }
 
 /// The running least of each lane over the groups of candidates it holds
@@ -381,6 +397,23 @@ impl GroupSink for LaneBest {
     }
 }
 
+/// Hands each group to two sinks.
+struct Both<'s, S: GroupSink, T: GroupSink>(&'s mut S, &'s mut T);
+
+impl<S: GroupSink, T: GroupSink> GroupSink for Both<'_, S, T> {
+    #[inline(always)]
+    fn group(&mut self, group: LaneGroup) {
+        self.1.group(group.clone());
+        self.0.group(group);
+    }
+}
+
+/// Keeps nothing.
+impl GroupSink for () {
+    #[inline(always)]
+    fn group(&mut self, _: LaneGroup) {}
+}
+
 /// Lanes `k` with `lanes[k]` set.
 #[inline(always)]
 fn lane_mask(lanes: [bool; 4]) -> YmmMask {
@@ -393,8 +426,21 @@ fn lane_mask(lanes: [bool; 4]) -> YmmMask {
 
 /// [`closest_separated`](super::separated::closest_separated) of one pair
 /// (local coordinates), its candidates in lanes; the same result bit for bit.
+#[cfg(test)]
 #[target_feature(enable = "avx2,fma")]
-pub(super) fn closest_separated_pair(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real> {
+fn closest_separated_pair(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real> {
+    closest_separated_keeping(a, b, &mut ())
+}
+
+/// [`closest_separated_pair`], every group of candidates also handed to
+/// `keep` (the single pair keeps them in a [`CandidateTable`] for the
+/// refinement's tie path).
+#[inline(always)]
+fn closest_separated_keeping(
+    a: &[V3<Real>; 3],
+    b: &[V3<Real>; 3],
+    keep: &mut impl GroupSink,
+) -> ClosestSeparated<Real> {
     let zero = Ymm::splat(0.0);
     let infinity = Ymm::splat(Real::INFINITY);
     let mut best = LaneBest {
@@ -405,7 +451,7 @@ pub(super) fn closest_separated_pair(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> Cl
         t: zero,
         separation: V3::zeros(),
     };
-    visit_groups(a, b, &mut best);
+    visit_groups(a, b, &mut Both(&mut best, keep));
     let least = best.squared.least();
     if least == Real::INFINITY {
         // No candidate: the sequential pass's starting state.
@@ -434,8 +480,18 @@ pub(super) fn closest_separated_pair(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> Cl
 /// column (squared, s, t) and lane: what the refinement's tie path needs.
 struct CandidateTable {
     groups: [[[Real; 4]; 3]; 5],
-    /// How many lanes of each group are in use.
-    used: [usize; 5],
+}
+
+impl CandidateTable {
+    /// How many lanes of each group hold candidates (`visit_groups`).
+    const USED: [usize; 5] = [4, 2, 3, 3, 3];
+}
+
+impl Default for CandidateTable {
+    #[inline(always)]
+    fn default() -> CandidateTable {
+        CandidateTable { groups: [[[0.0; 4]; 3]; 5] }
+    }
 }
 
 impl GroupSink for CandidateTable {
@@ -445,8 +501,20 @@ impl GroupSink for CandidateTable {
             // SAFETY: see above; the column holds four f64.
             unsafe { _mm256_storeu_pd(column.as_mut_ptr(), value.0) };
         }
-        // SAFETY: see above.
-        self.used[group.index] = unsafe { _mm256_movemask_pd(group.used.0) }.count_ones() as usize;
+    }
+}
+
+/// The table's candidates, in the sequential order of their codes.
+impl CandidateSource for CandidateTable {
+    #[inline(always)]
+    fn visit(&self, _: &Triangle, _: &Triangle, sink: &mut LeastRefined) {
+        let mut code = 0;
+        for (&[squared, s, t], used) in self.groups.iter().zip(CandidateTable::USED) {
+            for lane in 0..used {
+                sink.consider(squared[lane], Candidate::decode(code), s[lane], t[lane], V3::zeros());
+                code += 1;
+            }
+        }
     }
 }
 
@@ -458,26 +526,32 @@ impl CandidateSource for InLanesAgain {
     #[inline(always)]
     fn visit(&self, a: &Triangle, b: &Triangle, sink: &mut LeastRefined) {
         let (local_a, local_b) = local_frame(&triangle_lanes(a), &triangle_lanes(b));
-        let mut table = CandidateTable { groups: [[[0.0; 4]; 3]; 5], used: [0; 5] };
-        // SAFETY: see above (only run inside `refined_in_lanes`).
-        unsafe { visit_groups(&local_a, &local_b, &mut table) };
-        let mut code = 0;
-        for (&[squared, s, t], used) in table.groups.iter().zip(table.used) {
-            for lane in 0..used {
-                sink.consider(squared[lane], Candidate::decode(code), s[lane], t[lane], V3::zeros());
-                code += 1;
-            }
-        }
+        let mut table = CandidateTable::default();
+        visit_groups(&local_a, &local_b, &mut table);
+        table.visit(a, b, sink);
     }
 }
 
 /// The refinement, its tie path recomputing the candidates in lanes
-/// ([`refined_distance`](super::refine) from AVX2 on, for the single pair
-/// and the batch). Out of line: about one pair in fifteen needs it.
+/// ([`refined_distance`](super::refine) from AVX2 on: the batch's). Out of
+/// line: about one pair in fifteen of the benchmark's needs it.
 #[target_feature(enable = "avx2,fma")]
 #[inline(never)]
 pub(super) fn refined_in_lanes(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
     refined_distance_of(a, b, closest, &InLanesAgain)
+}
+
+/// The single pair's refinement, its tie path reading the pass's table.
+/// Out of line, as [`refined_in_lanes`].
+#[target_feature(enable = "avx2,fma")]
+#[inline(never)]
+fn refined_from_table(
+    a: &Triangle,
+    b: &Triangle,
+    closest: &ClosestSeparated<Real>,
+    table: &CandidateTable,
+) -> Real {
+    refined_distance_of(a, b, closest, table)
 }
 
 /// [`triangle_distance`](super::triangle_distance) with this module's pass.
@@ -491,10 +565,21 @@ pub(super) fn triangle_distance(a: &Triangle, b: &Triangle) -> TriangleDistance 
 struct InLanes;
 
 impl PairPass for InLanes {
+    /// Every candidate, for the refinement's tie path: about nine in ten
+    /// refined pairs take it (a vertex–edge winner is found again from the
+    /// vertex's other edge), and the table costs the pass fifteen stores
+    /// where recomputing the candidates cost a second pass.
+    type Kept = CandidateTable;
+
     #[inline(always)]
-    fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real> {
+    fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3], table: &mut CandidateTable) -> ClosestSeparated<Real> {
+        closest_separated_keeping(a, b, table)
+    }
+
+    #[inline(always)]
+    fn refined(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>, table: &CandidateTable) -> Real {
         // SAFETY: see above (only run inside `triangle_distance`).
-        unsafe { closest_separated_pair(a, b) }
+        unsafe { refined_from_table(a, b, closest, table) }
     }
 
     #[inline(always)]

@@ -61,9 +61,10 @@ pub(crate) fn refined_distance(a: &Triangle, b: &Triangle, closest: &ClosestSepa
     refined_distance_kernel(a, b, closest)
 }
 
-/// The refinement with the sequential tie path (the baseline's).
+/// The refinement with the sequential tie path (the baseline's, and the
+/// sequential single pair's at every level).
 #[inline(always)]
-fn refined_distance_kernel(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
+pub(crate) fn refined_distance_kernel(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
     refined_distance_of(a, b, closest, &Sequentially)
 }
 

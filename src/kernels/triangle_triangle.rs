@@ -34,7 +34,7 @@ use super::dispatch::SimdLevel;
 use super::feature::Feature;
 use super::lanes::V3;
 use super::point_triangle::point_triangle;
-use super::refine::refined_distance;
+use super::refine::refined_distance_kernel;
 use super::scale::{
     largest_magnitude_of_pair, normalising_exponent, scale_by_power_of_two, scale_point, triangle_extent,
     MIN_RELATIVE_SIZE,
@@ -114,11 +114,20 @@ pub(super) struct PairSizes {
 /// function item passed instead is compiled on its own, without the
 /// caller's target features, and its intrinsics (and `mul_add`) become calls.
 pub(crate) trait PairPass {
-    /// The candidate pass on local coordinates ([`closest_separated`]'s result).
-    fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real>;
+    /// What the candidate pass leaves for the refinement (nothing, or every
+    /// candidate's values).
+    type Kept: Default;
+
+    /// The candidate pass on local coordinates ([`closest_separated`]'s
+    /// result), keeping what the refinement may need in `kept`.
+    fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3], kept: &mut Self::Kept) -> ClosestSeparated<Real>;
 
     /// The pair's sizes.
     fn sizes(a: &Triangle, b: &Triangle) -> PairSizes;
+
+    /// The refined distance (`refine.rs`) of `a`, `b` (world coordinates),
+    /// given their pass and what it kept.
+    fn refined(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>, kept: &Self::Kept) -> Real;
 }
 
 /// The candidates one after another, the sizes one coordinate at a time:
@@ -126,9 +135,19 @@ pub(crate) trait PairPass {
 pub(crate) struct Sequential;
 
 impl PairPass for Sequential {
+    type Kept = ();
+
     #[inline(always)]
-    fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> ClosestSeparated<Real> {
+    fn closest(a: &[V3<Real>; 3], b: &[V3<Real>; 3], _: &mut ()) -> ClosestSeparated<Real> {
         closest_separated(a, b)
+    }
+
+    /// The tie path recomputes the candidates one after another: the
+    /// baseline single pair is the sequential reference from end to end
+    /// (the tests compare every level with it).
+    #[inline(always)]
+    fn refined(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>, _: &()) -> Real {
+        refined_distance_kernel(a, b, closest)
     }
 
     #[inline(always)]
@@ -175,7 +194,8 @@ fn within_range(sizes: &PairSizes, distance: Real) -> bool {
 pub(crate) fn triangle_distance_kernel<P: PairPass>(a: &Triangle, b: &Triangle) -> TriangleDistance {
     let origin = V3::from(&a[0]);
     let (local_a, local_b) = local_frame(&triangle_lanes(a), &triangle_lanes(b));
-    let closest = P::closest(&local_a, &local_b);
+    let mut kept = P::Kept::default();
+    let closest = P::closest(&local_a, &local_b, &mut kept);
     if !closest.certified {
         if let Some(common) = triangles_intersect(a, b) {
             return TriangleDistance {
@@ -212,7 +232,7 @@ pub(crate) fn triangle_distance_kernel<P: PairPass>(a: &Triangle, b: &Triangle) 
         ),
     };
     let distance = if closest.needs_refinement() {
-        refined_distance(a, b, &closest)
+        P::refined(a, b, &closest, &kept)
     } else {
         closest.best.distance_squared.sqrt()
     };
