@@ -11,8 +11,8 @@
 use super::dispatch::multiversioned;
 use super::lanes::{F64x, Lane, V3};
 use super::point_segment::{point_segment_distance_kernel, PointEdgeFormula};
-use super::refine::refined_distance;
-use super::separated::{closest_separated, local_frame};
+use super::refine::{refined_distance_of, CandidateSource, LeastRefined};
+use super::separated::{closest_separated_keeping, local_frame, Candidate, CandidateColumns, CandidateSink};
 use super::triangle_triangle::{triangle_distance_kernel, Sequential};
 use crate::math::{Point, Real, Triangle};
 
@@ -155,26 +155,30 @@ multiversioned! {
     /// `out[i]`. Eight pairs at a time in vector lanes; pairs whose closest
     /// direction does not certainly separate them (touching, crossing or
     /// nearly so) are finished by the scalar kernel's exact test; small
-    /// distances are refined one lane at a time, as in the scalar kernel.
+    /// distances are refined one lane at a time, as in the scalar kernel,
+    /// a tie among candidates settled from the candidates the pass kept.
     pub fn triangle_distances / triangle_distances_with(a: &TrianglesSoa, b: &TrianglesSoa, out: &mut [Real]) {
         let n = out.len().min(a.len()).min(b.len());
         let out = &mut out[..n];
         // Vectorized pass: separated pairs get their distance; the others are
         // marked with -1 (distances are never negative).
         let mut chunks = out.chunks_exact_mut(LANES);
+        // Every candidate of the eight pairs, for the refinement's tie path.
+        let mut kept = [[F64x::splat(0.0); 3]; 15];
         for (chunk, o) in (&mut chunks).enumerate() {
             let start = chunk * LANES;
             let ta = [load(&a.vertices[0], start), load(&a.vertices[1], start), load(&a.vertices[2], start)];
             let tb = [load(&b.vertices[0], start), load(&b.vertices[1], start), load(&b.vertices[2], start)];
             let (local_a, local_b) = local_frame(&ta, &tb);
-            let closest = closest_separated(&local_a, &local_b);
+            let closest = closest_separated_keeping(&local_a, &local_b, &mut kept);
             let plain = closest.best.distance_squared.sqrt();
             let refine = closest.needs_refinement();
             for (k, o) in o.iter_mut().enumerate() {
                 *o = if closest.certified.0[k] == 0 {
                     -1.0
                 } else if refine.0[k] != 0 {
-                    refined_distance(&a.get(start + k), &b.get(start + k), &closest.lane(k))
+                    let kept = KeptLane { columns: &kept, lane: k };
+                    refined_distance_of(&a.get(start + k), &b.get(start + k), &closest.lane(k), &kept)
                 } else {
                     plain.0[k]
                 };
@@ -189,6 +193,23 @@ multiversioned! {
             if *o < 0.0 {
                 *o = triangle_distance_kernel::<Sequential>(&a.get(i), &b.get(i)).distance;
             }
+        }
+    }
+}
+
+/// One lane of the pass's kept candidates, as the refinement's tie path
+/// reads them (instead of computing the pair's candidates again).
+struct KeptLane<'k> {
+    columns: &'k CandidateColumns<F64x<LANES>>,
+    lane: usize,
+}
+
+impl CandidateSource for KeptLane<'_> {
+    #[inline(always)]
+    fn visit(&self, _: &Triangle, _: &Triangle, sink: &mut LeastRefined) {
+        for (code, [squared, s, t]) in self.columns.iter().enumerate() {
+            let k = self.lane;
+            sink.consider(squared.0[k], Candidate::decode(code), s.0[k], t.0[k], V3::zeros());
         }
     }
 }

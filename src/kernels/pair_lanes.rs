@@ -25,10 +25,8 @@
 //!
 //! The module also holds the rest of the single pair's AVX2 front door
 //! ([`triangle_distance`]: the pair's sizes four coordinates at a time) and
-//! the refinement's tie path: the single pair's pass keeps every candidate
-//! in a [`CandidateTable`] as it goes, which the tie path reads; the
-//! batch's refinement ([`refined_in_lanes`]) recomputes one pair's groups
-//! into such a table.
+//! the refinement's tie path: the pass keeps every candidate in a
+//! [`CandidateTable`] as it goes, which the tie path reads.
 //!
 //! `Ymm` wraps the AVX2 intrinsics. It is private to this module and only
 //! created inside its `#[target_feature(enable = "avx2,fma")]` functions,
@@ -39,9 +37,7 @@ use super::lanes::{Lane, V3};
 use super::point_triangle::{point_face_interior, FacePlane};
 use super::refine::{refined_distance_of, CandidateSource, LeastRefined};
 use super::segment_segment::{segment_segment_lanes, Edge};
-use super::separated::{
-    certify, local_frame, triangle_lanes, Best, Candidate, CandidateSink, ClosestSeparated,
-};
+use super::separated::{certify, Best, Candidate, CandidateSink, ClosestSeparated};
 use super::triangle_triangle::{normalised_triangle_distance, PairPass, PairSizes, TriangleDistance};
 use crate::math::{Real, Triangle};
 use std::arch::x86_64::*;
@@ -518,31 +514,8 @@ impl CandidateSource for CandidateTable {
     }
 }
 
-/// The candidates of one pair recomputed in lanes, for the refinement's
-/// tie path (instead of one after another).
-struct InLanesAgain;
-
-impl CandidateSource for InLanesAgain {
-    #[inline(always)]
-    fn visit(&self, a: &Triangle, b: &Triangle, sink: &mut LeastRefined) {
-        let (local_a, local_b) = local_frame(&triangle_lanes(a), &triangle_lanes(b));
-        let mut table = CandidateTable::default();
-        visit_groups(&local_a, &local_b, &mut table);
-        table.visit(a, b, sink);
-    }
-}
-
-/// The refinement, its tie path recomputing the candidates in lanes
-/// ([`refined_distance`](super::refine) from AVX2 on: the batch's). Out of
-/// line: about one pair in fifteen of the benchmark's needs it.
-#[target_feature(enable = "avx2,fma")]
-#[inline(never)]
-pub(super) fn refined_in_lanes(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
-    refined_distance_of(a, b, closest, &InLanesAgain)
-}
-
 /// The single pair's refinement, its tie path reading the pass's table.
-/// Out of line, as [`refined_in_lanes`].
+/// Out of line: about one pair in fifteen of the benchmark's needs it.
 #[target_feature(enable = "avx2,fma")]
 #[inline(never)]
 fn refined_from_table(

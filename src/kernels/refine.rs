@@ -14,7 +14,6 @@
 //! matter of rounding; then every candidate in the band is refined and the
 //! least is kept.
 
-use super::dispatch::SimdLevel;
 use super::double_double::{height_over_plane, vector_difference};
 use super::lanes::Lane;
 use super::lanes::V3;
@@ -44,21 +43,6 @@ impl<L: Lane> ClosestSeparated<L> {
         let threshold = L::splat(REFINE_BELOW_EXTENT) * self.extent;
         self.best.distance_squared.lt(threshold * threshold)
     }
-}
-
-/// The refined distance of triangles `a`, `b` (world coordinates), given
-/// their candidate pass. Dispatched on its own, at the CPU's level: it is
-/// called out of line from the vector loops, and must not fall back to
-/// library `fma` calls. From AVX2 on, its tie path recomputes the
-/// candidates in lanes (`pair_lanes.rs`); the same result bit for bit.
-#[inline]
-pub(crate) fn refined_distance(a: &Triangle, b: &Triangle, closest: &ClosestSeparated<Real>) -> Real {
-    #[cfg(target_arch = "x86_64")]
-    if SimdLevel::detect() >= SimdLevel::Avx2 {
-        // SAFETY: the CPU has AVX2 and FMA.
-        return unsafe { super::pair_lanes::refined_in_lanes(a, b, closest) };
-    }
-    refined_distance_kernel(a, b, closest)
 }
 
 /// The refinement with the sequential tie path (the baseline's, and the

@@ -162,6 +162,38 @@ pub(crate) fn closest_separated<L: Lane>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> Clos
     certify(a, b, &best)
 }
 
+/// Every candidate's squared distance and edge parameters (lanes), by
+/// code: what the refinement's tie path needs, kept by the batch's pass
+/// so that a refined pair need not run its candidates again.
+pub(crate) type CandidateColumns<L> = [[L; 3]; 15];
+
+/// [`closest_separated`], each candidate's squared distance and edge
+/// parameters also written to `kept` (by code).
+#[inline(always)]
+pub(crate) fn closest_separated_keeping<L: Lane>(
+    a: &[V3<L>; 3],
+    b: &[V3<L>; 3],
+    kept: &mut CandidateColumns<L>,
+) -> ClosestSeparated<L> {
+    let mut keeping = Keeping { best: Best::empty(), kept };
+    visit_candidates(a, b, &mut keeping);
+    certify(a, b, &keeping.best)
+}
+
+/// A [`Best`] that also keeps every candidate.
+struct Keeping<'k, L: Lane> {
+    best: Best<L>,
+    kept: &'k mut CandidateColumns<L>,
+}
+
+impl<L: Lane> CandidateSink<L> for Keeping<'_, L> {
+    #[inline(always)]
+    fn consider(&mut self, squared: L, candidate: Candidate, s: L, t: L, separation: V3<L>) {
+        self.kept[candidate.code()] = [squared, s, t];
+        self.best.consider(squared, candidate, s, t, separation);
+    }
+}
+
 /// The pass's result from its minimum: the separating-axis certificate
 /// along the winning pair's direction, and the pair's extent.
 #[inline(always)]
