@@ -263,7 +263,7 @@ fn constants(w: Real, x: Real, y: Real, z: Real) -> Ymm {
 
 /// A group of candidates in lanes: lane `k` is candidate `code[k]` where
 /// `used[k]` (the other lanes repeat one).
-#[derive(Clone)]
+#[derive(Copy, Clone)]
 struct LaneGroup {
     /// Which group (0 to 4).
     index: usize,
@@ -399,7 +399,7 @@ struct Both<'s, S: GroupSink, T: GroupSink>(&'s mut S, &'s mut T);
 impl<S: GroupSink, T: GroupSink> GroupSink for Both<'_, S, T> {
     #[inline(always)]
     fn group(&mut self, group: LaneGroup) {
-        self.1.group(group.clone());
+        self.1.group(group);
         self.0.group(group);
     }
 }
@@ -633,6 +633,37 @@ mod tests {
             *o = f.to_bits();
         }
         (out, c.certified)
+    }
+
+    /// Counts each group's lanes in use, as its mask says.
+    struct UsedLanes([usize; 5]);
+
+    impl GroupSink for UsedLanes {
+        fn group(&mut self, group: LaneGroup) {
+            // SAFETY: only run where the CPU has AVX2 (checked by the test).
+            self.0[group.index] = unsafe { _mm256_movemask_pd(group.used.0) }.count_ones() as usize;
+        }
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    fn used_lanes(a: &[V3<Real>; 3], b: &[V3<Real>; 3]) -> [usize; 5] {
+        let mut used = UsedLanes([0; 5]);
+        visit_groups(a, b, &mut used);
+        used.0
+    }
+
+    #[test]
+    fn the_table_reads_the_lanes_the_groups_use() {
+        if SimdLevel::detect() < SimdLevel::Avx2 {
+            eprintln!("skipped: this CPU has no AVX2 + FMA, the pass in lanes never runs here");
+            return;
+        }
+        let (a, b) = &triangle_pairs(InputClass::WellConditioned, 1, 3)[0];
+        let (la, lb) = local_frame(&triangle_lanes(a), &triangle_lanes(b));
+        // SAFETY: the CPU has AVX2 and FMA (checked above).
+        let used = unsafe { used_lanes(&la, &lb) };
+        assert_eq!(used, CandidateTable::USED);
+        assert_eq!(used.iter().sum::<usize>(), 15);
     }
 
     #[test]
