@@ -89,7 +89,7 @@ pub(crate) fn refined_distance_of(
     // A tie within rounding: recompute the candidates and refine every one
     // in the band. (Carrying the runner-up's identity through the vector
     // pass instead was measured slower: register pressure.)
-    let mut least = LeastRefined { a, b, band_squared, least: Real::INFINITY };
+    let mut least = LeastRefined { a, b, band_squared, least: Real::INFINITY, refined: [NONE; 4], count: 0 };
     candidates.visit(a, b, &mut least);
     least.least
 }
@@ -101,12 +101,52 @@ pub(crate) struct LeastRefined<'t> {
     b: &'t Triangle,
     band_squared: Real,
     least: Real,
+    /// The first four refined candidates' features ([`feature_key`]).
+    refined: [u8; 4],
+    count: usize,
+}
+
+/// No features (an empty slot of [`LeastRefined::refined`]).
+const NONE: u8 = u8::MAX;
+
+/// Which features a candidate's refinement reads, as `8 · on_a + on_b`,
+/// each a vertex (0–2), an edge's interior (3–5) or the face (6). Two
+/// candidates with the same key refine to the same value from the same
+/// points: a vertex–edge pair is found by both edges at the vertex.
+#[inline(always)]
+fn feature_key(candidate: Candidate, s: Real, t: Real) -> u8 {
+    // As `candidate_distance` reads a parameter: inside, or else the end
+    // `end` picks.
+    let on = |edge: usize, x: Real| -> u8 {
+        if 0.0 < x && x < 1.0 {
+            3 + edge as u8
+        } else if x <= 0.0 {
+            edge as u8
+        } else {
+            ((edge + 1) % 3) as u8
+        }
+    };
+    let (on_a, on_b) = match candidate {
+        Candidate::VertexOfBOverFaceOfA(v) => (6, v as u8),
+        Candidate::VertexOfAOverFaceOfB(v) => (v as u8, 6),
+        Candidate::Edges(i, j) => (on(i, s), on(j, t)),
+    };
+    8 * on_a + on_b
 }
 
 impl CandidateSink<Real> for LeastRefined<'_> {
     #[inline(always)]
     fn consider(&mut self, squared: Real, candidate: Candidate, s: Real, t: Real, _: V3<Real>) {
         if squared <= self.band_squared {
+            // A twin of a candidate refined already: the same value again.
+            let key = feature_key(candidate, s, t);
+            if self.refined[..self.count].contains(&key) {
+                return;
+            }
+            if self.count < self.refined.len() {
+                self.refined[self.count] = key;
+                self.count += 1;
+            }
             let plain = squared.sqrt();
             let refined = candidate_distance(self.a, self.b, candidate, s, t).unwrap_or(plain);
             self.least = self.least.min(refined);
