@@ -11,8 +11,9 @@
 //!
 //! When the runner-up candidate is within the plain pass's rounding band of
 //! the winner (nearly parallel edges, coplanar faces), which one won is a
-//! matter of rounding; then every candidate in the band is refined and the
-//! least is kept.
+//! matter of rounding; then every candidate in the band is refined (each
+//! set of features once: a vertex–edge pair is found by both edges at the
+//! vertex) and the least is kept.
 
 use super::double_double::{height_over_plane, vector_difference};
 use super::lanes::Lane;
@@ -94,7 +95,8 @@ pub(crate) fn refined_distance_of(
     least.least
 }
 
-/// Refines every candidate within the band, keeping the least (in any
+/// Refines every candidate within the band (each set of features once),
+/// keeping the least (in any
 /// order of the candidates).
 pub(crate) struct LeastRefined<'t> {
     a: &'t Triangle,
