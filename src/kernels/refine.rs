@@ -96,8 +96,7 @@ pub(crate) fn refined_distance_of(
 }
 
 /// Refines every candidate within the band (each set of features once),
-/// keeping the least (in any
-/// order of the candidates).
+/// keeping the least (in any order of the candidates).
 pub(crate) struct LeastRefined<'t> {
     a: &'t Triangle,
     b: &'t Triangle,
