@@ -87,10 +87,11 @@ pub(crate) fn refined_distance_of(
     if closest.best.runner_up_squared > band_squared {
         return candidate_distance(a, b, closest.winner(), closest.best.s, closest.best.t).unwrap_or(plain);
     }
-    // A tie within rounding: recompute the candidates and refine every one
-    // in the band. (Carrying the runner-up's identity through the vector
-    // pass instead was measured slower: register pressure.)
-    let mut least = LeastRefined { a, b, band_squared, least: Real::INFINITY, refined: [NONE; 4], count: 0 };
+    // A tie within rounding: the candidates again (kept by the pass, or
+    // recomputed) and every one in the band refined. (Carrying the
+    // runner-up's identity through the vector pass instead was measured
+    // slower: register pressure.)
+    let mut least = LeastRefined { a, b, band_squared, least: Real::INFINITY, refined: [0; 4], count: 0 };
     candidates.visit(a, b, &mut least);
     least.least
 }
@@ -102,13 +103,11 @@ pub(crate) struct LeastRefined<'t> {
     b: &'t Triangle,
     band_squared: Real,
     least: Real,
-    /// The first four refined candidates' features ([`feature_key`]).
+    /// The first `count` (at most four) refined candidates' features
+    /// ([`feature_key`]).
     refined: [u8; 4],
     count: usize,
 }
-
-/// No features (an empty slot of [`LeastRefined::refined`]).
-const NONE: u8 = u8::MAX;
 
 /// Which features a candidate's refinement reads, as `8 · on_a + on_b`,
 /// each a vertex (0–2), an edge's interior (3–5) or the face (6). Two
@@ -116,16 +115,9 @@ const NONE: u8 = u8::MAX;
 /// points: a vertex–edge pair is found by both edges at the vertex.
 #[inline(always)]
 fn feature_key(candidate: Candidate, s: Real, t: Real) -> u8 {
-    // As `candidate_distance` reads a parameter: inside, or else the end
-    // `end` picks.
-    let on = |edge: usize, x: Real| -> u8 {
-        if 0.0 < x && x < 1.0 {
-            3 + edge as u8
-        } else if x <= 0.0 {
-            edge as u8
-        } else {
-            ((edge + 1) % 3) as u8
-        }
+    let on = |edge: usize, x: Real| match on_edge(edge, x) {
+        OnEdge::Inside => 3 + edge as u8,
+        OnEdge::End(vertex) => vertex as u8,
     };
     let (on_a, on_b) = match candidate {
         Candidate::VertexOfBOverFaceOfA(v) => (6, v as u8),
@@ -164,8 +156,8 @@ fn candidate_distance(a: &Triangle, b: &Triangle, candidate: Candidate, s: Real,
         Candidate::Edges(i, j) => (i, j),
     };
     let (p0, p1, q0, q1) = (&a[i], &a[(i + 1) % 3], &b[j], &b[(j + 1) % 3]);
-    Some(match (0.0 < s && s < 1.0, 0.0 < t && t < 1.0) {
-        (true, true) => {
+    Some(match (on_edge(i, s), on_edge(j, t)) {
+        (OnEdge::Inside, OnEdge::Inside) => {
             let [v0, v1, w0, w1] = [V3::from(p0), V3::from(p1), V3::from(q0), V3::from(q1)];
             let (d1, d2) = (vector_difference(&v1, &v0), vector_difference(&w1, &w0));
             match height_over_plane(&d1, &d2, &vector_difference(&v0, &w0)) {
@@ -178,10 +170,31 @@ fn candidate_distance(a: &Triangle, b: &Triangle, candidate: Candidate, s: Real,
                     .min(vertex_edge(q1, p0, p1)),
             }
         }
-        (false, true) => vertex_edge(end(s, p0, p1), q0, q1),
-        (true, false) => vertex_edge(end(t, q0, q1), p0, p1),
-        (false, false) => (end(s, p0, p1) - end(t, q0, q1)).norm(),
+        (OnEdge::End(v), OnEdge::Inside) => vertex_edge(&a[v], q0, q1),
+        (OnEdge::Inside, OnEdge::End(w)) => vertex_edge(&b[w], p0, p1),
+        (OnEdge::End(v), OnEdge::End(w)) => (a[v] - b[w]).norm(),
     })
+}
+
+/// Where a candidate's point lies on edge `edge` (from vertex `edge` to
+/// `edge + 1`) at parameter `x`, as the refinement reads it.
+#[derive(Copy, Clone, PartialEq, Eq)]
+enum OnEdge {
+    /// Strictly between the ends.
+    Inside,
+    /// At this vertex: the first end for `x <= 0`, the second otherwise.
+    End(usize),
+}
+
+#[inline(always)]
+fn on_edge(edge: usize, x: Real) -> OnEdge {
+    if 0.0 < x && x < 1.0 {
+        OnEdge::Inside
+    } else if x <= 0.0 {
+        OnEdge::End(edge)
+    } else {
+        OnEdge::End((edge + 1) % 3)
+    }
 }
 
 /// Height of `p` over the plane of `face`, from exact differences.
@@ -196,14 +209,4 @@ fn vertex_over_face(p: &Point, face: &Triangle) -> Option<Real> {
 #[inline(always)]
 fn vertex_edge(p: &Point, e0: &Point, e1: &Point) -> Real {
     point_segment_distance_kernel(p, e0, e1, PointEdgeFormula::Vector)
-}
-
-/// The end of `[start, finish]` at a clamped parameter (0 or 1).
-#[inline(always)]
-fn end<'p>(x: Real, start: &'p Point, finish: &'p Point) -> &'p Point {
-    if x <= 0.0 {
-        start
-    } else {
-        finish
-    }
 }
