@@ -2,9 +2,10 @@
 //!
 //! A triangle-mesh bullet flies at 1,000 units/s at a 1 mm plate. rapier
 //! alone, with its CCD on, lets it through (rapier never sweeps a moving
-//! triangle mesh); with a `nearmiss::guard::Guard` around `pipeline.step`,
-//! the bullet is held at the plate (it never goes below it) and rapier's
-//! contact solver takes over from there (it rebounds off the plate).
+//! triangle mesh); with a `nearmiss::guard::Guard` stepping the pipeline
+//! (`Guard::step`), the world is moved back to where the bullet comes within
+//! the colliders' contact skins of the plate, and rapier's contact solver
+//! takes over from there (it rebounds off the plate, never touching it).
 //!
 //! Run: `cargo run --release --example guard_rapier`
 
@@ -82,32 +83,36 @@ fn shoot(guarded: bool) -> (f64, Vec<GuardEvent>) {
         (ImpulseJointSet::new(), MultibodyJointSet::new(), SoftBodySet::new(), CCDSolver::new());
 
     let mut guard = guarded.then(|| {
-        Guard::new(&bodies, &colliders, &[plate, bullet], &parameters, GuardOptions::default())
+        Guard::new(&bodies, &mut colliders, &[plate, bullet], &parameters, GuardOptions::default())
             .expect("meshes the guard can sweep")
     });
     let mut events = Vec::new();
     let mut lowest = f64::INFINITY;
     for _ in 0..10 {
-        if let Some(guard) = guard.as_mut() {
-            guard.before_step(&bodies);
-        }
-        pipeline.step(
-            Vector::ZERO,
-            &parameters,
-            &mut islands,
-            &mut broad_phase,
-            &mut narrow_phase,
-            &mut bodies,
-            &mut colliders,
-            &mut impulse_joints,
-            &mut multibody_joints,
-            &mut soft_bodies,
-            &mut ccd,
-            &(),
-            &(),
-        );
-        if let Some(guard) = guard.as_mut() {
-            events.extend(guard.after_step(&mut bodies).expect("decided").iter().cloned());
+        // rapier's step by `dt`: the guard calls it for the step, and again
+        // for the rest of a step it moved back to a contact.
+        let mut rapier_step = |bodies: &mut RigidBodySet, dt: f64| {
+            pipeline.step(
+                Vector::ZERO,
+                &IntegrationParameters { dt, ..parameters },
+                &mut islands,
+                &mut broad_phase,
+                &mut narrow_phase,
+                bodies,
+                &mut colliders,
+                &mut impulse_joints,
+                &mut multibody_joints,
+                &mut soft_bodies,
+                &mut ccd,
+                &(),
+                &(),
+            );
+        };
+        match guard.as_mut() {
+            Some(guard) => {
+                events.extend(guard.step(&mut bodies, rapier_step).expect("decided").iter().cloned())
+            }
+            None => rapier_step(&mut bodies, parameters.dt),
         }
         lowest = lowest.min(bodies[bullet].translation().z);
     }

@@ -19,6 +19,14 @@ use parry3d_f64::shape::ConvexPolyhedron;
 /// ([`nearmiss::guard::PENETRATION_LIMIT_FACTOR`]).
 const ALLOWED_PENETRATION: Real = nearmiss::guard::PENETRATION_LIMIT_FACTOR * 1e-3;
 
+/// The two contact skins of a pair under `Simulate` (the guard's default
+/// skin, a multiple of rapier's allowed linear error): rapier's contacts
+/// start this far apart, and touching pairs rest within it.
+fn skins() -> Real {
+    let parameters = rapier3d_f64::prelude::IntegrationParameters::default();
+    2.0 * nearmiss::guard::GuardOptions::default().skin_under(&parameters)
+}
+
 fn simulate(text: &str) -> (Scene, RunResult) {
     let scene = Scene::from_ron_str(text).unwrap_or_else(|e| panic!("{e}"));
     let result = run(&scene);
@@ -71,9 +79,11 @@ fn deepest_penetration(scene: &Scene, result: &RunResult) -> Real {
 #[test]
 fn a_ball_bouncing_with_restitution_half_comes_to_rest_with_a_handful_of_contacts() {
     // An icosphere (radius 0.5, its lowest vertices at z_low below its
-    // centre) dropped from rest onto a floor: first contact after a fall of
-    // h = 8 - z_low, at t = sqrt(2h/g) (rapier's semi-implicit Euler falls
-    // ahead of the parabola by at most one step).
+    // centre) dropped from rest onto a floor: first contact (the two skins
+    // apart, `skins()`) after a fall of h = 8 - z_low - skins, at
+    // t = sqrt(2h/g) (rapier's semi-implicit Euler falls ahead of the
+    // parabola by at most one step); at rest, within the skins, never
+    // touching.
     let (scene, result) = simulate(
         r#"Scene(
             name: "ball", dt: 0.004166666666666667, duration: 10.0,
@@ -87,7 +97,7 @@ fn a_ball_bouncing_with_restitution_half_comes_to_rest_with_a_handful_of_contact
         )"#,
     );
     let lowest = scene.bodies[1].mesh.vertices().iter().map(|v| v.z).fold(Real::INFINITY, Real::min);
-    let fall = 8.5 + lowest;
+    let fall = 8.5 + lowest - skins();
     let analytic = (2.0 * fall / 9.81).sqrt();
     let first = result.first_contact.as_ref().expect("the ball reaches the floor");
     assert!((first.time - analytic).abs() <= scene.dt, "first contact {} vs {analytic}", first.time);
@@ -98,7 +108,8 @@ fn a_ball_bouncing_with_restitution_half_comes_to_rest_with_a_handful_of_contact
     );
     let last = result.final_states[1];
     assert!(last.velocity.norm() < 1e-3, "at rest: {}", last.velocity.norm());
-    assert!((last.position.z + lowest).abs() <= 1e-3, "resting height {}", last.position.z);
+    let gap = last.position.z + lowest;
+    assert!(gap > 0.0 && gap <= skins() * (1.0 + 1e-9), "resting gap {gap}, skins {}", skins());
     let deepest = deepest_penetration(&scene, &result);
     assert!(deepest <= ALLOWED_PENETRATION, "penetration {deepest}");
     assert_eq!(result.solver.as_ref().map(|s| s.colliders.clone()), Some(vec!["convex hull".into(); 2]));
@@ -106,11 +117,12 @@ fn a_ball_bouncing_with_restitution_half_comes_to_rest_with_a_handful_of_contact
 
 #[test]
 fn a_stack_of_five_boxes_stands_for_ten_seconds() {
+    // The boxes start their skins apart (where rapier's contacts start).
     let boxes: String = (0..5)
         .map(|k| {
             format!(
                 r#"(name: "box{k}", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (0.0, 0.0, {}), density: 1.0),"#,
-                0.5 + k as Real
+                0.5 + k as Real + (k + 1) as Real * skins()
             )
         })
         .collect();
@@ -126,13 +138,19 @@ fn a_stack_of_five_boxes_stands_for_ten_seconds() {
             ],
         )"#
     ));
-    // Drift: every box within 1% of its size (1) of where it started, at
+    // Drift: every box within the skins below it of where it started (each
+    // contact rests within its skins), and never touching its neighbour, at
     // every step.
     for step in poses_by_step(&result, scene.bodies.len()) {
         for record in &step[1..] {
             let start = scene.bodies[record.body].pose.translation.vector;
             let drift = (record.position.coords - start).norm();
-            assert!(drift < 0.01, "box {} drifted {drift} by t = {}", record.body, record.time);
+            let allowed = record.body as Real * skins();
+            assert!(drift <= allowed, "box {} drifted {drift} by t = {}", record.body, record.time);
+        }
+        for pair in step[1..].windows(2) {
+            let gap = pair[1].position.z - pair[0].position.z - 1.0;
+            assert!(gap > 0.0, "boxes {} and {} touch at t = {}", pair[0].body, pair[1].body, pair[1].time);
         }
     }
     // Touching from the start: each pair reported once, at time 0.
@@ -173,8 +191,8 @@ fn a_mesh_bullet_at_1000_units_per_second_stops_at_a_1_mm_plate() {
     // The shipped bullet scene's geometry (scenes/bullet_plate.ron) under
     // Simulate, the bullet given to rapier as a triangle mesh (as rapier
     // applications give meshes; rapier never sweeps it): contact when
-    // 25 − 0.01 − 1000 t = 0.0005, t = 0.0249895; the bullet is held there
-    // (never below the plate's top face) and rapier's solver stops it.
+    // 25 − 0.01 − 1000 t = 0.0005 + skins; the world is moved back there,
+    // rapier's solver stops it, and it never touches the plate.
     let (scene, result) = simulate(
         r#"Scene(
             name: "bullet", dt: 0.01, duration: 0.1,
@@ -190,14 +208,11 @@ fn a_mesh_bullet_at_1000_units_per_second_stops_at_a_1_mm_plate() {
     );
     let first = result.first_contact.as_ref().expect("the bullet hits the plate");
     let speed = 1000.0;
-    assert!(first.time <= 0.0249895 + 1e-15, "never late: {}", first.time);
-    assert!(0.0249895 - first.time <= first.contact_distance / speed + 1e-12, "{}", first.time);
+    let analytic = (25.0 - 0.01 - 0.0005 - skins()) / speed;
+    assert!(first.time <= analytic + 1e-15, "never late: {} vs {analytic}", first.time);
+    assert!(analytic - first.time <= 1e-9 / speed + 1e-12, "{} vs {analytic}", first.time);
     for record in result.poses.iter().filter(|r| r.body == 1) {
-        assert!(
-            record.position.z - 0.01 >= 0.0005 - ALLOWED_PENETRATION,
-            "below the plate at t = {}",
-            record.time
-        );
+        assert!(record.position.z - 0.01 > 0.0005, "touches the plate at t = {}", record.time);
     }
     assert!(deepest_penetration(&scene, &result) <= ALLOWED_PENETRATION);
 }
@@ -205,7 +220,8 @@ fn a_mesh_bullet_at_1000_units_per_second_stops_at_a_1_mm_plate() {
 #[test]
 fn the_spinning_blade_hits_the_probe_at_its_analytic_time() {
     // scenes/spinning_blade.ron under Simulate (the blade kinematic, driven
-    // by rapier): t = (π/3 − asin(0.025)) / 10, early by at most the
+    // by rapier): contact the skins apart, r sin(φ0 − θ) = h + skins, so
+    // t = (π/3 − asin((0.02 + skins) / 0.8)) / 10, early by at most the
     // contact distance over the face's normal speed.
     let text = std::fs::read_to_string("scenes/spinning_blade.ron").expect("shipped scene");
     let text = text
@@ -219,7 +235,7 @@ fn the_spinning_blade_hits_the_probe_at_its_analytic_time() {
         );
     let scene = Scene::from_ron_str(&text).unwrap_or_else(|e| panic!("{e}"));
     let result = run(&scene);
-    let analytic = (std::f64::consts::FRAC_PI_3 - (0.025f64).asin()) / 10.0;
+    let analytic = (std::f64::consts::FRAC_PI_3 - ((0.02 + skins()) / 0.8).asin()) / 10.0;
     let first = result.first_contact.as_ref().expect("the blade hits the probe");
     assert!(first.time <= analytic + 1e-15, "never late: {} vs {analytic}", first.time);
     assert!(analytic - first.time <= 1e-9, "{} vs {analytic}", first.time);
@@ -231,7 +247,8 @@ fn a_rapier_application_guarding_its_mesh_bullet_keeps_it_above_the_plate() {
     // 1,000 units/s, the guard around `pipeline.step`. The bullet (an
     // icosahedron of circumradius 0.01) has its lowest vertex
     // 0.01 φ / sqrt(1 + φ²) below its centre; the plate's top face is
-    // z = 0.0005: contact at t = (25 − 0.0005 − offset) / 1000.
+    // z = 0.0005: contact the skins apart, at
+    // t = (25 − 0.0005 − offset − skins) / 1000; it never touches the plate.
     let output = std::process::Command::new(env!("CARGO"))
         .args(["run", "--release", "--quiet", "--example", "guard_rapier"])
         .output()
@@ -246,7 +263,7 @@ fn a_rapier_application_guarding_its_mesh_bullet_keeps_it_above_the_plate() {
     assert!(lowest("rapier alone") < -1.0, "rapier alone lets it through:\n{text}");
     let phi = (1.0 + 5f64.sqrt()) / 2.0;
     let offset = 0.01 * phi / (1.0 + phi * phi).sqrt();
-    assert!(lowest("guarded") >= 0.0005 + offset - ALLOWED_PENETRATION, "held above the plate:\n{text}");
+    assert!(lowest("guarded") > 0.0005 + offset, "held above the plate:\n{text}");
     let line = text.lines().find(|l| l.contains("contact at t = ")).unwrap_or_else(|| panic!("{text}"));
     let time: Real = line
         .split("t = ")
@@ -254,7 +271,7 @@ fn a_rapier_application_guarding_its_mesh_bullet_keeps_it_above_the_plate() {
         .and_then(|r| r.split_whitespace().next())
         .and_then(|t| t.parse().ok())
         .unwrap_or_else(|| panic!("{line}"));
-    let analytic = (25.0 - 0.0005 - offset) / 1000.0;
+    let analytic = (25.0 - 0.0005 - offset - skins()) / 1000.0;
     assert!(time <= analytic + 1e-12 && analytic - time < 1e-9, "{time} vs {analytic}");
 }
 

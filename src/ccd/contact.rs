@@ -41,6 +41,10 @@ pub enum ContactRule {
     /// Contact within this absolute distance (the options'
     /// `minimum_separation` and `distance_tolerance` are not used).
     Absolute(Real),
+    /// The options' rule with this minimum separation in place of theirs:
+    /// `separation + distance_tolerance × S` (the guard's contact skin,
+    /// [`crate::guard`]).
+    Separation(Real),
 }
 
 /// The distances of one query's contract.
@@ -76,6 +80,9 @@ impl ContactContract {
                 (options.distance_tolerance * size).max(rounding_floor),
             ),
             ContactRule::Absolute(distance) => ContactContract::new(0.0, distance.max(rounding_floor)),
+            ContactRule::Separation(separation) => {
+                ContactContract::new(separation, (options.distance_tolerance * size).max(rounding_floor))
+            }
         }
     }
 }

@@ -61,7 +61,7 @@ pub fn compare_with_rapier(
     scene: &Scene,
     nearmiss_first: &BTreeMap<(usize, usize), Real>,
 ) -> Result<Vec<RapierPair>, super::GuardError> {
-    let mut rapier = RapierScene::build(scene, true)?;
+    let mut rapier = RapierScene::build(scene, true, false)?;
     let allowed = rapier.parameters.allowed_linear_error();
     // A guard that watches rapier's motion and never moves a body.
     let mut watched = scene.clone();
@@ -73,8 +73,15 @@ pub fn compare_with_rapier(
     let watched = std::sync::Arc::new(watched);
     let stoppable = vec![false; scene.bodies.len()];
     let centers = vec![crate::math::Vector::zeros(); scene.bodies.len()];
-    let mut guard =
-        Guard::with_scene(watched, rapier.handles.clone(), centers, stoppable, &rapier.parameters, true)?;
+    let setup = super::GuardSetup {
+        handles: rapier.handles.clone(),
+        centers,
+        stoppable,
+        skin: 0.0,
+        max_substeps: 0,
+        parallel: true,
+    };
+    let mut guard = Guard::with_scene(watched, setup, &rapier.parameters)?;
     let pairs = scene.movable_pairs();
     // Per pair: rapier's first contact, the step it passed through, the
     // deepest overlap so far.
@@ -186,7 +193,7 @@ pub fn run_rapier_alone(scene: &Scene, triangle_meshes: bool) -> Result<RapierAl
             material.triangle_mesh = true;
         }
     }
-    let mut rapier = RapierScene::build(&scene, true)?;
+    let mut rapier = RapierScene::build(&scene, true, false)?;
     let clock = std::time::Instant::now();
     for step in 0..scene.steps {
         rapier.step(&scene, step);

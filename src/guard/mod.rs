@@ -2,19 +2,55 @@
 //! simulation (the `rapier` feature, on by default).
 //!
 //! rapier never sweeps a moving triangle mesh (a mesh bullet passes a thin
-//! plate even with CCD on). A [`Guard`] sweeps the bodies it guards over
-//! each step, from their poses before `PhysicsPipeline::step` to rapier's
-//! poses after it, with nearmiss's mesh CCD; a pair that would come into
-//! contact within the step is reported once ([`GuardEvent::Started`], with
-//! nearmiss's time of impact, points and features) and each of its dynamic
-//! bodies is moved back to its pose at that time (the motion clamping rapier
-//! applies for its own CCD: poses clamped, velocities left to rapier's
-//! contact solver on the next step). Pairs in contact are rapier's to hold:
-//! the guard does not query them until they separate
-//! ([`GuardEvent::Stopped`]: farther apart than rapier's prediction
-//! distance), so resting contact costs nothing and is reported once.
-//! Fixed and kinematic bodies are never moved (rapier drives them); their
-//! contacts are reported.
+//! plate even with CCD on), and its soft contacts let a pair it holds sink
+//! into each other (by its allowed linear error and more under load: a plate
+//! thinner than that is no wall). A [`Guard`] makes rapier's bodies keep
+//! nearmiss's contact contract.
+//!
+//! # What is guaranteed
+//!
+//! **No two guarded meshes come closer than the CCD's contact distance (the
+//! wall) at any pose the guard hands back**, in contact or not: a mesh never
+//! overlaps another, so it never passes through one. Contacts are reported
+//! never late. Exceptions, each reported and never silent: a pair the CCD
+//! cannot decide ends the step with [`GuardError::Undecided`]; when a step
+//! needs more than [`GuardOptions::max_substeps`] rewinds, the rest of its
+//! contacts are clamped (below), which keeps dynamic bodies off each other
+//! and off fixed ones but cannot stop a kinematic body driven into a held
+//! one.
+//!
+//! # How
+//!
+//! - **A contact skin.** Each guarded collider gets a contact skin
+//!   ([`GuardOptions::skin`], rapier's allowed linear error by default):
+//!   rapier's contacts start when two colliders are their two skins apart and
+//!   its soft contacts sink into the skins, not into the meshes. A pair
+//!   resting on another is the skins apart, less what rapier lets it sink.
+//! - **Every pair is swept every step.** A pair apart is swept for coming
+//!   within the two skins (a contact: [`GuardEvent::Started`], with
+//!   nearmiss's time of impact, points and features). A pair in contact is
+//!   swept against the wall: the meshes themselves, at the scene's contact
+//!   contract. Once farther apart than the skins and rapier's prediction
+//!   distance at a step's end it is apart again ([`GuardEvent::Stopped`]).
+//! - **Rewind to the time of impact, then let rapier solve there.**
+//!   [`Guard::step`] steps rapier, then sweeps every pair from the step's
+//!   start poses to rapier's end poses. Where a pair would reach the wall
+//!   (rapier let a touching pair through its skins, or a pair coming within
+//!   the skins would go on to the wall: a bullet, a blade), the world is
+//!   moved back to the earliest such time (every moving body to its pose
+//!   then, velocities interpolated between the step's ends so that forces
+//!   act once, the pair woken) and rapier steps the rest of the step from
+//!   there, where its solver sees the contact with both bodies' masses,
+//!   friction and restitution. The rest of the step is swept again; up to
+//!   [`GuardOptions::max_substeps`] times per step.
+//! - **Clamp, when the rewinds are spent** (and under
+//!   [`before_step`](Guard::before_step) / [`after_step`](Guard::after_step),
+//!   which cannot step rapier again): the dynamic bodies of such a contact
+//!   are held at their poses at contact for the rest of the step (rapier's
+//!   own CCD does the same), velocities left to rapier.
+//! - Fixed and kinematic bodies are never moved by the guard beyond the
+//!   rewind (rapier drives them; a kinematic body rewound is still bound for
+//!   its pose at the step's end).
 //!
 //! ```no_run
 //! use nearmiss::guard::{Guard, GuardOptions};
@@ -24,17 +60,19 @@
 //! // ... insert bodies and mesh colliders ...
 //! # let guarded: Vec<RigidBodyHandle> = Vec::new();
 //! let parameters = IntegrationParameters::default();
-//! let mut guard = Guard::new(&bodies, &colliders, &guarded, &parameters, GuardOptions::default())?;
+//! let mut guard = Guard::new(&bodies, &mut colliders, &guarded, &parameters, GuardOptions::default())?;
 //! # let (mut pipeline, mut islands, mut broad_phase, mut narrow_phase) =
 //! #     (PhysicsPipeline::new(), IslandManager::new(), DefaultBroadPhase::default(), NarrowPhase::new());
 //! # let (mut impulse_joints, mut multibody_joints, mut soft_bodies, mut ccd) =
 //! #     (ImpulseJointSet::new(), MultibodyJointSet::new(), SoftBodySet::new(), CCDSolver::new());
 //! for _ in 0..100 {
-//!     guard.before_step(&bodies);
-//!     pipeline.step(Vector::new(0.0, -9.81, 0.0), &parameters, &mut islands, &mut broad_phase,
-//!         &mut narrow_phase, &mut bodies, &mut colliders, &mut impulse_joints,
-//!         &mut multibody_joints, &mut soft_bodies, &mut ccd, &(), &());
-//!     for event in guard.after_step(&mut bodies)? {
+//!     // rapier's step by `dt`: once per step, again after a rewind.
+//!     let events = guard.step(&mut bodies, |bodies, dt| {
+//!         pipeline.step(Vector::new(0.0, -9.81, 0.0), &IntegrationParameters { dt, ..parameters },
+//!             &mut islands, &mut broad_phase, &mut narrow_phase, bodies, &mut colliders,
+//!             &mut impulse_joints, &mut multibody_joints, &mut soft_bodies, &mut ccd, &(), &());
+//!     })?;
+//!     for event in events {
 //!         println!("{event:?}");
 //!     }
 //! }
@@ -59,12 +97,14 @@ pub use compare::{
 use std::sync::Arc;
 
 use nalgebra::Translation3;
-use rapier3d_f64::prelude::{IntegrationParameters, RigidBody, RigidBodyHandle, RigidBodySet};
+use rapier3d_f64::prelude::{
+    ColliderSet, IntegrationParameters, RigidBody, RigidBodyHandle, RigidBodySet, RigidBodyType,
+};
 
 pub use shapes::{collider_for, is_convex, mesh_of_body, ColliderShape, CONVEXITY_TOLERANCE};
 
-use crate::ccd::CcdOptions;
-use crate::math::{from_parry, pose_from_parry, pose_to_parry, Pose, Real, Vector};
+use crate::ccd::{CcdOptions, ContactContract, ContactRule};
+use crate::math::{from_parry, pose_from_parry, pose_to_parry, vector_to_parry, Pose, Real, Vector};
 use crate::mesh::DistanceKernel;
 use crate::motion::StepMotion;
 use crate::response::Clamp;
@@ -75,20 +115,90 @@ use crate::stepper::{Contact, RunOptions, Stepper, Termination, World};
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct GuardOptions {
     /// The CCD's tolerances and limits (the contact distance is relative to
-    /// the smaller body of a pair, see [`CcdOptions`]). It must stay below
-    /// rapier's prediction distance so that rapier's solver sees the pairs
-    /// the guard stops ([`Guard::new`] checks it for bodies up to the
-    /// largest guarded). Default: [`CcdOptions::default`].
+    /// the smaller body of a pair, see [`CcdOptions`]). This is the wall: no
+    /// two guarded meshes come closer. It must stay below the two
+    /// colliders' skins ([`Guard::new`] checks it for the largest pair).
+    /// Default: [`CcdOptions::default`].
     pub ccd: CcdOptions,
     /// The CCD's distance kernel. Default: exact.
     pub kernel: DistanceKernel,
     /// Sweep pairs on rayon's threads. Default: true.
     pub parallel: bool,
+    /// The contact skin [`Guard::new`] gives each guarded collider, as a
+    /// multiple of rapier's allowed linear error
+    /// (`IntegrationParameters::allowed_linear_error`, 0.001 × `length_unit`
+    /// by default): rapier then holds touching pairs that far apart, and its
+    /// soft contacts sink into the skins, not into the meshes. A collider
+    /// with a larger skin keeps it. Default: `1.0`.
+    pub skin: Real,
+    /// How many times per step [`Guard::step`] may move the world back to a
+    /// contact and let rapier solve from there; after that, contacts clamp
+    /// their dynamic bodies (held at their poses at contact for the rest of
+    /// the step). Default: `4`.
+    pub max_substeps: usize,
 }
+
+/// [`GuardOptions::skin`]'s default.
+pub const DEFAULT_SKIN: Real = 1.0;
+
+/// [`GuardOptions::max_substeps`]'s default.
+pub const DEFAULT_MAX_SUBSTEPS: usize = 4;
 
 impl Default for GuardOptions {
     fn default() -> Self {
-        GuardOptions { ccd: CcdOptions::default(), kernel: DistanceKernel::Exact, parallel: true }
+        GuardOptions {
+            ccd: CcdOptions::default(),
+            kernel: DistanceKernel::Exact,
+            parallel: true,
+            skin: DEFAULT_SKIN,
+            max_substeps: DEFAULT_MAX_SUBSTEPS,
+        }
+    }
+}
+
+impl GuardOptions {
+    /// The contact skin of each guarded collider under `parameters`.
+    pub fn skin_under(&self, parameters: &IntegrationParameters) -> Real {
+        self.skin * parameters.allowed_linear_error()
+    }
+}
+
+/// The largest contact distance the CCD may have under a guard whose
+/// colliders have the contact skin `skin` (each): the two skins, within
+/// which rapier holds a pair, or without skins rapier's prediction
+/// distance.
+pub(crate) fn contact_distance_limit(parameters: &IntegrationParameters, skin: Real) -> Real {
+    if skin > 0.0 {
+        2.0 * skin
+    } else {
+        parameters.prediction_distance()
+    }
+}
+
+/// The largest radius that sets a pair's contact distance: over the pairs
+/// not both fixed, the larger of their smaller radii (`(radius, fixed)` per
+/// body). 0 without such a pair.
+pub(crate) fn largest_pair_radius(bodies: impl Iterator<Item = (Real, bool)>) -> Real {
+    // The two largest radii of all bodies, and the largest of a movable one.
+    let (mut first, mut second, mut movable) = (0.0, 0.0, None::<Real>);
+    for (radius, fixed) in bodies {
+        if radius > first {
+            second = first;
+            first = radius;
+        } else if radius > second {
+            second = radius;
+        }
+        if !fixed {
+            movable = Some(movable.map_or(radius, |m: Real| m.max(radius)));
+        }
+    }
+    // A movable body pairs with every other: its smaller radius against the
+    // largest other body is min(r, first) when it is not the largest, and
+    // min(r, second) when it is.
+    match movable {
+        None => 0.0,
+        Some(m) if m >= first => second.min(m),
+        Some(m) => m,
     }
 }
 
@@ -132,15 +242,17 @@ pub enum GuardError {
         /// What is wrong.
         message: String,
     },
-    /// The CCD's contact distance is not below rapier's prediction distance.
-    #[error("the CCD's contact distance ({contact_distance:e}, for body {body}) is not below rapier's prediction distance ({prediction:e}): rapier would not see the contacts the guard stops; lower `GuardOptions::ccd.distance_tolerance`")]
+    /// The CCD's contact distance (the wall) is not below the two
+    /// colliders' contact skins (without skins: rapier's prediction
+    /// distance).
+    #[error("the CCD's contact distance ({contact_distance:e}, for a pair with body {body}) is not below the two colliders' contact skins ({limit:e}): the wall would lie outside rapier's contact; lower `GuardOptions::ccd.distance_tolerance` or raise `GuardOptions::skin`")]
     ContactDistance {
-        /// The body.
+        /// The body whose radius sets the largest pair's contact distance.
         body: String,
-        /// Its contact distance.
+        /// That contact distance.
         contact_distance: Real,
-        /// rapier's prediction distance.
-        prediction: Real,
+        /// The skins' sum (or rapier's prediction distance).
+        limit: Real,
     },
     /// `after_step` without `before_step`.
     #[error("after_step was called without before_step")]
@@ -160,36 +272,63 @@ pub enum GuardError {
     },
 }
 
+/// rapier's step by a given `dt`, as [`Guard::step`] calls it.
+type RapierStep<'a> = dyn FnMut(&mut RigidBodySet, Real) + 'a;
+
 /// Guards rapier bodies against tunnelling (see the module).
 pub struct Guard {
     /// The guarded bodies, in the guard's order.
     handles: Vec<RigidBodyHandle>,
     /// Each body's centre of mass in its body frame.
     centers: Vec<Vector>,
-    /// The poses of the centres of mass at the step's start.
+    /// The poses of the centres of mass at the sweep's start.
     start: Vec<Pose>,
+    /// The dynamic bodies' velocities at the sweep's start (linear,
+    /// angular).
+    velocities: Vec<(Vector, Vector)>,
     started: bool,
     pub(crate) stepper: Stepper,
     pub(crate) world: World,
     /// Steps guarded.
     step: u64,
     dt: Real,
+    max_substeps: usize,
+    /// Rewinds so far (rapier solving again from a contact).
+    substeps: u64,
     events: Vec<GuardEvent>,
     /// The last step's undecided query, as the stepper reported it.
     pub(crate) undecided: Option<Termination>,
 }
 
+/// How the guard's scene was made: what the guard needs beside it.
+pub(crate) struct GuardSetup {
+    /// The rapier handle of each scene body.
+    pub handles: Vec<RigidBodyHandle>,
+    /// Each body's centre of mass in its body frame.
+    pub centers: Vec<Vector>,
+    /// Per body: whether contacts may hold it (dynamic bodies).
+    pub stoppable: Vec<bool>,
+    /// Each collider's contact skin (0: touching pairs are rapier's alone).
+    pub skin: Real,
+    /// Rewinds allowed per step.
+    pub max_substeps: usize,
+    /// Sweep pairs on rayon's threads.
+    pub parallel: bool,
+}
+
 impl Guard {
     /// A guard of the bodies `guarded` (their colliders' triangles) for
     /// steps of `parameters.dt` (every step: for another dt, make another
-    /// guard).
+    /// guard). Gives each of their colliders the contact skin
+    /// [`GuardOptions::skin`] (a larger skin is kept).
     pub fn new(
         bodies: &RigidBodySet,
-        colliders: &rapier3d_f64::prelude::ColliderSet,
+        colliders: &mut ColliderSet,
         guarded: &[RigidBodyHandle],
         parameters: &IntegrationParameters,
         options: GuardOptions,
     ) -> Result<Guard, GuardError> {
+        let skin = options.skin_under(parameters);
         let mut scene_bodies = Vec::with_capacity(guarded.len());
         let mut centers = Vec::with_capacity(guarded.len());
         let mut stoppable = Vec::with_capacity(guarded.len());
@@ -197,6 +336,11 @@ impl Guard {
             let body = bodies.get(handle).ok_or(GuardError::UnknownBody(handle))?;
             let name = format!("{handle:?}");
             let (mesh, center) = mesh_of_body(body, colliders, &name)?;
+            for collider in body.colliders() {
+                if let Some(collider) = colliders.get_mut(*collider) {
+                    collider.set_contact_skin(collider.contact_skin().max(skin));
+                }
+            }
             scene_bodies.push(Body {
                 name,
                 mesh: Arc::new(mesh),
@@ -234,39 +378,55 @@ impl Guard {
             poses: None,
             parameters: Default::default(),
         };
-        Guard::with_scene(Arc::new(scene), guarded.to_vec(), centers, stoppable, parameters, options.parallel)
+        let setup = GuardSetup {
+            handles: guarded.to_vec(),
+            centers,
+            stoppable,
+            skin,
+            max_substeps: options.max_substeps,
+            parallel: options.parallel,
+        };
+        Guard::with_scene(Arc::new(scene), setup, parameters)
     }
 
     /// The guard of a scene already built (the scene runner's: its bodies
-    /// are `handles`, its meshes relative to their bodies' frames, which are
-    /// their centres of mass).
+    /// are `setup.handles`, its meshes relative to their bodies' frames,
+    /// which are their centres of mass).
     pub(crate) fn with_scene(
         scene: Arc<Scene>,
-        handles: Vec<RigidBodyHandle>,
-        centers: Vec<Vector>,
-        stoppable: Vec<bool>,
+        setup: GuardSetup,
         parameters: &IntegrationParameters,
-        parallel: bool,
     ) -> Result<Guard, GuardError> {
-        let prediction = parameters.prediction_distance();
-        for body in scene.bodies.iter() {
-            let contract = crate::ccd::ContactContract::of(
-                &scene.ccd,
-                crate::ccd::ContactRule::ScaleRelative,
-                body.mesh.radius(),
-                0.0,
-            );
-            if contract.contact_distance >= prediction {
-                return Err(GuardError::ContactDistance {
-                    body: body.name.clone(),
-                    contact_distance: contract.contact_distance,
-                    prediction,
-                });
-            }
+        let limit = contact_distance_limit(parameters, setup.skin);
+        let radius = largest_pair_radius(
+            scene.bodies.iter().map(|b| (b.mesh.radius(), b.motion == BodyMotion::Fixed)),
+        );
+        let contract = ContactContract::of(&scene.ccd, ContactRule::ScaleRelative, radius, 0.0);
+        if contract.contact_distance >= limit {
+            let body = scene
+                .bodies
+                .iter()
+                .find(|b| b.mesh.radius() == radius)
+                .map_or(String::new(), |b| b.name.clone());
+            return Err(GuardError::ContactDistance {
+                body,
+                contact_distance: contract.contact_distance,
+                limit,
+            });
         }
-        let options = RunOptions { parallel, broad_phase: true };
-        let response = Box::new(Clamp { stoppable, separation: prediction });
-        let stepper = Stepper::with_response(Arc::clone(&scene), options, response);
+        let options = RunOptions { parallel: setup.parallel, broad_phase: true };
+        let response = Box::new(Clamp {
+            stoppable: setup.stoppable,
+            separation: 2.0 * setup.skin + parameters.prediction_distance(),
+            skin_separation: if setup.skin > 0.0 {
+                scene.ccd.minimum_separation + 2.0 * setup.skin
+            } else {
+                0.0
+            },
+            guards_touching_pairs: setup.skin > 0.0,
+        });
+        let mut stepper = Stepper::with_response(Arc::clone(&scene), options, response);
+        stepper.set_extra_box_margin(setup.skin);
         let mut world = World::new(&scene, false);
         if !stepper.has_broad_phase() {
             world.pairs = scene
@@ -277,23 +437,51 @@ impl Guard {
         }
         Ok(Guard {
             start: scene.bodies.iter().map(|b| b.pose).collect(),
-            handles,
-            centers,
+            velocities: scene.bodies.iter().map(|b| (b.velocity, b.angular_velocity)).collect(),
+            handles: setup.handles,
+            centers: setup.centers,
             started: false,
             stepper,
             world,
             step: 0,
             dt: parameters.dt,
+            max_substeps: setup.max_substeps,
+            substeps: 0,
             events: Vec::new(),
             undecided: None,
         })
     }
 
-    /// Notes the guarded bodies' poses before rapier's step.
+    /// One guarded step: `rapier_step(bodies, dt)` steps rapier by `dt`
+    /// (your `PhysicsPipeline::step` with `IntegrationParameters::dt` set to
+    /// it). The guard sweeps the step; where a pair would come into contact
+    /// and rapier would not hold it (it reaches the wall), the guard moves
+    /// the world back to the contact's time and calls `rapier_step` again
+    /// for the rest of the step, so that rapier solves the contact where it
+    /// happens (up to [`GuardOptions::max_substeps`] times; then the
+    /// contact's dynamic bodies are held at it). Returns the step's events.
+    pub fn step<F>(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        mut rapier_step: F,
+    ) -> Result<&[GuardEvent], GuardError>
+    where
+        F: FnMut(&mut RigidBodySet, Real),
+    {
+        self.before_step(bodies);
+        rapier_step(bodies, self.dt);
+        self.finish_step(bodies, Some(&mut rapier_step))
+    }
+
+    /// Notes the guarded bodies' poses before rapier's step (with
+    /// [`after_step`](Guard::after_step), for a loop that steps rapier
+    /// itself; [`step`](Guard::step) rewinds to contacts, this pair of
+    /// calls only clamps).
     pub fn before_step(&mut self, bodies: &RigidBodySet) {
         for (i, handle) in self.handles.iter().enumerate() {
             if let Some(body) = bodies.get(*handle) {
                 self.start[i] = center_pose(body, &self.centers[i]);
+                self.velocities[i] = (from_parry(body.linvel()).coords, from_parry(body.angvel()).coords);
             }
         }
         self.started = true;
@@ -301,36 +489,73 @@ impl Guard {
 
     /// Sweeps the guarded bodies from their poses at
     /// [`before_step`](Guard::before_step) to where rapier's step left
-    /// them; moves dynamic bodies that would come into contact back to
-    /// their poses at contact. Returns the step's events.
+    /// them; holds dynamic bodies that would reach the wall at their poses
+    /// at contact. Returns the step's events.
     pub fn after_step(&mut self, bodies: &mut RigidBodySet) -> Result<&[GuardEvent], GuardError> {
+        self.finish_step(bodies, None)
+    }
+
+    /// The sweeps of one step after rapier's first step (see
+    /// [`step`](Guard::step)); `engine` steps rapier again after a rewind.
+    fn finish_step(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        mut engine: Option<&mut RapierStep<'_>>,
+    ) -> Result<&[GuardEvent], GuardError> {
         if !std::mem::take(&mut self.started) {
             return Err(GuardError::NoStartPoses);
         }
         self.events.clear();
-        for (i, handle) in self.handles.iter().enumerate() {
-            let Some(body) = bodies.get(*handle) else { continue };
-            let end = center_pose(body, &self.centers[i]);
-            self.world.motions[i] = if body.is_fixed() {
-                StepMotion::fixed(end)
-            } else {
-                StepMotion::between_near(&self.start[i], &end, self.dt, &from_parry(body.angvel()).coords)
-            };
-        }
         let contacts_before = self.world.contacts.len();
-        let result = self.stepper.after_motion(&mut self.world, self.step);
+        let t0 = self.step as Real * self.dt;
+        // Time into the step at the current sweep's start; each sweep runs
+        // over the rest of the step, its motions stretched over `dt`.
+        let mut elapsed: Real = 0.0;
+        let mut substeps = 0;
+        loop {
+            self.set_motions(bodies, elapsed);
+            self.world.may_rewind = engine.is_some() && substeps < self.max_substeps;
+            let mark = self.world.contacts.len();
+            let result = self.stepper.sweep(&mut self.world, self.step);
+            let scale = (self.dt - elapsed) / self.dt;
+            let real = |time: Real| if elapsed > 0.0 { t0 + elapsed + (time - t0) * scale } else { time };
+            for contact in &mut self.world.contacts[mark..] {
+                contact.time = real(contact.time);
+            }
+            let handles = &self.handles;
+            self.events.extend(
+                self.world
+                    .separated
+                    .iter()
+                    .map(|&(a, b)| GuardEvent::Stopped { a: handles[a], b: handles[b] }),
+            );
+            // Held bodies go back to their poses at contact (also when a
+            // pair was undecided: the contacts before it stand).
+            for &(i, at) in &self.world.held {
+                let Some(body) = bodies.get_mut(self.handles[i]) else { continue };
+                let held = self.world.motions[i].pose_at(at.min(self.dt));
+                body.set_position(pose_to_parry(&body_pose(&held, &self.centers[i])), true);
+            }
+            if let Err(Termination::Undecided { pair: (a, b), time, step, iterations }) = result {
+                let time = real(time);
+                self.undecided = Some(Termination::Undecided { pair: (a, b), time, step, iterations });
+                self.step += 1;
+                return Err(GuardError::Undecided {
+                    a: self.handles[a],
+                    b: self.handles[b],
+                    time,
+                    iterations,
+                });
+            }
+            let (Some((at, a, b)), Some(engine)) = (self.world.rewind.take(), engine.as_mut()) else { break };
+            self.rewind(bodies, at, [a, b]);
+            elapsed += at * scale;
+            substeps += 1;
+            self.substeps += 1;
+            engine(bodies, self.dt - elapsed);
+        }
+        self.stepper.observe_step_end(&self.world, self.step);
         self.step += 1;
-        // Held bodies go back to their poses at contact (also when a pair
-        // was undecided: the contacts before it stand).
-        for &(i, at) in &self.world.held {
-            let Some(body) = bodies.get_mut(self.handles[i]) else { continue };
-            let held = self.world.motions[i].pose_at(at.min(self.dt));
-            body.set_position(pose_to_parry(&body_pose(&held, &self.centers[i])), true);
-        }
-        if let Err(undecided @ Termination::Undecided { pair: (a, b), time, iterations, .. }) = result {
-            self.undecided = Some(undecided);
-            return Err(GuardError::Undecided { a: self.handles[a], b: self.handles[b], time, iterations });
-        }
         let handles = &self.handles;
         self.events.extend(self.world.contacts[contacts_before..].iter().map(|contact| {
             GuardEvent::Started {
@@ -339,10 +564,66 @@ impl Guard {
                 contact: Box::new(contact.clone()),
             }
         }));
-        self.events.extend(
-            self.world.separated.iter().map(|&(a, b)| GuardEvent::Stopped { a: handles[a], b: handles[b] }),
-        );
         Ok(&self.events)
+    }
+
+    /// Each body's motion over the rest of the step from `elapsed`: from its
+    /// pose at the sweep's start to where rapier left it, stretched over
+    /// `dt` (the CCD's path is the same; its times map back linearly).
+    fn set_motions(&mut self, bodies: &RigidBodySet, elapsed: Real) {
+        let scale = (self.dt - elapsed) / self.dt;
+        for (i, handle) in self.handles.iter().enumerate() {
+            let Some(body) = bodies.get(*handle) else { continue };
+            let end = center_pose(body, &self.centers[i]);
+            self.world.motions[i] = if body.is_fixed() {
+                StepMotion::fixed(end)
+            } else {
+                let spin = from_parry(body.angvel()).coords * scale;
+                StepMotion::between_near(&self.start[i], &end, self.dt, &spin)
+            };
+        }
+    }
+
+    /// Moves every moving body back to its pose at `at` into the current
+    /// sweep (velocities interpolated between the sweep's ends, so that the
+    /// forces of the step are applied once), kinematic bodies still bound
+    /// for the step's end, and wakes the pair `hit`.
+    fn rewind(&mut self, bodies: &mut RigidBodySet, at: Real, hit: [usize; 2]) {
+        let fraction = at / self.dt;
+        for (i, handle) in self.handles.iter().enumerate() {
+            let Some(body) = bodies.get_mut(*handle) else { continue };
+            if body.is_fixed() {
+                continue;
+            }
+            let woken = hit.contains(&i);
+            let pose = self.world.motions[i].pose_at(at);
+            if body.is_kinematic() {
+                let end = *body.position();
+                body.set_position(pose_to_parry(&body_pose(&pose, &self.centers[i])), woken);
+                if body.body_type() == RigidBodyType::KinematicPositionBased {
+                    body.set_next_kinematic_position(end);
+                }
+            } else {
+                if body.is_sleeping() && !woken {
+                    continue;
+                }
+                let (v0, w0) = self.velocities[i];
+                let (v1, w1) = (from_parry(body.linvel()).coords, from_parry(body.angvel()).coords);
+                let (v, w) = (v0 + (v1 - v0) * fraction, w0 + (w1 - w0) * fraction);
+                body.set_position(pose_to_parry(&body_pose(&pose, &self.centers[i])), false);
+                body.set_linvel(vector_to_parry(&v), false);
+                body.set_angvel(vector_to_parry(&w), false);
+                if woken {
+                    body.wake_up(true);
+                }
+                self.velocities[i] = (v, w);
+            }
+            self.start[i] = pose;
+        }
+        // What the pairs carried was about the sweep's end.
+        for pair in &mut self.world.pairs {
+            pair.lower_bound = None;
+        }
     }
 
     /// Every contact reported so far, in the order found (body indices are
@@ -364,6 +645,11 @@ impl Guard {
     /// The steps guarded so far.
     pub fn steps(&self) -> u64 {
         self.step
+    }
+
+    /// The times the guard moved the world back to a contact so far.
+    pub fn substeps(&self) -> u64 {
+        self.substeps
     }
 
     /// The guard's world and stepper, for the scene runner.

@@ -15,7 +15,7 @@ use rapier3d_f64::prelude::{
     RigidBodyHandle, RigidBodySet, SharedShape, SoftBodySet,
 };
 
-use super::{collider_for, ColliderShape, Guard, GuardError};
+use super::{collider_for, ColliderShape, Guard, GuardError, GuardSetup};
 use crate::math::{
     from_parry, pose_from_parry, pose_to_parry, to_parry, vector_to_parry, Point, Real, Vector,
 };
@@ -36,6 +36,14 @@ pub(crate) struct RapierScene {
     pub shapes: Vec<ColliderShape>,
     pub parameters: IntegrationParameters,
     pub gravity: Vector,
+    /// Each collider's contact skin (the guard's; 0 for rapier alone).
+    pub skin: Real,
+    engine: Engine,
+}
+
+/// rapier's pipeline and the sets a step needs besides the bodies and
+/// colliders.
+struct Engine {
     pipeline: PhysicsPipeline,
     islands: IslandManager,
     broad_phase: DefaultBroadPhase,
@@ -46,14 +54,44 @@ pub(crate) struct RapierScene {
     ccd: CCDSolver,
 }
 
+impl Engine {
+    /// `PhysicsPipeline::step` by `dt`.
+    fn step(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &mut ColliderSet,
+        parameters: &IntegrationParameters,
+        gravity: &Vector,
+        dt: Real,
+    ) {
+        let parameters = IntegrationParameters { dt, ..*parameters };
+        self.pipeline.step(
+            vector_to_parry(gravity),
+            &parameters,
+            &mut self.islands,
+            &mut self.broad_phase,
+            &mut self.narrow_phase,
+            bodies,
+            colliders,
+            &mut self.impulse_joints,
+            &mut self.multibody_joints,
+            &mut self.soft_bodies,
+            &mut self.ccd,
+            &(),
+            &(),
+        );
+    }
+}
+
 impl RapierScene {
     /// The scene's bodies as rapier bodies: fixed, kinematic (velocity
     /// based) or dynamic (with the scene's mass and inertia about the
     /// centre of mass, which is the body frame's origin), each with the
     /// collider [`collider_for`] its mesh, and the scene's materials.
     /// `rapier_ccd`: switch rapier's own CCD on for every moving body
-    /// (`--compare rapier`).
-    pub fn build(scene: &Scene, rapier_ccd: bool) -> Result<RapierScene, GuardError> {
+    /// (`--compare rapier`); `guarded`: give every collider the guard's
+    /// contact skin ([`super::GuardOptions::skin`]'s default).
+    pub fn build(scene: &Scene, rapier_ccd: bool, guarded: bool) -> Result<RapierScene, GuardError> {
         let (friction, restitution, solver_iterations) = match scene.on_contact {
             OnContact::Simulate { friction, restitution, solver_iterations } => {
                 (friction, restitution, solver_iterations)
@@ -65,6 +103,7 @@ impl RapierScene {
         // A scene's velocities are what it says: no speed cap (rapier's
         // default caps bodies at 400 units per second).
         parameters.normalized_max_linear_velocity = Real::MAX;
+        let skin = if guarded { super::GuardOptions::default().skin_under(&parameters) } else { 0.0 };
         let mut bodies = RigidBodySet::new();
         let mut colliders = ColliderSet::new();
         let mut handles = Vec::with_capacity(scene.bodies.len());
@@ -117,8 +156,10 @@ impl RapierScene {
                     (collider.shape, shape)
                 }
             };
-            let mut collider =
-                ColliderBuilder::new(shared).friction(material.friction).restitution(material.restitution);
+            let mut collider = ColliderBuilder::new(shared)
+                .friction(material.friction)
+                .restitution(material.restitution)
+                .contact_skin(skin);
             if let (Some(mass), Some(inertia)) = (body.mass, body.inertia) {
                 let inertia = glam_matrix(&inertia);
                 collider = collider.mass_properties(MassProperties::with_inertia_matrix(
@@ -138,21 +179,30 @@ impl RapierScene {
             shapes,
             parameters,
             gravity,
-            pipeline: PhysicsPipeline::new(),
-            islands: IslandManager::new(),
-            broad_phase: DefaultBroadPhase::default(),
-            narrow_phase: NarrowPhase::new(),
-            impulse_joints: ImpulseJointSet::new(),
-            multibody_joints: MultibodyJointSet::new(),
-            soft_bodies: SoftBodySet::new(),
-            ccd: CCDSolver::new(),
+            skin,
+            engine: Engine {
+                pipeline: PhysicsPipeline::new(),
+                islands: IslandManager::new(),
+                broad_phase: DefaultBroadPhase::default(),
+                narrow_phase: NarrowPhase::new(),
+                impulse_joints: ImpulseJointSet::new(),
+                multibody_joints: MultibodyJointSet::new(),
+                soft_bodies: SoftBodySet::new(),
+                ccd: CCDSolver::new(),
+            },
         })
     }
 
-    /// Rapier's step `step` (0-based): kinematic bodies' next poses on their
-    /// exact motions, the springs' forces from the bodies' states, then
-    /// `PhysicsPipeline::step`.
+    /// Rapier's step `step` (0-based): [`prepare`](RapierScene::prepare),
+    /// then `PhysicsPipeline::step` by the scene's `dt`.
     pub fn step(&mut self, scene: &Scene, step: u64) {
+        self.prepare(scene, step);
+        self.engine.step(&mut self.bodies, &mut self.colliders, &self.parameters, &self.gravity, scene.dt);
+    }
+
+    /// Before rapier's step `step`: kinematic bodies' next poses on their
+    /// exact motions, the springs' forces from the bodies' states.
+    pub fn prepare(&mut self, scene: &Scene, step: u64) {
         let end = (step + 1) as Real * scene.dt;
         for (body, handle) in scene.bodies.iter().zip(&self.handles) {
             if body.kinematic {
@@ -179,21 +229,15 @@ impl RapierScene {
                 rigid.add_force_at_point(vector_to_parry(&force), to_parry(&(state.position + arm)), true);
             }
         }
-        self.pipeline.step(
-            vector_to_parry(&self.gravity),
-            &self.parameters,
-            &mut self.islands,
-            &mut self.broad_phase,
-            &mut self.narrow_phase,
-            &mut self.bodies,
-            &mut self.colliders,
-            &mut self.impulse_joints,
-            &mut self.multibody_joints,
-            &mut self.soft_bodies,
-            &mut self.ccd,
-            &(),
-            &(),
-        );
+    }
+
+    /// Whether rapier has the two bodies' colliders in contact (a contact
+    /// point within its prediction distance).
+    pub fn in_contact(&self, a: usize, b: usize) -> bool {
+        let collider =
+            |i: usize| self.bodies.get(self.handles[i]).and_then(|body| body.colliders().first().copied());
+        let (Some(ca), Some(cb)) = (collider(a), collider(b)) else { return false };
+        self.engine.narrow_phase.contact_pair(ca, cb).is_some_and(|pair| pair.has_any_active_contact())
     }
 
     /// Body `i`'s state (its centre of mass is its frame's origin).
@@ -213,15 +257,6 @@ impl RapierScene {
         let contact =
             parry3d_f64::query::contact(ca.position(), ca.shape(), cb.position(), cb.shape(), 0.0).ok()?;
         Some(contact.map_or(0.0, |c| (-c.dist).max(0.0)))
-    }
-
-    /// Whether rapier has the two bodies' colliders in contact (a contact
-    /// point within its prediction distance).
-    pub fn in_contact(&self, a: usize, b: usize) -> bool {
-        let collider =
-            |i: usize| self.bodies.get(self.handles[i]).and_then(|body| body.colliders().first().copied());
-        let (Some(ca), Some(cb)) = (collider(a), collider(b)) else { return false };
-        self.narrow_phase.contact_pair(ca, cb).is_some_and(|pair| pair.has_any_active_contact())
     }
 }
 
@@ -253,7 +288,7 @@ pub(crate) fn run(
     observer: &mut dyn FnMut(u64),
 ) -> Result<RunResult, GuardError> {
     let start = Instant::now();
-    let mut rapier = RapierScene::build(scene, false)?;
+    let mut rapier = RapierScene::build(scene, false, true)?;
     // The guard's scene: rapier moves the bodies, so none is integrated by
     // the stepper; the dynamic ones are those contacts stop.
     let stoppable: Vec<bool> =
@@ -264,26 +299,33 @@ pub(crate) fn run(
             body.motion = BodyMotion::Free;
         }
     }
-    let centers = vec![Vector::zeros(); scene.bodies.len()];
-    let mut guard = Guard::with_scene(
-        Arc::new(guarded),
-        rapier.handles.clone(),
-        centers,
+    let setup = GuardSetup {
+        handles: rapier.handles.clone(),
+        centers: vec![Vector::zeros(); scene.bodies.len()],
         stoppable,
-        &rapier.parameters,
-        options.parallel,
-    )?;
+        skin: rapier.skin,
+        max_substeps: super::DEFAULT_MAX_SUBSTEPS,
+        parallel: options.parallel,
+    };
+    let mut guard = Guard::with_scene(Arc::new(guarded), setup, &rapier.parameters)?;
     guard.stepper.observe_start(&guard.world);
     let mut termination = Termination::Completed;
     let mut steps = 0;
     for _ in 0..scene.steps {
         steps += 1;
-        guard.before_step(&rapier.bodies);
-        let clock = Instant::now();
-        rapier.step(scene, steps - 1);
-        guard.stepper.counters_mut().engine_s += clock.elapsed().as_secs_f64();
-        match guard.after_step(&mut rapier.bodies) {
-            Ok(_) => observer(steps),
+        rapier.prepare(scene, steps - 1);
+        let RapierScene { bodies, colliders, parameters, gravity, engine, .. } = &mut rapier;
+        let mut engine_s = 0.0;
+        let outcome = guard.step(bodies, |bodies, dt| {
+            let clock = Instant::now();
+            engine.step(bodies, colliders, parameters, gravity, dt);
+            engine_s += clock.elapsed().as_secs_f64();
+        });
+        match outcome.map(|_| ()) {
+            Ok(_) => {
+                guard.stepper.counters_mut().engine_s += engine_s;
+                observer(steps);
+            }
             Err(GuardError::Undecided { .. }) => {
                 termination = guard.undecided.take().unwrap_or(Termination::Completed);
                 break;

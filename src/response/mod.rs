@@ -102,6 +102,8 @@ pub(crate) fn for_scene(scene: &Scene) -> Box<dyn Response> {
         OnContact::Simulate { .. } => Box::new(Clamp {
             stoppable: scene.bodies.iter().map(|b| matches!(b.motion, BodyMotion::Integrated(_))).collect(),
             separation: 0.0,
+            skin_separation: 0.0,
+            guards_touching_pairs: false,
         }),
     }
 }

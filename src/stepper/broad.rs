@@ -32,6 +32,7 @@ impl Stepper {
                 // distance (the contract's box margin) and a rounding margin.
                 let reach = motion.center_at(0.0).coords.amax() + motion.travel(scene.dt) + radius;
                 let margin = box_margin(&scene.ccd, radius)
+                    + self.extra_box_margin
                     + self.parameters.broad_phase_rounding_ulps * Real::EPSILON * reach;
                 boxes.push(swept_box(&body.mesh, motion, scene.dt, margin));
             }

@@ -147,6 +147,9 @@ pub(crate) struct Stepper {
     poses: Option<PoseObserver>,
     scratch: Scratch,
     counters: Counters,
+    /// Added to every swept box's margin: half the smallest separation any
+    /// pair's query asks for beyond the scene's (the guard's contact skins).
+    extra_box_margin: Real,
 }
 
 /// Buffers kept between steps, so that a step allocates nothing once they
@@ -190,6 +193,7 @@ impl Stepper {
             poses: scene.poses.as_ref().map(|spec| PoseObserver::new(spec.every, scene.steps)),
             scratch: Scratch::default(),
             counters: Counters::default(),
+            extra_box_margin: 0.0,
             scene,
         }
     }
@@ -205,9 +209,20 @@ impl Stepper {
     /// already in `world.motions` (by stage 1, or by an outside engine:
     /// [`crate::guard`]).
     pub(crate) fn after_motion(&mut self, world: &mut World, step: u64) -> Result<StepEnd, Termination> {
+        let end = self.sweep(world, step)?;
+        if let StepEnd::Continue = end {
+            self.observe_step_end(world, step);
+        }
+        Ok(end)
+    }
+
+    /// Stages 2 to 5 of step `step` (no observers): the guard sweeps a step
+    /// in several parts when it rewinds, and observes its end once.
+    pub(crate) fn sweep(&mut self, world: &mut World, step: u64) -> Result<StepEnd, Termination> {
         let t0 = step as Real * self.scene.dt;
         world.separated.clear();
         world.held.clear();
+        world.rewind = None;
         self.broad_phase(world);
         let mut found = std::mem::take(&mut self.scratch.found);
         self.narrow_phase(world, t0, &mut found);
@@ -225,9 +240,18 @@ impl Stepper {
         if contact && self.response.ends_run() {
             return Ok(StepEnd::FirstContact);
         }
-        self.rearm(world);
-        self.observe(world, step + 1, t0 + self.scene.dt);
+        // A sweep the guard will step again from a contact: its end poses
+        // are not where the step ends.
+        if world.rewind.is_none() {
+            self.rearm(world);
+        }
         Ok(StepEnd::Continue)
+    }
+
+    /// Stage 6 after step `step` (0-based).
+    pub(crate) fn observe_step_end(&mut self, world: &World, step: u64) {
+        let dt = self.scene.dt;
+        self.observe(world, step + 1, step as Real * dt + dt);
     }
 
     /// Stage 4: the response to the contacts found. Returns whether one
@@ -271,6 +295,12 @@ impl Stepper {
     #[cfg(feature = "rapier")]
     pub(crate) fn has_broad_phase(&self) -> bool {
         self.broad.is_some()
+    }
+
+    /// Grows every swept box by `margin` (each body's contact skin).
+    #[cfg(feature = "rapier")]
+    pub(crate) fn set_extra_box_margin(&mut self, margin: Real) {
+        self.extra_box_margin = margin;
     }
 
     /// The work done so far.

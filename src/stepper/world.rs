@@ -32,6 +32,12 @@ pub(crate) struct World {
     /// The bodies the response held at a contact in the current step, with
     /// the time into the step they stopped at.
     pub held: Vec<(usize, Real)>,
+    /// The guard may ask for a rewind in this sweep (it has substeps left).
+    pub may_rewind: bool,
+    /// The guard's response asks to move the world back to this time into
+    /// the sweep and let the engine solve from there: the time and the pair
+    /// whose contact needs it.
+    pub rewind: Option<(Real, usize, usize)>,
 }
 
 /// A CCD query that ran out of iterations: the pair (index into `pairs`),
@@ -123,6 +129,8 @@ impl World {
             undecided: None,
             separated: Vec::new(),
             held: Vec::new(),
+            may_rewind: false,
+            rewind: None,
         }
     }
 
