@@ -135,11 +135,10 @@ fn a_kinematic_blade_pushes_a_ball_out_of_its_way() {
 }
 
 #[test]
-#[ignore = "not met yet (issue 27 §2): rapier's soft contact pushes the woken crate at a fraction of the wall's speed, and once the guard's substeps are spent its fallback holds the crate while the wall moves on"]
-fn a_kinematic_wall_wakes_a_sleeping_crate_and_pushes_it() {
-    // A crate rests on a floor (it falls asleep within the first second); a
-    // kinematic wall at 1.5 units/s arrives after 1.5 s. The crate must be
-    // woken and pushed: the wall never overlaps it.
+fn a_kinematic_wall_pushes_a_resting_crate() {
+    // A crate rests on a floor; a kinematic wall at 1.5 units/s arrives
+    // after 1.5 s. rapier's soft contact alone pushes the crate at a
+    // fraction of the wall's speed: the guard must not let the wall into it.
     let (scene, result) = simulate(
         r#"Scene(
             name: "crate", dt: 0.016666666666666666, duration: 2.5,
@@ -203,6 +202,86 @@ fn a_heavy_blade_keeps_its_motion_when_it_hits_a_light_ball() {
         + ball_inertia * ball.angular_velocity.z;
     let initial = blade_inertia * 20.0;
     assert!(((momentum - initial) / initial).abs() < 0.01, "angular momentum {momentum} vs {initial}");
+}
+
+#[test]
+fn a_guarded_application_wakes_a_sleeping_crate_in_a_kinematic_walls_way() {
+    use rapier3d_f64::prelude::*;
+    // A rapier application: a crate put to sleep on a floor, a
+    // velocity-based kinematic wall at 1.5 units/s arriving after 0.5 s, the
+    // guard stepping the pipeline (which gives the colliders their skins).
+    // The crate must be woken (rapier wakes it too once it sees the
+    // contact) and pushed, and the wall never gets into it.
+    let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    let floor = bodies.insert(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -0.5)));
+    colliders.insert_with_parent(ColliderBuilder::cuboid(10.0, 10.0, 0.5), floor, &mut bodies);
+    let parameters = IntegrationParameters { dt: 1.0 / 60.0, ..Default::default() };
+    let skins = 2.0 * nearmiss::guard::GuardOptions::default().skin_under(&parameters);
+    let crate_body =
+        bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, 0.5 + skins)));
+    colliders.insert_with_parent(ColliderBuilder::cuboid(0.5, 0.5, 0.5), crate_body, &mut bodies);
+    let wall = bodies.insert(
+        RigidBodyBuilder::kinematic_velocity_based()
+            .translation(Vector::new(-0.5 - skins - 0.1 - 0.75, 0.0, 2.1))
+            .linvel(Vector::new(1.5, 0.0, 0.0)),
+    );
+    colliders.insert_with_parent(ColliderBuilder::cuboid(0.1, 2.0, 2.0), wall, &mut bodies);
+    bodies[crate_body].sleep();
+    assert!(bodies[crate_body].is_sleeping());
+    let options = nearmiss::guard::GuardOptions::default();
+    let mut guard = nearmiss::guard::Guard::new(
+        &bodies,
+        &mut colliders,
+        &[floor, crate_body, wall],
+        &parameters,
+        options,
+    )
+    .expect("cuboids");
+    let mut pipeline = PhysicsPipeline::new();
+    let (mut islands, mut broad_phase, mut narrow_phase) =
+        (IslandManager::new(), DefaultBroadPhase::default(), NarrowPhase::new());
+    let (mut impulse_joints, mut multibody_joints, mut soft_bodies, mut ccd) =
+        (ImpulseJointSet::new(), MultibodyJointSet::new(), SoftBodySet::new(), CCDSolver::new());
+    let crate_hull = parry3d_f64::shape::Cuboid::new(Vector::new(0.5, 0.5, 0.5));
+    let wall_hull = parry3d_f64::shape::Cuboid::new(Vector::new(0.1, 2.0, 2.0));
+    let mut woken = false;
+    for step in 0..90 {
+        guard
+            .step(&mut bodies, |bodies, dt| {
+                pipeline.step(
+                    Vector::new(0.0, 0.0, -9.81),
+                    &IntegrationParameters { dt, ..parameters },
+                    &mut islands,
+                    &mut broad_phase,
+                    &mut narrow_phase,
+                    bodies,
+                    &mut colliders,
+                    &mut impulse_joints,
+                    &mut multibody_joints,
+                    &mut soft_bodies,
+                    &mut ccd,
+                    &(),
+                    &(),
+                );
+            })
+            .expect("decided");
+        woken |= !bodies[crate_body].is_sleeping();
+        let contact = parry3d_f64::query::contact(
+            bodies[crate_body].position(),
+            &crate_hull,
+            bodies[wall].position(),
+            &wall_hull,
+            0.0,
+        )
+        .expect("cuboids");
+        if let Some(contact) = contact {
+            assert!(contact.dist >= 0.0, "the wall is {} into the crate after step {step}", -contact.dist);
+        }
+    }
+    assert!(woken, "the crate was never woken");
+    let wall_face = bodies[wall].translation().x + 0.1;
+    let crate_back = bodies[crate_body].translation().x - 0.5;
+    assert!(crate_back >= wall_face, "the crate's back {crate_back}, the wall's face {wall_face}");
 }
 
 #[test]

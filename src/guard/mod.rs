@@ -104,7 +104,7 @@ use rapier3d_f64::prelude::{
 pub use shapes::{collider_for, is_convex, mesh_of_body, ColliderShape, CONVEXITY_TOLERANCE};
 
 use crate::ccd::{CcdOptions, ContactContract, ContactRule};
-use crate::math::{from_parry, pose_from_parry, pose_to_parry, vector_to_parry, Pose, Real, Vector};
+use crate::math::{from_parry, pose_from_parry, pose_to_parry, vector_to_parry, Point, Pose, Real, Vector};
 use crate::mesh::DistanceKernel;
 use crate::motion::StepMotion;
 use crate::response::Clamp;
@@ -512,9 +512,12 @@ impl Guard {
         // over the rest of the step, its motions stretched over `dt`.
         let mut elapsed: Real = 0.0;
         let mut substeps = 0;
+        // Set when the next sweep must clamp: a rewind to a sweep's start
+        // would step rapier again from the same state, to the same end.
+        let mut clamp = false;
         loop {
             self.set_motions(bodies, elapsed);
-            self.world.may_rewind = engine.is_some() && substeps < self.max_substeps;
+            self.world.may_rewind = engine.is_some() && substeps < self.max_substeps && !clamp;
             let mark = self.world.contacts.len();
             let result = self.stepper.sweep(&mut self.world, self.step);
             let scale = (self.dt - elapsed) / self.dt;
@@ -531,11 +534,11 @@ impl Guard {
             );
             // Held bodies go back to their poses at contact (also when a
             // pair was undecided: the contacts before it stand).
-            for &(i, at) in &self.world.held {
-                let Some(body) = bodies.get_mut(self.handles[i]) else { continue };
-                let held = self.world.motions[i].pose_at(at.min(self.dt));
-                body.set_position(pose_to_parry(&body_pose(&held, &self.centers[i])), true);
+            let held = std::mem::take(&mut self.world.held);
+            for &(i, at) in &held {
+                self.hold_or_carry(bodies, i, at.min(self.dt), scale);
             }
+            self.world.held = held;
             if let Err(Termination::Undecided { pair: (a, b), time, step, iterations }) = result {
                 let time = real(time);
                 self.undecided = Some(Termination::Undecided { pair: (a, b), time, step, iterations });
@@ -547,8 +550,16 @@ impl Guard {
                     iterations,
                 });
             }
-            let (Some((at, a, b)), Some(engine)) = (self.world.rewind.take(), engine.as_mut()) else { break };
-            self.rewind(bodies, at, [a, b]);
+            let (Some(rewind), Some(engine)) = (self.world.rewind.take(), engine.as_mut()) else { break };
+            if rewind.time == 0.0 {
+                clamp = true;
+                continue;
+            }
+            let at = rewind.time;
+            self.rewind(bodies, at, [rewind.a, rewind.b]);
+            if let Some((point_a, point_b)) = rewind.points {
+                self.push_off_kinematic(bodies, [rewind.a, rewind.b], &point_a, &point_b, at);
+            }
             elapsed += at * scale;
             substeps += 1;
             self.substeps += 1;
@@ -623,6 +634,85 @@ impl Guard {
         // What the pairs carried was about the sweep's end.
         for pair in &mut self.world.pairs {
             pair.lower_bound = None;
+        }
+    }
+
+    /// Body `i`, clamped at `at` into the sweep: held at its pose then, or,
+    /// when it touches a kinematic body (which has infinite mass and goes
+    /// on), carried by it from then to the step's end (their relative pose
+    /// kept, velocities the kinematic body's), so it is pushed, not passed
+    /// through. `scale`: the sweep's real length over `dt`.
+    fn hold_or_carry(&mut self, bodies: &mut RigidBodySet, i: usize, at: Real, scale: Real) {
+        let held = self.world.motions[i].pose_at(at);
+        let carrier = self.world.pairs.iter().filter(|p| p.touching.is_some()).find_map(|p| {
+            let other = if p.a == i {
+                p.b
+            } else if p.b == i {
+                p.a
+            } else {
+                return None;
+            };
+            bodies.get(self.handles[other]).is_some_and(|body| body.is_kinematic()).then_some(other)
+        });
+        let Some(k) = carrier else {
+            if let Some(body) = bodies.get_mut(self.handles[i]) {
+                body.set_position(pose_to_parry(&body_pose(&held, &self.centers[i])), true);
+            }
+            return;
+        };
+        let (k_at, k_end) = (self.world.motions[k].pose_at(at), self.world.motions[k].pose_at(self.dt));
+        let carried = k_end * k_at.inverse() * held;
+        let carrier = &bodies[self.handles[k]];
+        let (v_k, w_k) = (from_parry(carrier.linvel()).coords, from_parry(carrier.angvel()).coords);
+        let velocity = v_k + w_k.cross(&(carried.translation.vector - k_end.translation.vector));
+        self.world.motions[i] = StepMotion::between_near(&self.start[i], &carried, self.dt, &(w_k * scale));
+        if let Some(body) = bodies.get_mut(self.handles[i]) {
+            body.set_position(pose_to_parry(&body_pose(&carried, &self.centers[i])), true);
+            body.set_linvel(vector_to_parry(&velocity), true);
+            body.set_angvel(vector_to_parry(&w_k), true);
+        }
+    }
+
+    /// A dynamic body moved back to its contact with a kinematic one leaves
+    /// at least as fast as the kinematic body's contact point along the
+    /// contact normal (the kinematic body has infinite mass, and rapier's
+    /// soft contact alone lets it sink in): its velocity gains the missing
+    /// normal speed, through its centre (no spin is added).
+    fn push_off_kinematic(
+        &self,
+        bodies: &mut RigidBodySet,
+        pair: [usize; 2],
+        point_a: &Point,
+        point_b: &Point,
+        at: Real,
+    ) {
+        let [a, b] = pair;
+        let kinematic = |i: usize| bodies.get(self.handles[i]).is_some_and(|body| body.is_kinematic());
+        let dynamic = |i: usize| bodies.get(self.handles[i]).is_some_and(|body| body.is_dynamic());
+        let (k, d, towards_d) = if kinematic(a) && dynamic(b) {
+            (a, b, point_b - point_a)
+        } else if kinematic(b) && dynamic(a) {
+            (b, a, point_a - point_b)
+        } else {
+            return;
+        };
+        let center = |i: usize| self.world.motions[i].center_at(at);
+        let Some(normal) =
+            towards_d.try_normalize(0.0).or_else(|| (center(d) - center(k)).try_normalize(0.0))
+        else {
+            return;
+        };
+        let contact = Point::from((point_a.coords + point_b.coords) / 2.0);
+        let point_velocity = |i: usize| {
+            let body = &bodies[self.handles[i]];
+            let (v, w) = (from_parry(body.linvel()).coords, from_parry(body.angvel()).coords);
+            v + w.cross(&(contact - center(i)))
+        };
+        let deficit = (point_velocity(k) - point_velocity(d)).dot(&normal);
+        if deficit > 0.0 {
+            let body = &mut bodies[self.handles[d]];
+            let velocity = from_parry(body.linvel()).coords + normal * deficit;
+            body.set_linvel(vector_to_parry(&velocity), true);
         }
     }
 

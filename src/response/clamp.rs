@@ -31,7 +31,7 @@ use super::{approach_speed, contact_frame, Response, StepContext};
 use crate::ccd::{mesh_time_of_impact, CcdStatus, ContactRule, MeshCcdResult, WarmStart};
 use crate::math::Real;
 use crate::motion::StepMotion;
-use crate::stepper::{pair_query, Found, PairState};
+use crate::stepper::{pair_query, Found, PairState, Rewind};
 
 /// The guard's response, with what the engine can stop.
 pub(crate) struct Clamp {
@@ -106,15 +106,16 @@ impl Clamp {
             let Some(time) = result.time_of_impact else { continue };
             let pair = &step.world.pairs[k];
             let (a, b) = (pair.a, pair.b);
+            let rewind = Rewind { time, a, b, points: result.closest.map(|c| (c.point_a, c.point_b)) };
             if pair.touching.is_some() {
                 // rapier let a touching pair through its skin to the wall.
-                step.world.rewind = Some((time, a, b));
+                step.world.rewind = Some(rewind);
                 break;
             }
             step.world.record_contact(k, step.t0, time, &result);
             recorded = true;
             if self.guards_touching_pairs && self.reaches_wall(step, k, time) {
-                step.world.rewind = Some((time, a, b));
+                step.world.rewind = Some(rewind);
                 break;
             }
         }

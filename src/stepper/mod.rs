@@ -35,7 +35,7 @@ pub use parameters::StepParameters;
 pub use result::{Contact, Counters, RunResult, Solver, Termination};
 #[cfg(test)]
 pub(crate) use world::Touching;
-pub(crate) use world::{PairState, World};
+pub(crate) use world::{PairState, Rewind, World};
 
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;

@@ -35,9 +35,20 @@ pub(crate) struct World {
     /// The guard may ask for a rewind in this sweep (it has substeps left).
     pub may_rewind: bool,
     /// The guard's response asks to move the world back to this time into
-    /// the sweep and let the engine solve from there: the time and the pair
-    /// whose contact needs it.
-    pub rewind: Option<(Real, usize, usize)>,
+    /// the sweep and let the engine solve from there.
+    pub rewind: Option<Rewind>,
+}
+
+/// A contact the guard steps the world back to (see `World::rewind`).
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Rewind {
+    /// Time into the sweep.
+    pub time: Real,
+    /// The pair whose contact needs it.
+    pub a: usize,
+    pub b: usize,
+    /// The contact's closest points (world frame).
+    pub points: Option<(Point, Point)>,
 }
 
 /// A CCD query that ran out of iterations: the pair (index into `pairs`),
