@@ -369,3 +369,21 @@ fn a_sweep_whose_step_makes_the_trace_too_large_is_refused() {
     assert!(!out.exists(), "output was written");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_typo_inside_a_response_names_the_field() {
+    let text = format!("Scene(name: \"bad\", dt: 0.01, duration: 1.0,\n  on_contact: Simulate(frictoin: 0.1),\n  {GOOD_BODIES})");
+    assert_rejected("simulate typo", &text, &["scene.ron:2:", "frictoin", "`friction`"]);
+    let text = format!("Scene(name: \"bad\", dt: 0.01, duration: 1.0,\n  on_contact: Bounce(restitution: 1.0, restitutoin: 0.5),\n  {GOOD_BODIES})");
+    assert_rejected("bounce typo", &text, &["scene.ron:2:", "restitutoin"]);
+}
+
+#[test]
+fn a_response_without_its_parentheses_says_what_to_write() {
+    let text =
+        format!("Scene(name: \"bad\", dt: 0.01, duration: 1.0,\n  on_contact: Simulate,\n  {GOOD_BODIES})");
+    assert_rejected("bare simulate", &text, &["scene.ron:2:", "`Simulate()`"]);
+    let text =
+        format!("Scene(name: \"bad\", dt: 0.01, duration: 1.0,\n  on_contact: Bounce,\n  {GOOD_BODIES})");
+    assert_rejected("bare bounce", &text, &["scene.ron:2:", "`Bounce(restitution: 1.0)`"]);
+}

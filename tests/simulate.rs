@@ -165,7 +165,7 @@ fn a_box_sliding_with_friction_stops_where_v_squared_over_2_mu_g_says() {
     // v0 = 4, µ = 0.5 on both (rapier averages: 0.5), g = 9.81: the box
     // slides d = v0² / (2 µ g) = 1.6310 before stopping. rapier's friction
     // is solved with its contact (in the same iterations), applied from
-    // the step's velocity: measured within 2% of d (see the closing note).
+    // the step's velocity: measured within 0.2% of d, asserted within 1%.
     let (scene, result) = simulate(
         r#"Scene(
             name: "slide", dt: 0.004166666666666667, duration: 2.0,
@@ -182,7 +182,13 @@ fn a_box_sliding_with_friction_stops_where_v_squared_over_2_mu_g_says() {
     let last = result.final_states[1];
     assert!(last.velocity.norm() < 1e-6, "stopped: {}", last.velocity.norm());
     let error = (last.position.x - expected).abs() / expected;
-    assert!(error < 0.02, "slid {} against {expected} (relative error {error})", last.position.x);
+    assert!(error < 0.01, "slid {} against {expected} (relative error {error})", last.position.x);
+    // It starts touching the floor: not a reason to freeze it for a step
+    // (it lost its first step's travel so before): after the first step it
+    // has slid v0 dt, less the friction's µ g dt² (0.5%) and rounding.
+    let first = result.poses.iter().find(|r| r.body == 1 && r.step == 1).expect("poses every step");
+    let dt = scene.dt;
+    assert!(first.position.x >= 0.99 * 4.0 * dt, "after one step: {}", first.position.x);
     assert!(deepest_penetration(&scene, &result) <= ALLOWED_PENETRATION);
 }
 

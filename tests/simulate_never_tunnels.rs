@@ -328,3 +328,24 @@ fn two_equal_boxes_meeting_head_on_at_restitution_one_leave_without_spin() {
     assert!((a.velocity.x + 1.0).abs() < 0.05 && (b.velocity.x - 5.0).abs() < 0.05, "{a:?} {b:?}");
     assert!(a.angular_velocity.norm() < 0.05 && b.angular_velocity.norm() < 0.05, "spin {a:?} {b:?}");
 }
+
+#[test]
+fn a_crate_on_a_40_km_ground_is_accepted_and_rests() {
+    // The contract's contact distance uses the smaller body's radius: a 1 m
+    // crate on a 40 km fixed ground has 1e-6 × 0.87, far inside the skins
+    // (the ground's own radius, 28 km, would give 0.028).
+    let (scene, result) = simulate(
+        r#"Scene(
+            name: "ground", dt: 0.016666666666666666, duration: 1.0,
+            gravity: (0.0, 0.0, -9.81),
+            on_contact: Simulate(),
+            poses: (every: 1),
+            bodies: [
+                (name: "ground", mesh: Box(half_extents: (20000.0, 20000.0, 0.5)), position: (0.0, 0.0, -0.5), fixed: true),
+                (name: "crate", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (0.0, 0.0, 0.6), density: 100.0),
+            ],
+        )"#,
+    );
+    assert!(result.first_contact.is_some(), "the crate lands");
+    assert!(lowest_vertex(&scene, &result, 1) > 0.0, "the crate never touches the ground");
+}

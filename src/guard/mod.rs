@@ -175,6 +175,33 @@ pub(crate) fn contact_distance_limit(parameters: &IntegrationParameters, skin: R
     }
 }
 
+/// Whether a `Simulate` scene's bodies fit the guard under rapier's default
+/// parameters and the default skin: `Err((body, contact distance, limit))`
+/// when the largest pair's contact distance is not below the skins (`body`
+/// is the one whose radius sets it).
+pub(crate) fn simulate_contact_limit(ccd: &CcdOptions, bodies: &[Body]) -> Result<(), (String, Real, Real)> {
+    let parameters = IntegrationParameters::default();
+    let limit = contact_distance_limit(&parameters, GuardOptions::default().skin_under(&parameters));
+    contact_within(ccd, bodies.iter(), limit)
+}
+
+/// [`simulate_contact_limit`] for any bodies and limit.
+fn contact_within<'a>(
+    ccd: &CcdOptions,
+    bodies: impl Iterator<Item = &'a Body> + Clone,
+    limit: Real,
+) -> Result<(), (String, Real, Real)> {
+    let radius =
+        largest_pair_radius(bodies.clone().map(|b| (b.mesh.radius(), b.motion == BodyMotion::Fixed)));
+    let contract = ContactContract::of(ccd, ContactRule::ScaleRelative, radius, 0.0);
+    if contract.contact_distance < limit {
+        return Ok(());
+    }
+    let mut bodies = bodies;
+    let body = bodies.find(|b| b.mesh.radius() == radius).map_or(String::new(), |b| b.name.clone());
+    Err((body, contract.contact_distance, limit))
+}
+
 /// The largest radius that sets a pair's contact distance: over the pairs
 /// not both fixed, the larger of their smaller radii (`(radius, fixed)` per
 /// body). 0 without such a pair.
@@ -398,21 +425,8 @@ impl Guard {
         parameters: &IntegrationParameters,
     ) -> Result<Guard, GuardError> {
         let limit = contact_distance_limit(parameters, setup.skin);
-        let radius = largest_pair_radius(
-            scene.bodies.iter().map(|b| (b.mesh.radius(), b.motion == BodyMotion::Fixed)),
-        );
-        let contract = ContactContract::of(&scene.ccd, ContactRule::ScaleRelative, radius, 0.0);
-        if contract.contact_distance >= limit {
-            let body = scene
-                .bodies
-                .iter()
-                .find(|b| b.mesh.radius() == radius)
-                .map_or(String::new(), |b| b.name.clone());
-            return Err(GuardError::ContactDistance {
-                body,
-                contact_distance: contract.contact_distance,
-                limit,
-            });
+        if let Err((body, contact_distance, limit)) = contact_within(&scene.ccd, scene.bodies.iter(), limit) {
+            return Err(GuardError::ContactDistance { body, contact_distance, limit });
         }
         let options = RunOptions { parallel: setup.parallel, broad_phase: true };
         let response = Box::new(Clamp {

@@ -67,24 +67,10 @@ impl Response for Clamp {
     }
 
     fn respond(&self, step: &mut StepContext<'_>, found: &mut Vec<Found>) -> bool {
-        // A touching pair at the wall at the sweep's start and moving apart
-        // (after a rewind to its wall contact, rapier pushes it out): its
-        // query stopped at the start, so it is asked again whether it comes
-        // within half its distance there later in the sweep (a turning body
-        // can catch up with one pushed straight).
         for entry in found.iter_mut() {
             let k = entry.pair;
-            let at_start = entry.result.time_of_impact == Some(0.0) && step.world.pairs[k].touching.is_some();
-            if at_start && !approaching(step, k, &entry.result) {
-                let distance = entry.result.closest.map_or(0.0, |c| c.distance);
-                entry.result = self.query_pair(step, k, 0.0, ContactRule::Absolute(0.5 * distance));
-                if entry.result.time_of_impact == Some(0.0)
-                    && entry.result.status != CcdStatus::OutOfIterations
-                {
-                    // Within half its start distance at once: apart at the
-                    // rounding floor, moving apart at first order.
-                    entry.result.time_of_impact = None;
-                }
+            if step.world.pairs[k].touching.is_some() && entry.result.time_of_impact == Some(0.0) {
+                entry.result = self.past_the_start(step, k, 0.0, entry.result);
             }
         }
         found.retain(|entry| entry.result.time_of_impact.is_some());
@@ -128,7 +114,37 @@ impl Clamp {
     /// counts as reaching it.
     fn reaches_wall(&self, step: &mut StepContext<'_>, k: usize, time: Real) -> bool {
         let result = self.query_pair(step, k, time, ContactRule::ScaleRelative);
-        result.status == CcdStatus::OutOfIterations || result.time_of_impact.is_some()
+        let result = if result.time_of_impact == Some(time) {
+            self.past_the_start(step, k, time, result)
+        } else {
+            result
+        };
+        result.time_of_impact.is_some()
+    }
+
+    /// A wall query of pair `k` from `time` that stopped at once (the pair
+    /// is at the wall there: it started the run touching, or the world was
+    /// moved back to its wall contact). Approaching, it is a hit then;
+    /// moving apart, the query is asked again whether the pair comes within
+    /// half its distance there later in the sweep (a turning body can catch
+    /// up with one pushed straight), and at once again means apart at the
+    /// rounding floor: no hit.
+    fn past_the_start(
+        &self,
+        step: &mut StepContext<'_>,
+        k: usize,
+        time: Real,
+        result: MeshCcdResult,
+    ) -> MeshCcdResult {
+        if result.status == CcdStatus::OutOfIterations || approaching(step, k, &result, time) {
+            return result;
+        }
+        let distance = result.closest.map_or(0.0, |c| c.distance);
+        let mut again = self.query_pair(step, k, time, ContactRule::Absolute(0.5 * distance));
+        if again.time_of_impact == Some(time) && again.status != CcdStatus::OutOfIterations {
+            again.time_of_impact = None;
+        }
+        again
     }
 
     /// The CCD of pair `k` from `time` into the step to its end under `rule`
@@ -209,13 +225,13 @@ fn time_of(found: &Found) -> Real {
     found.result.time_of_impact.unwrap_or(Real::INFINITY)
 }
 
-/// Whether the closest points of pair `k`'s contact at the sweep's start
-/// approach each other.
-fn approaching(step: &StepContext<'_>, k: usize, contact: &MeshCcdResult) -> bool {
+/// Whether the closest points of pair `k`'s contact at `time` into the
+/// sweep approach each other.
+fn approaching(step: &StepContext<'_>, k: usize, contact: &MeshCcdResult, time: Real) -> bool {
     let Some(closest) = contact.closest else { return true };
     let pair = &step.world.pairs[k];
-    let a = step.world.impact_body(step.scene, pair.a, 0.0);
-    let b = step.world.impact_body(step.scene, pair.b, 0.0);
+    let a = step.world.impact_body(step.scene, pair.a, time);
+    let b = step.world.impact_body(step.scene, pair.b, time);
     let (point, normal) = contact_frame(&closest.point_a, &closest.point_b, &a, &b);
     approach_speed(&a, &b, &point, &normal) < 0.0
 }

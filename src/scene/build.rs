@@ -23,9 +23,27 @@ pub(super) fn build(text: &str, source: &str, base: &Path) -> Result<Scene> {
         path: source.to_string(),
         line: e.span.start.line,
         column: e.span.start.col,
-        message: e.code.to_string(),
+        message: syntax_message(text, &e),
     })?;
     Builder { source }.scene(file, base)
+}
+
+/// ron's message for a syntax error, with what to write where a
+/// response's settings were left out (`on_contact: Simulate` for
+/// `Simulate()`).
+fn syntax_message(text: &str, error: &ron::error::SpannedError) -> String {
+    let message = error.code.to_string();
+    if !matches!(error.code, ron::Error::ExpectedStructLike | ron::Error::ExpectedNamedStructLike(_)) {
+        return message;
+    }
+    let line = text.lines().nth(error.span.start.line.saturating_sub(1)).unwrap_or("");
+    let before: String = line.chars().take(error.span.start.col.saturating_sub(1)).collect();
+    let word = before.trim_end().rsplit(|c: char| !c.is_alphanumeric()).next().unwrap_or("");
+    match word {
+        "Simulate" => format!("{message}: `Simulate` takes its settings in parentheses, `Simulate()` for the defaults or e.g. `Simulate(friction: 0.3, restitution: 0.2)`"),
+        "Bounce" => format!("{message}: `Bounce` takes its restitution, e.g. `Bounce(restitution: 1.0)`"),
+        _ => message,
+    }
 }
 
 pub(super) struct Builder<'a> {
@@ -324,32 +342,21 @@ impl Builder<'_> {
         }
     }
 
-    /// Under `Simulate`, each body's contact distance must be below rapier's
-    /// prediction distance, so that rapier's solver sees the pairs the
-    /// guard stops.
+    /// Under `Simulate`, the largest pair's contact distance (its smaller
+    /// body's radius sets it) must lie within the two colliders' contact
+    /// skins: the guard's wall inside rapier's contact
+    /// ([`crate::guard::simulate_contact_limit`]).
     fn simulate_contact_distances(&self, ccd: &CcdOptions, bodies: &[Body]) -> Result<()> {
         #[cfg(feature = "rapier")]
-        {
-            let prediction = rapier3d_f64::prelude::IntegrationParameters::default().prediction_distance();
-            for (i, body) in bodies.iter().enumerate() {
-                let contract = crate::ccd::ContactContract::of(
-                    ccd,
-                    crate::ccd::ContactRule::ScaleRelative,
-                    body.mesh.radius(),
-                    0.0,
-                );
-                if contract.contact_distance >= prediction {
-                    return self.invalid(
-                        "ccd.distance_tolerance",
-                        format!(
-                            "`{}` (bodies[{i}]) would have a contact distance of {}, not below rapier's prediction distance {} under `Simulate`: rapier would not see the contacts nearmiss stops; lower `distance_tolerance` or `minimum_separation`",
-                            body.name,
-                            shortest(contract.contact_distance),
-                            shortest(prediction)
-                        ),
-                    );
-                }
-            }
+        if let Err((body, contact_distance, limit)) = crate::guard::simulate_contact_limit(ccd, bodies) {
+            return self.invalid(
+                "ccd.distance_tolerance",
+                format!(
+                    "a pair with `{body}` would have a contact distance of {} under `Simulate`, not below the two colliders' contact skins {}: the guard's wall would lie outside rapier's contact; lower `distance_tolerance` or `minimum_separation`",
+                    shortest(contact_distance),
+                    shortest(limit)
+                ),
+            );
         }
         #[cfg(not(feature = "rapier"))]
         let _ = (ccd, bodies);

@@ -130,6 +130,7 @@ pub enum FormulaSettings {
 
 /// What the run does at a contact.
 #[derive(Copy, Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub enum OnContact {
     /// Stop at the first contact. The default.
     #[default]
