@@ -287,7 +287,9 @@ fn compare_rapier_says_rapier_alone_lets_the_shipped_bullet_through_and_holds_th
     let result = run(&scene);
     let first: std::collections::BTreeMap<_, _> =
         result.contacts.iter().map(|c| ((c.body_a, c.body_b), c.time)).rev().collect();
-    let rows = nearmiss::guard::compare_with_rapier(&scene, &first).expect("rapier runs the scene");
+    let comparison = nearmiss::guard::compare_with_rapier(&scene, &first, &result.final_states)
+        .expect("rapier runs the scene");
+    let rows = &comparison.pairs;
     assert_eq!(rows.len(), 1);
     assert_eq!(rows[0].verdict, "passed through", "{rows:?}");
     assert_eq!(rows[0].rapier, None);
@@ -296,7 +298,45 @@ fn compare_rapier_says_rapier_alone_lets_the_shipped_bullet_through_and_holds_th
     assert_eq!(rows[0].nearmiss, Some(result.contacts[0].time));
 
     let scene = Scene::load("scenes/ball_rest.ron").unwrap_or_else(|e| panic!("{e}"));
-    let rows = nearmiss::guard::compare_with_rapier(&scene, &Default::default()).expect("rapier runs it");
+    let comparison =
+        nearmiss::guard::compare_with_rapier(&scene, &Default::default(), &[]).expect("rapier runs it");
+    let rows = &comparison.pairs;
     assert_eq!(rows[0].verdict, "held", "{rows:?}");
     assert!(rows[0].max_penetration.is_some_and(|d| d <= ALLOWED_PENETRATION));
+}
+
+#[test]
+fn compare_rapier_writes_no_null_reports_velocities_and_a_resting_start_is_no_crossing() {
+    // Two boxes stacked touching from the start (rapier's narrow phase has
+    // not run before the first step): held, not "passed through". The JSON
+    // of the comparison holds no null; each body's final velocities are
+    // reported beside nearmiss's (at rest: all zero to rounding).
+    let scene = Scene::from_ron_str(
+        r#"Scene(
+            name: "stack", dt: 0.016666666666666666, duration: 1.0,
+            gravity: (0.0, 0.0, -9.81),
+            on_contact: Simulate(),
+            bodies: [
+                (name: "floor", mesh: Box(half_extents: (5.0, 5.0, 0.5)), position: (0.0, 0.0, -0.5), fixed: true),
+                (name: "box0", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (0.0, 0.0, 0.5), density: 1.0),
+                (name: "box1", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (0.0, 0.0, 1.5), density: 1.0),
+            ],
+        )"#,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let result = run(&scene);
+    let first: std::collections::BTreeMap<_, _> =
+        result.contacts.iter().map(|c| ((c.body_a, c.body_b), c.time)).rev().collect();
+    let comparison =
+        nearmiss::guard::compare_with_rapier(&scene, &first, &result.final_states).expect("rapier runs it");
+    for pair in &comparison.pairs {
+        assert_ne!(pair.verdict, "passed through", "{pair:?}");
+    }
+    let json = serde_json::to_string(&comparison).expect("serialisable");
+    assert!(!json.contains("null"), "{json}");
+    assert_eq!(comparison.bodies.len(), 3);
+    for body in &comparison.bodies {
+        let speed = |v: &[Real; 3]| v.iter().map(|x| x * x).sum::<Real>().sqrt();
+        assert!(speed(&body.rapier_velocity) < 0.05 && speed(&body.nearmiss_velocity) < 0.05, "{body:?}");
+    }
 }

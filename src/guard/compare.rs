@@ -12,6 +12,12 @@
 //! - **intersected**: parry's contact query between the two colliders at a
 //!   step's end finds them deeper than [`PENETRATION_LIMIT_FACTOR`] times
 //!   rapier's allowed linear error.
+//!
+//! A pair touching at a step's start (bodies placed in contact) is not a
+//! crossing: rapier's narrow phase has not run before the first step.
+//!
+//! Per body: its velocities at the run's end in rapier alone, beside
+//! nearmiss's.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -30,23 +36,37 @@ use crate::scene::{BodyMotion, Scene};
 /// error (a stack of five unit boxes: 1.92e-3 at the default 0.001).
 pub const PENETRATION_LIMIT_FACTOR: Real = 2.0;
 
-/// rapier's outcome for one pair.
+/// rapier alone beside nearmiss: per pair and per body (see the module).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RapierComparison {
+    /// Per pair of bodies not both fixed.
+    pub pairs: Vec<RapierPair>,
+    /// Per body, in the scene's order.
+    pub bodies: Vec<RapierBody>,
+}
+
+/// rapier's outcome for one pair. Fields that do not apply are left out of
+/// the JSON (never `null`).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RapierPair {
     /// First body's name.
     pub body_a: String,
     /// Second body's name.
     pub body_b: String,
-    /// nearmiss's first contact of the pair (`null`: none).
+    /// nearmiss's first contact of the pair (absent: none).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub nearmiss: Option<Real>,
     /// rapier's first contact: the end of the first step after which it has
-    /// an active contact between them (`null`: none).
+    /// an active contact between them (absent: none).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub rapier: Option<Real>,
     /// The first step's start time in which rapier let them pass through
     /// (see the module), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub passed_through_at: Option<Real>,
     /// The deepest overlap at a step's end (parry's contact depth; 0 when
-    /// never overlapping, `null` where parry cannot measure the shapes).
+    /// never overlapping, absent where parry cannot measure the shapes).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub max_penetration: Option<Real>,
     /// Whether that exceeds the limit (see the module).
     pub intersected: bool,
@@ -55,12 +75,31 @@ pub struct RapierPair {
     pub verdict: String,
 }
 
+/// One body's velocities at the run's end, in rapier alone and in
+/// nearmiss's run (world frame; angular in radians per time unit).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RapierBody {
+    /// The body's name.
+    pub body: String,
+    /// rapier alone: velocity of the centre of mass.
+    pub rapier_velocity: [Real; 3],
+    /// rapier alone: angular velocity.
+    pub rapier_angular_velocity: [Real; 3],
+    /// nearmiss's run: velocity of the centre of mass.
+    pub nearmiss_velocity: [Real; 3],
+    /// nearmiss's run: angular velocity.
+    pub nearmiss_angular_velocity: [Real; 3],
+}
+
 /// Runs `scene` in rapier alone and compares each pair with nearmiss's
-/// first contacts (`nearmiss_first`: per pair `(a, b)` with `a < b`).
+/// first contacts (`nearmiss_first`: per pair `(a, b)` with `a < b`) and
+/// each body's final velocities with nearmiss's (`nearmiss_final`, the
+/// run's `final_states`).
 pub fn compare_with_rapier(
     scene: &Scene,
     nearmiss_first: &BTreeMap<(usize, usize), Real>,
-) -> Result<Vec<RapierPair>, super::GuardError> {
+    nearmiss_final: &[crate::motion::RigidState],
+) -> Result<RapierComparison, super::GuardError> {
     let mut rapier = RapierScene::build(scene, true, false)?;
     let allowed = rapier.parameters.allowed_linear_error();
     // A guard that watches rapier's motion and never moves a body.
@@ -97,7 +136,13 @@ pub fn compare_with_rapier(
             Ok(events) => events
                 .iter()
                 .filter_map(|event| match event {
-                    GuardEvent::Started { contact, .. } => Some((contact.body_a, contact.body_b)),
+                    // Touching at the step's start is not a crossing.
+                    GuardEvent::Started { contact, .. }
+                        if contact.status != crate::ccd::CcdStatus::InitiallyTouching =>
+                    {
+                        Some((contact.body_a, contact.body_b))
+                    }
+                    GuardEvent::Started { .. } => None,
                     GuardEvent::Stopped { .. } => None,
                 })
                 .collect(),
@@ -120,7 +165,26 @@ pub fn compare_with_rapier(
             };
         }
     }
-    Ok(pairs
+    let triple = |v: &crate::math::Vector| [v.x, v.y, v.z];
+    let bodies = (0..scene.bodies.len())
+        .map(|i| {
+            let rapier_state = rapier.state(i);
+            let (v, w) = rapier_state.map_or(([0.0; 3], [0.0; 3]), |state| {
+                (triple(&state.velocity), triple(&state.angular_velocity))
+            });
+            let (nv, nw) = nearmiss_final.get(i).map_or(([0.0; 3], [0.0; 3]), |state| {
+                (triple(&state.velocity), triple(&state.angular_velocity))
+            });
+            RapierBody {
+                body: scene.bodies[i].name.clone(),
+                rapier_velocity: v,
+                rapier_angular_velocity: w,
+                nearmiss_velocity: nv,
+                nearmiss_angular_velocity: nw,
+            }
+        })
+        .collect();
+    let pairs = pairs
         .iter()
         .map(|&(a, b)| {
             let (first, passed, penetration) = rows[&(a, b)];
@@ -145,16 +209,18 @@ pub fn compare_with_rapier(
                 verdict: verdict.into(),
             }
         })
-        .collect())
+        .collect();
+    Ok(RapierComparison { pairs, bodies })
 }
 
-/// The comparison as a Markdown table.
-pub fn rapier_markdown(rows: &[RapierPair]) -> String {
+/// The comparison as two Markdown tables (pairs, then bodies' final
+/// velocities).
+pub fn rapier_markdown(comparison: &RapierComparison) -> String {
     let time = |t: Option<Real>| t.map_or("no contact".to_string(), |t| format!("{t:.9}"));
     let mut out = String::from(
         "| pair | nearmiss first contact | rapier first contact | rapier | deepest overlap |\n|---|---|---|---|---|\n",
     );
-    for row in rows {
+    for row in &comparison.pairs {
         let depth = row.max_penetration.map_or("not measured".to_string(), |d| format!("{d:.3e}"));
         out.push_str(&format!(
             "| {} / {} | {} | {} | {} | {} |\n",
@@ -164,6 +230,20 @@ pub fn rapier_markdown(rows: &[RapierPair]) -> String {
             time(row.rapier),
             row.verdict,
             depth
+        ));
+    }
+    let triple = |v: &[Real; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
+    out.push_str(
+        "\n| body | final velocity, nearmiss | rapier alone | angular velocity, nearmiss | rapier alone |\n|---|---|---|---|---|\n",
+    );
+    for row in &comparison.bodies {
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {} |\n",
+            row.body,
+            triple(&row.nearmiss_velocity),
+            triple(&row.rapier_velocity),
+            triple(&row.nearmiss_angular_velocity),
+            triple(&row.rapier_angular_velocity)
         ));
     }
     out

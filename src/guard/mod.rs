@@ -91,7 +91,8 @@ mod shapes;
 pub(crate) mod simulate;
 
 pub use compare::{
-    compare_with_rapier, rapier_markdown, run_rapier_alone, RapierAlone, RapierPair, PENETRATION_LIMIT_FACTOR,
+    compare_with_rapier, rapier_markdown, run_rapier_alone, RapierAlone, RapierBody, RapierComparison,
+    RapierPair, PENETRATION_LIMIT_FACTOR,
 };
 
 use std::sync::Arc;

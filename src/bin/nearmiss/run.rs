@@ -52,7 +52,7 @@ pub fn main(args: Args) -> CommandResult {
         for c in &result.contacts {
             first.entry((c.body_a.min(c.body_b), c.body_a.max(c.body_b))).or_insert(c.time);
         }
-        let rows = nearmiss::guard::compare_with_rapier(&scene, &first)
+        let rows = nearmiss::guard::compare_with_rapier(&scene, &first, &result.final_states)
             .map_err(|error| CliError::Failed(format!("rapier could not run the scene: {error}")))?;
         table = Some(nearmiss::guard::rapier_markdown(&rows));
         peers.rapier = serde_json::to_value(&rows).ok();
