@@ -349,3 +349,87 @@ fn a_crate_on_a_40_km_ground_is_accepted_and_rests() {
     assert!(result.first_contact.is_some(), "the crate lands");
     assert!(lowest_vertex(&scene, &result, 1) > 0.0, "the crate never touches the ground");
 }
+
+#[test]
+fn a_guarded_rapier_ball_and_a_compound_body_stop_at_a_thin_plate() {
+    use rapier3d_f64::prelude::*;
+    // rapier balls and compound colliders are guarded too: a ball of radius
+    // 0.1 and a body of two cuboids, at 300 units/s, rapier's CCD off, onto
+    // a 2 mm plate. The true shapes (the ball's sphere, the cuboids) must
+    // never overlap the plate: the guard sweeps polyhedra that contain them.
+    let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    let plate = bodies.insert(RigidBodyBuilder::fixed());
+    colliders.insert_with_parent(ColliderBuilder::cuboid(2.0, 2.0, 0.001), plate, &mut bodies);
+    let ball = bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(-1.0, 0.0, 3.0))
+            .linvel(Vector::new(0.0, 0.0, -300.0)),
+    );
+    colliders.insert_with_parent(ColliderBuilder::ball(0.1), ball, &mut bodies);
+    let parts = vec![
+        (Pose::from_translation(Vector::new(-0.2, 0.0, 0.0)), SharedShape::cuboid(0.1, 0.05, 0.05)),
+        (Pose::from_translation(Vector::new(0.2, 0.0, 0.0)), SharedShape::cuboid(0.1, 0.05, 0.05)),
+    ];
+    let compound = bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(1.0, 0.0, 3.0))
+            .linvel(Vector::new(0.0, 0.0, -300.0)),
+    );
+    colliders.insert_with_parent(ColliderBuilder::compound(parts), compound, &mut bodies);
+    let mut parameters = IntegrationParameters { dt: 1.0 / 60.0, ..Default::default() };
+    parameters.normalized_max_linear_velocity = f64::MAX;
+    let mut guard = nearmiss::guard::Guard::new(
+        &bodies,
+        &mut colliders,
+        &[plate, ball, compound],
+        &parameters,
+        nearmiss::guard::GuardOptions::default(),
+    )
+    .expect("a ball and a compound of cuboids");
+    let mut pipeline = PhysicsPipeline::new();
+    let (mut islands, mut broad_phase, mut narrow_phase) =
+        (IslandManager::new(), DefaultBroadPhase::default(), NarrowPhase::new());
+    let (mut impulse_joints, mut multibody_joints, mut soft_bodies, mut ccd) =
+        (ImpulseJointSet::new(), MultibodyJointSet::new(), SoftBodySet::new(), CCDSolver::new());
+    let mut started = 0;
+    for step in 0..30 {
+        let events = guard
+            .step(&mut bodies, |bodies, dt| {
+                pipeline.step(
+                    Vector::ZERO,
+                    &IntegrationParameters { dt, ..parameters },
+                    &mut islands,
+                    &mut broad_phase,
+                    &mut narrow_phase,
+                    bodies,
+                    &mut colliders,
+                    &mut impulse_joints,
+                    &mut multibody_joints,
+                    &mut soft_bodies,
+                    &mut ccd,
+                    &(),
+                    &(),
+                );
+            })
+            .expect("decided");
+        started += events.iter().filter(|e| matches!(e, nearmiss::guard::GuardEvent::Started { .. })).count();
+        let ball_bottom = bodies[ball].translation().z - 0.1;
+        assert!(ball_bottom > 0.001, "the ball's sphere reaches z = {ball_bottom} after step {step}");
+        let body = &bodies[compound];
+        for collider in body.colliders() {
+            let shape = colliders[*collider].shape().as_compound().expect("compound");
+            for (pose, part) in shape.shapes() {
+                let world = *body.position() * *pose;
+                let cuboid = part.as_cuboid().expect("cuboid");
+                let lowest = cuboid
+                    .to_trimesh()
+                    .0
+                    .iter()
+                    .map(|v| world.transform_point(*v).z)
+                    .fold(f64::INFINITY, f64::min);
+                assert!(lowest > 0.001, "a cuboid reaches z = {lowest} after step {step}");
+            }
+        }
+    }
+    assert!(started >= 2, "both bodies reach the plate: {started} contacts");
+}

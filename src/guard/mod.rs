@@ -102,7 +102,10 @@ use rapier3d_f64::prelude::{
     ColliderSet, IntegrationParameters, RigidBody, RigidBodyHandle, RigidBodySet, RigidBodyType,
 };
 
-pub use shapes::{collider_for, is_convex, mesh_of_body, ColliderShape, CONVEXITY_TOLERANCE};
+pub use shapes::{
+    circumscribed_ball, collider_for, is_convex, mesh_of_body, ColliderShape, CONVEXITY_TOLERANCE,
+    MAX_BALL_SEGMENTS,
+};
 
 use crate::ccd::{CcdOptions, ContactContract, ContactRule};
 use crate::math::{from_parry, pose_from_parry, pose_to_parry, vector_to_parry, Point, Pose, Real, Vector};
@@ -138,6 +141,10 @@ pub struct GuardOptions {
     /// the step). Default: `4`.
     pub max_substeps: usize,
 }
+
+/// How far outside a ball collider its swept polyhedron may stand, as a
+/// fraction of the contact skin: `0.25`.
+pub const BALL_EXCESS_OF_SKIN: Real = 0.25;
 
 /// [`GuardOptions::skin`]'s default.
 pub const DEFAULT_SKIN: Real = 1.0;
@@ -363,7 +370,9 @@ impl Guard {
         for &handle in guarded {
             let body = bodies.get(handle).ok_or(GuardError::UnknownBody(handle))?;
             let name = format!("{handle:?}");
-            let (mesh, center) = mesh_of_body(body, colliders, &name)?;
+            // A ball's polyhedron stands at most a quarter skin outside it,
+            // inside the skins rapier rests a pair at.
+            let (mesh, center) = mesh_of_body(body, colliders, &name, BALL_EXCESS_OF_SKIN * skin)?;
             for collider in body.colliders() {
                 if let Some(collider) = colliders.get_mut(*collider) {
                     collider.set_contact_skin(collider.contact_skin().max(skin));

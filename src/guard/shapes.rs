@@ -59,46 +59,113 @@ pub fn collider_for(
         .map_err(|error| GuardError::Shape { body: String::new(), message: error.to_string() })
 }
 
-/// The triangles of one collider in its body's frame, appended to
-/// `vertices` and `triangles`, or why it has none.
-fn append_collider(
-    collider: &Collider,
+/// The most segments around a ball's equator the guard tessellates it with
+/// (`2 × 256 × 256` triangles at most): balls needing more (radius above
+/// about 650 contact skins) are refused.
+pub const MAX_BALL_SEGMENTS: u32 = 512;
+
+/// A ball's circumscribed polyhedron: a UV sphere whose faces all lie at
+/// least `radius` from the centre (so the polyhedron contains the ball and a
+/// guarded polyhedron that touches nothing means a ball that touches
+/// nothing), fine enough that its vertices stand at most `excess` outside
+/// the ball. `None` when that needs more than [`MAX_BALL_SEGMENTS`].
+pub fn circumscribed_ball(radius: Real, excess: Real) -> Option<(Vec<Point>, Vec<[u32; 3]>)> {
+    let mut segments = 8u32;
+    while segments <= MAX_BALL_SEGMENTS {
+        let ball = parry3d_f64::shape::Ball::new(radius);
+        let (points, triangles) = ball.to_trimesh(segments, segments / 2);
+        let points: Vec<Point> = points.iter().copied().map(from_parry).collect();
+        // The nearest face plane to the centre sets the scale that pushes
+        // every face out to the ball.
+        let nearest = triangles
+            .iter()
+            .filter_map(|t| {
+                let [a, b, c] = t.map(|i| points[i as usize]);
+                let normal = (b - a).cross(&(c - a)).try_normalize(0.0)?;
+                Some(normal.dot(&a.coords).abs())
+            })
+            .fold(Real::INFINITY, Real::min);
+        if nearest.is_finite() && nearest > 0.0 {
+            let scale = radius / nearest;
+            if radius * (scale - 1.0) <= excess {
+                return Some((points.iter().map(|p| Point::from(p.coords * scale)).collect(), triangles));
+            }
+        }
+        segments *= 2;
+    }
+    None
+}
+
+/// The triangles of one shape at `frame` (in its body's frame), appended to
+/// `vertices` and `triangles`, or why it has none. `excess`: how far a
+/// ball's polyhedron may stand outside it.
+fn append_shape(
+    shape: &dyn parry3d_f64::shape::Shape,
+    frame: &parry3d_f64::math::Pose,
+    excess: Real,
     vertices: &mut Vec<Point>,
     triangles: &mut Vec<[u32; 3]>,
 ) -> Result<(), String> {
-    let shape = collider.shape();
-    let (points, indices) = if let Some(mesh) = shape.as_trimesh() {
-        (mesh.vertices().to_vec(), mesh.indices().to_vec())
+    if let Some(compound) = shape.as_compound() {
+        for (pose, part) in compound.shapes() {
+            append_shape(part.as_ref(), &(*frame * *pose), excess, vertices, triangles)?;
+        }
+        return Ok(());
+    }
+    let (points, indices): (Vec<Point>, Vec<[u32; 3]>) = if let Some(mesh) = shape.as_trimesh() {
+        (mesh.vertices().iter().copied().map(from_parry).collect(), mesh.indices().to_vec())
     } else if let Some(polyhedron) = shape.as_convex_polyhedron() {
-        polyhedron.to_trimesh()
+        let (points, indices) = polyhedron.to_trimesh();
+        (points.iter().copied().map(from_parry).collect(), indices)
     } else if let Some(cuboid) = shape.as_cuboid() {
-        cuboid.to_trimesh()
+        let (points, indices) = cuboid.to_trimesh();
+        (points.iter().copied().map(from_parry).collect(), indices)
+    } else if let Some(ball) = shape.as_ball() {
+        circumscribed_ball(ball.radius, excess).ok_or_else(|| {
+            format!(
+                "a ball of radius {} needs more than {MAX_BALL_SEGMENTS} segments to stay within {excess:e} of its polyhedron",
+                ball.radius
+            )
+        })?
     } else {
         return Err(format!(
-            "a collider's shape ({:?}) is not a mesh: the guard sweeps triangle meshes, convex polyhedra and cuboids",
+            "a collider's shape ({:?}) is not one the guard sweeps: triangle meshes, convex polyhedra, cuboids, balls and compounds of them",
             shape.shape_type()
         ));
     };
-    let frame = collider.position_wrt_parent().copied().unwrap_or_default();
     let first = u32::try_from(vertices.len()).map_err(|_| "too many vertices".to_string())?;
-    vertices.extend(points.into_iter().map(|p| from_parry(frame.transform_point(p))));
+    vertices.extend(points.into_iter().map(|p| from_parry(frame.transform_point(to_parry(&p)))));
     triangles.extend(indices.into_iter().map(|t| t.map(|i| i + first)));
     Ok(())
 }
 
+/// The triangles of one collider in its body's frame, appended to
+/// `vertices` and `triangles`, or why it has none.
+fn append_collider(
+    collider: &Collider,
+    excess: Real,
+    vertices: &mut Vec<Point>,
+    triangles: &mut Vec<[u32; 3]>,
+) -> Result<(), String> {
+    let frame = collider.position_wrt_parent().copied().unwrap_or_default();
+    append_shape(collider.shape(), &frame, excess, vertices, triangles)
+}
+
 /// The mesh the guard sweeps for `body`: the triangles of all its
-/// colliders, relative to its centre of mass (returned too, body frame).
+/// colliders (a ball's circumscribed polyhedron, at most `excess` outside
+/// it), relative to its centre of mass (returned too, body frame).
 pub fn mesh_of_body(
     body: &RigidBody,
     colliders: &ColliderSet,
     name: &str,
+    excess: Real,
 ) -> Result<(TriMesh, Vector), GuardError> {
     let shape_error = |message: String| GuardError::Shape { body: name.to_string(), message };
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
     for &handle in body.colliders() {
         let Some(collider) = colliders.get(handle) else { continue };
-        append_collider(collider, &mut vertices, &mut triangles).map_err(shape_error)?;
+        append_collider(collider, excess, &mut vertices, &mut triangles).map_err(shape_error)?;
     }
     if triangles.is_empty() {
         return Err(shape_error("the body has no collider".into()));
@@ -109,4 +176,26 @@ pub fn mesh_of_body(
     }
     let mesh = TriMesh::new(vertices, triangles).map_err(|error| shape_error(error.to_string()))?;
     Ok((mesh, center))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_balls_polyhedron_contains_it_and_stands_out_at_most_the_excess() {
+        for (radius, excess) in [(0.5, 0.00125), (0.05, 0.00125), (3.0, 0.01), (1e-3, 1e-6)] {
+            let (points, triangles) = circumscribed_ball(radius, excess).expect("fine enough");
+            for t in &triangles {
+                let [a, b, c] = t.map(|i| points[i as usize]);
+                let Some(normal) = (b - a).cross(&(c - a)).try_normalize(0.0) else { continue };
+                // Every face plane at least the radius from the centre (to
+                // rounding): the ball is inside.
+                assert!(normal.dot(&a.coords).abs() >= radius * (1.0 - 1e-12), "r {radius}");
+            }
+            let farthest = points.iter().map(|p| p.coords.norm()).fold(0.0, Real::max);
+            assert!(farthest - radius <= excess, "r {radius}: vertices {} outside", farthest - radius);
+        }
+        assert!(circumscribed_ball(1.0, 1e-9).is_none(), "too fine is refused");
+    }
 }
