@@ -351,15 +351,17 @@ fn a_crate_on_a_40_km_ground_is_accepted_and_rests() {
 }
 
 #[test]
-fn a_guarded_rapier_ball_and_a_compound_body_stop_at_a_thin_plate() {
+fn guarded_rapier_balls_capsules_cylinders_and_compounds_stop_at_a_thin_plate() {
     use rapier3d_f64::prelude::*;
-    // rapier balls and compound colliders are guarded too: a ball of radius
-    // 0.1 and a body of two cuboids, at 300 units/s, rapier's CCD off, onto
-    // a 2 mm plate. The true shapes (the ball's sphere, the cuboids) must
-    // never overlap the plate: the guard sweeps polyhedra that contain them.
+    // rapier's round shapes and compound colliders are guarded too: a ball
+    // of radius 0.1, a body of two cuboids, a capsule and a cylinder, tilted,
+    // at 300 units/s, rapier's CCD off, onto a 2 mm plate. The true shapes
+    // must never overlap the plate: the guard sweeps polyhedra that contain
+    // them.
     let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
     let plate = bodies.insert(RigidBodyBuilder::fixed());
-    colliders.insert_with_parent(ColliderBuilder::cuboid(2.0, 2.0, 0.001), plate, &mut bodies);
+    // Wide: the tilted shapes leave the impact spinning and sliding fast.
+    colliders.insert_with_parent(ColliderBuilder::cuboid(100.0, 100.0, 0.001), plate, &mut bodies);
     let ball = bodies.insert(
         RigidBodyBuilder::dynamic()
             .translation(Vector::new(-1.0, 0.0, 3.0))
@@ -376,16 +378,29 @@ fn a_guarded_rapier_ball_and_a_compound_body_stop_at_a_thin_plate() {
             .linvel(Vector::new(0.0, 0.0, -300.0)),
     );
     colliders.insert_with_parent(ColliderBuilder::compound(parts), compound, &mut bodies);
+    let tilt = Rotation::from_axis_angle(Vector::new(1.0, 0.2, 0.0).normalize(), 0.7);
+    let capsule = bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .pose(Pose::from_parts(Vector::new(0.0, 1.0, 3.0), tilt))
+            .linvel(Vector::new(0.0, 0.0, -300.0)),
+    );
+    colliders.insert_with_parent(ColliderBuilder::capsule_y(0.1, 0.05), capsule, &mut bodies);
+    let cylinder = bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .pose(Pose::from_parts(Vector::new(0.0, -1.0, 3.0), tilt))
+            .linvel(Vector::new(0.0, 0.0, -300.0)),
+    );
+    colliders.insert_with_parent(ColliderBuilder::cylinder(0.1, 0.05), cylinder, &mut bodies);
     let mut parameters = IntegrationParameters { dt: 1.0 / 60.0, ..Default::default() };
     parameters.normalized_max_linear_velocity = f64::MAX;
     let mut guard = nearmiss::guard::Guard::new(
         &bodies,
         &mut colliders,
-        &[plate, ball, compound],
+        &[plate, ball, compound, capsule, cylinder],
         &parameters,
         nearmiss::guard::GuardOptions::default(),
     )
-    .expect("a ball and a compound of cuboids");
+    .expect("round shapes and a compound of cuboids");
     let mut pipeline = PhysicsPipeline::new();
     let (mut islands, mut broad_phase, mut narrow_phase) =
         (IslandManager::new(), DefaultBroadPhase::default(), NarrowPhase::new());
@@ -430,6 +445,17 @@ fn a_guarded_rapier_ball_and_a_compound_body_stop_at_a_thin_plate() {
                 assert!(lowest > 0.001, "a cuboid reaches z = {lowest} after step {step}");
             }
         }
+        // Both along their y axes, half height 0.1, radius 0.05: the lowest
+        // point of the capsule is its lower segment end less the radius; of
+        // the cylinder, its lower cap centre less the radius times the
+        // axis's horizontal part.
+        let axis = |body: RigidBodyHandle| bodies[body].rotation() * Vector::Y;
+        let (a, c) = (axis(capsule), bodies[capsule].translation());
+        let capsule_bottom = c.z - 0.1 * a.z.abs() - 0.05;
+        assert!(capsule_bottom > 0.001, "the capsule reaches z = {capsule_bottom} after step {step}");
+        let (a, c) = (axis(cylinder), bodies[cylinder].translation());
+        let cylinder_bottom = c.z - 0.1 * a.z.abs() - 0.05 * (1.0 - a.z * a.z).max(0.0).sqrt();
+        assert!(cylinder_bottom > 0.001, "the cylinder reaches z = {cylinder_bottom} after step {step}");
     }
-    assert!(started >= 2, "both bodies reach the plate: {started} contacts");
+    assert!(started >= 4, "every body reaches the plate: {started} contacts");
 }

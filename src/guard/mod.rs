@@ -80,8 +80,11 @@
 //! ```
 //!
 //! The guard works on the bodies' centres of mass: the mesh it sweeps is the
-//! triangles of a body's colliders (triangle meshes, convex polyhedra,
-//! cuboids) relative to the body's centre of mass, and a body's motion over
+//! triangles of a body's colliders relative to the body's centre of mass
+//! (triangle meshes, convex polyhedra and cuboids as they are; balls,
+//! capsules and cylinders as polyhedra drawn around them, at most
+//! [`BALL_EXCESS_OF_SKIN`] of the skin outside, so that the shapes
+//! themselves never overlap either; compounds part by part), and a body's motion over
 //! a step is the constant linear and angular velocity that takes its start
 //! pose to its end pose (the turn nearest rapier's angular velocity). The
 //! scene runner's `on_contact: Simulate` is built on the same type.

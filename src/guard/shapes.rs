@@ -59,9 +59,10 @@ pub fn collider_for(
         .map_err(|error| GuardError::Shape { body: String::new(), message: error.to_string() })
 }
 
-/// The most segments around a ball's equator the guard tessellates it with
-/// (`2 × 256 × 256` triangles at most): balls needing more (radius above
-/// about 650 contact skins) are refused.
+/// The most segments around a ball's equator (or a cylinder's rim) the
+/// guard tessellates it with (`2 × 512 × 256` triangles at most for a
+/// ball): round shapes needing more (radius above about 650 contact skins)
+/// are refused.
 pub const MAX_BALL_SEGMENTS: u32 = 512;
 
 /// A ball's circumscribed polyhedron: a UV sphere whose faces all lie at
@@ -96,6 +97,45 @@ pub fn circumscribed_ball(radius: Real, excess: Real) -> Option<(Vec<Point>, Vec
     None
 }
 
+/// A capsule's circumscribed polyhedron: the convex hull of its ball's
+/// circumscribed polyhedron ([`circumscribed_ball`]) at both ends of its
+/// segment, which is the polyhedron swept along the segment and so contains
+/// the capsule (vertices at most `excess` outside it).
+fn circumscribed_capsule(
+    capsule: &parry3d_f64::shape::Capsule,
+    excess: Real,
+) -> Option<(Vec<Point>, Vec<[u32; 3]>)> {
+    let (ball, _) = circumscribed_ball(capsule.radius, excess)?;
+    let ends = [capsule.segment.a, capsule.segment.b].map(from_parry);
+    let points: Vec<_> =
+        ends.iter().flat_map(|end| ball.iter().map(move |p| to_parry(&(p + end.coords)))).collect();
+    let (points, triangles) = parry3d_f64::transformation::convex_hull(&points);
+    Some((points.into_iter().map(from_parry).collect(), triangles))
+}
+
+/// A cylinder's circumscribed prism: the regular polygons of its caps
+/// drawn around its circles (the polygon's sides tangent to them), fine
+/// enough that its vertices stand at most `excess` outside it.
+fn circumscribed_cylinder(
+    cylinder: &parry3d_f64::shape::Cylinder,
+    excess: Real,
+) -> Option<(Vec<Point>, Vec<[u32; 3]>)> {
+    let mut sides = 8u32;
+    while sides <= MAX_BALL_SEGMENTS {
+        // The inscribed polygon's sides are `cos(π / n)` of the radius from
+        // the axis: scaling by its inverse makes them tangent.
+        let scale = 1.0 / (std::f64::consts::PI / sides as Real).cos();
+        if cylinder.radius * (scale - 1.0) <= excess {
+            let (points, triangles) = cylinder.to_trimesh(sides);
+            // parry's cylinder runs along y.
+            let points = points.into_iter().map(|p| Point::new(p.x * scale, p.y, p.z * scale)).collect();
+            return Some((points, triangles));
+        }
+        sides *= 2;
+    }
+    None
+}
+
 /// The triangles of one shape at `frame` (in its body's frame), appended to
 /// `vertices` and `triangles`, or why it has none. `excess`: how far a
 /// ball's polyhedron may stand outside it.
@@ -121,15 +161,14 @@ fn append_shape(
         let (points, indices) = cuboid.to_trimesh();
         (points.iter().copied().map(from_parry).collect(), indices)
     } else if let Some(ball) = shape.as_ball() {
-        circumscribed_ball(ball.radius, excess).ok_or_else(|| {
-            format!(
-                "a ball of radius {} needs more than {MAX_BALL_SEGMENTS} segments to stay within {excess:e} of its polyhedron",
-                ball.radius
-            )
-        })?
+        circumscribed_ball(ball.radius, excess).ok_or_else(|| too_round(ball.radius, excess))?
+    } else if let Some(capsule) = shape.as_capsule() {
+        circumscribed_capsule(capsule, excess).ok_or_else(|| too_round(capsule.radius, excess))?
+    } else if let Some(cylinder) = shape.as_cylinder() {
+        circumscribed_cylinder(cylinder, excess).ok_or_else(|| too_round(cylinder.radius, excess))?
     } else {
         return Err(format!(
-            "a collider's shape ({:?}) is not one the guard sweeps: triangle meshes, convex polyhedra, cuboids, balls and compounds of them",
+            "a collider's shape ({:?}) is not one the guard sweeps: triangle meshes, convex polyhedra, cuboids, balls, capsules, cylinders and compounds of them",
             shape.shape_type()
         ));
     };
@@ -137,6 +176,13 @@ fn append_shape(
     vertices.extend(points.into_iter().map(|p| from_parry(frame.transform_point(to_parry(&p)))));
     triangles.extend(indices.into_iter().map(|t| t.map(|i| i + first)));
     Ok(())
+}
+
+/// Why a round shape has no polyhedron.
+fn too_round(radius: Real, excess: Real) -> String {
+    format!(
+        "a round shape of radius {radius} needs more than {MAX_BALL_SEGMENTS} segments to stay within {excess:e} of its polyhedron"
+    )
 }
 
 /// The triangles of one collider in its body's frame, appended to
@@ -181,6 +227,39 @@ pub fn mesh_of_body(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every face plane of `(points, triangles)` at least `distance(normal)`
+    /// from the origin along its outward normal.
+    fn faces_beyond(points: &[Point], triangles: &[[u32; 3]], support: impl Fn(&Vector) -> Real) {
+        for t in triangles {
+            let [a, b, c] = t.map(|i| points[i as usize]);
+            let Some(normal) = (b - a).cross(&(c - a)).try_normalize(0.0) else { continue };
+            let normal = if normal.dot(&a.coords) < 0.0 { -normal } else { normal };
+            let h = support(&normal);
+            assert!(
+                normal.dot(&a.coords) >= h - 1e-12 * h.abs().max(1.0),
+                "a face inside the shape: {normal:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn capsules_and_cylinders_are_inside_their_polyhedra() {
+        let capsule = parry3d_f64::shape::Capsule::new_y(0.3, 0.1);
+        let (points, triangles) = circumscribed_capsule(&capsule, 0.001).expect("fine enough");
+        // The capsule's support: the segment's end farther along n, plus r.
+        faces_beyond(&points, &triangles, |n| 0.3 * n.y.abs() + 0.1);
+        let farthest = points
+            .iter()
+            .map(|p| (p.coords - Vector::y() * p.y.clamp(-0.3, 0.3)).norm())
+            .fold(0.0, Real::max);
+        assert!(farthest - 0.1 <= 0.001, "{farthest}");
+        let cylinder = parry3d_f64::shape::Cylinder::new(0.3, 0.1);
+        let (points, triangles) = circumscribed_cylinder(&cylinder, 0.001).expect("fine enough");
+        faces_beyond(&points, &triangles, |n| 0.3 * n.y.abs() + 0.1 * (n.x * n.x + n.z * n.z).sqrt());
+        let farthest = points.iter().map(|p| (p.x * p.x + p.z * p.z).sqrt()).fold(0.0, Real::max);
+        assert!(farthest - 0.1 <= 0.001, "{farthest}");
+    }
 
     #[test]
     fn a_balls_polyhedron_contains_it_and_stands_out_at_most_the_excess() {

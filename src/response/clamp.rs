@@ -74,6 +74,7 @@ impl Response for Clamp {
             }
         }
         found.retain(|entry| entry.result.time_of_impact.is_some());
+
         found.sort_by(|x, y| time_of(x).total_cmp(&time_of(y)).then(x.pair.cmp(&y.pair)));
         if step.world.may_rewind {
             self.rewind_at_first_hit(step, found)
