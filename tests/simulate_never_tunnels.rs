@@ -459,3 +459,96 @@ fn guarded_rapier_balls_capsules_cylinders_and_compounds_stop_at_a_thin_plate() 
     }
     assert!(started >= 4, "every body reaches the plate: {started} contacts");
 }
+
+#[test]
+fn a_guard_takes_new_bodies_drops_old_ones_and_a_new_dt() {
+    use nearmiss::guard::{Guard, GuardEvent, GuardOptions};
+    use rapier3d_f64::prelude::*;
+    // No gravity. A box rests on a plate (its skins apart); after 10 steps of 1/60 a
+    // triangle-mesh bullet is added 2 above the plate at 200 units/s and the step
+    // halved; after 20 more the box is dropped from the guard. The resting
+    // pair is not reported again, the bullet's contact comes at its
+    // analytic time counted from the guard's time (10/60 + (2 − 0.01 −
+    // 0.001 − skins) / 200, never late), and the bullet never goes below the
+    // plate's top.
+    let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    let mut parameters = IntegrationParameters { dt: 1.0 / 60.0, ..Default::default() };
+    parameters.normalized_max_linear_velocity = f64::MAX;
+    let skins = 2.0 * GuardOptions::default().skin_under(&parameters);
+    let plate = bodies.insert(RigidBodyBuilder::fixed());
+    colliders.insert_with_parent(ColliderBuilder::cuboid(2.0, 2.0, 0.001), plate, &mut bodies);
+    let ball = bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(1.0, 0.0, 0.101 + skins)));
+    colliders.insert_with_parent(ColliderBuilder::cuboid(0.1, 0.1, 0.1), ball, &mut bodies);
+    let mut guard = Guard::new(&bodies, &mut colliders, &[plate, ball], &parameters, GuardOptions::default())
+        .expect("cuboids");
+    let mut pipeline = PhysicsPipeline::new();
+    let (mut islands, mut broad_phase, mut narrow_phase) =
+        (IslandManager::new(), DefaultBroadPhase::default(), NarrowPhase::new());
+    let (mut impulse_joints, mut multibody_joints, mut soft_bodies, mut ccd) =
+        (ImpulseJointSet::new(), MultibodyJointSet::new(), SoftBodySet::new(), CCDSolver::new());
+    let mut events = Vec::new();
+    let mut bullet = None;
+    for step in 0..40 {
+        if step == 10 {
+            let handle = bodies.insert(
+                RigidBodyBuilder::dynamic()
+                    .translation(Vector::new(-1.0, 0.0, 2.0))
+                    .linvel(Vector::new(0.0, 0.0, -200.0)),
+            );
+            // A triangle mesh, as rapier applications load bullets: rapier
+            // does not see it coming (its speculative contacts would slow a
+            // cuboid within the step before it touches).
+            let (vertices, indices) = parry3d_f64::shape::Cuboid::new(Vector::splat(0.01)).to_trimesh();
+            let mesh = ColliderBuilder::trimesh(vertices, indices).expect("a closed box");
+            colliders.insert_with_parent(mesh.density(1000.0), handle, &mut bodies);
+            parameters.dt = 1.0 / 120.0;
+            guard.set_bodies(&bodies, &mut colliders, &[plate, ball, handle], &parameters).expect("cuboids");
+            assert!((guard.time() - 10.0 / 60.0).abs() < 1e-15, "{}", guard.time());
+            bullet = Some(handle);
+        }
+        if step == 30 {
+            guard
+                .set_bodies(&bodies, &mut colliders, &[plate, bullet.expect("added")], &parameters)
+                .expect("cuboids");
+        }
+        let stepped = guard
+            .step(&mut bodies, |bodies, dt| {
+                pipeline.step(
+                    Vector::ZERO,
+                    &IntegrationParameters { dt, ..parameters },
+                    &mut islands,
+                    &mut broad_phase,
+                    &mut narrow_phase,
+                    bodies,
+                    &mut colliders,
+                    &mut impulse_joints,
+                    &mut multibody_joints,
+                    &mut soft_bodies,
+                    &mut ccd,
+                    &(),
+                    &(),
+                );
+            })
+            .expect("decided");
+        events.extend(stepped.iter().cloned());
+        if let Some(bullet) = bullet {
+            let bottom = bodies[bullet].translation().z - 0.01;
+            assert!(bottom > 0.001, "the bullet's bottom at {bottom} after step {step}");
+        }
+    }
+    assert_eq!(guard.steps(), 40);
+    let started: Vec<_> = events
+        .iter()
+        .filter_map(|e| match e {
+            GuardEvent::Started { a, b, contact } => Some((*a, *b, contact.time)),
+            GuardEvent::Stopped { .. } => None,
+        })
+        .collect();
+    let resting = started.iter().filter(|(a, b, _)| [*a, *b].contains(&ball)).count();
+    assert_eq!(resting, 1, "the resting pair is reported once: {started:?}");
+    let bullet = bullet.expect("added");
+    let (_, _, time) =
+        *started.iter().find(|(a, b, _)| [*a, *b].contains(&bullet)).expect("the bullet's contact");
+    let analytic = 10.0 / 60.0 + (2.0 - 0.01 - 0.001 - skins) / 200.0;
+    assert!(time <= analytic + 1e-12 && analytic - time < 1e-9, "{time} vs {analytic}");
+}

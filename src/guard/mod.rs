@@ -116,7 +116,7 @@ use crate::mesh::DistanceKernel;
 use crate::motion::StepMotion;
 use crate::response::Clamp;
 use crate::scene::{Body, BodyMotion, OnContact, Scene};
-use crate::stepper::{Contact, RunOptions, Stepper, Termination, World};
+use crate::stepper::{Contact, PairState, RunOptions, Stepper, Termination, Touching, World};
 
 /// How a [`Guard`] sweeps.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -292,6 +292,9 @@ pub enum GuardError {
         /// The skins' sum (or rapier's prediction distance).
         limit: Real,
     },
+    /// [`Guard::set_bodies`] on a guard not made by [`Guard::new`].
+    #[error("set_bodies needs a guard made by Guard::new")]
+    NotFromRapier,
     /// `after_step` without `before_step`.
     #[error("after_step was called without before_step")]
     NoStartPoses,
@@ -327,10 +330,16 @@ pub struct Guard {
     started: bool,
     pub(crate) stepper: Stepper,
     pub(crate) world: World,
-    /// Steps guarded.
+    /// Steps guarded since the guard's bodies or `dt` were last set.
     step: u64,
+    /// Steps guarded before that, and the time they took.
+    steps_before: u64,
+    time_before: Real,
     dt: Real,
     max_substeps: usize,
+    /// The options [`Guard::new`] was given (for
+    /// [`set_bodies`](Guard::set_bodies)); `None` for the scene runner's.
+    options: Option<GuardOptions>,
     /// Rewinds so far (rapier solving again from a contact).
     substeps: u64,
     events: Vec<GuardEvent>,
@@ -426,7 +435,63 @@ impl Guard {
             max_substeps: options.max_substeps,
             parallel: options.parallel,
         };
-        Guard::with_scene(Arc::new(scene), setup, parameters)
+        let mut guard = Guard::with_scene(Arc::new(scene), setup, parameters)?;
+        guard.options = Some(options);
+        Ok(guard)
+    }
+
+    /// Guards `guarded` from the next step on, under `parameters` (whose
+    /// `dt` may differ from before): bodies new to the list are guarded
+    /// (their colliders given the skin), bodies left out no longer are. A
+    /// pair in contact stays in contact (not reported again). Times go on
+    /// from the steps so far; [`contacts`](Guard::contacts) and
+    /// [`counters`](Guard::counters) start afresh. Only for a guard made
+    /// by [`Guard::new`] (otherwise [`GuardError::NotFromRapier`]).
+    pub fn set_bodies(
+        &mut self,
+        bodies: &RigidBodySet,
+        colliders: &mut ColliderSet,
+        guarded: &[RigidBodyHandle],
+        parameters: &IntegrationParameters,
+    ) -> Result<(), GuardError> {
+        let options = self.options.ok_or(GuardError::NotFromRapier)?;
+        let mut next = Guard::new(bodies, colliders, guarded, parameters, options)?;
+        next.steps_before = self.steps();
+        next.time_before = self.time();
+        // The pairs in contact, by their bodies' handles.
+        let touching: Vec<((RigidBodyHandle, RigidBodyHandle), Touching)> = self
+            .world
+            .pairs
+            .iter()
+            .filter_map(|p| p.touching.map(|t| ((self.handles[p.a], self.handles[p.b]), t)))
+            .collect();
+        let index = |handle: &RigidBodyHandle| next.handles.iter().position(|h| h == handle);
+        let mut carried: Vec<PairState> = touching
+            .iter()
+            .filter_map(|((a, b), t)| {
+                let (i, j) = (index(a)?, index(b)?);
+                let mut pair = PairState::new(i.min(j), i.max(j));
+                pair.touching = Some(*t);
+                Some(pair)
+            })
+            .collect();
+        if next.stepper.has_broad_phase() {
+            // The broad phase keeps pairs in contact from one step to the next.
+            carried.sort_by_key(|p| (p.a, p.b));
+            next.world.pairs = carried;
+        } else {
+            for pair in &mut next.world.pairs {
+                pair.touching =
+                    carried.iter().find(|c| (c.a, c.b) == (pair.a, pair.b)).and_then(|c| c.touching);
+            }
+        }
+        *self = next;
+        Ok(())
+    }
+
+    /// The time guarded so far (the steps' `dt`s added up).
+    pub fn time(&self) -> Real {
+        self.time_before + self.step as Real * self.dt
     }
 
     /// The guard of a scene already built (the scene runner's: its bodies
@@ -471,8 +536,11 @@ impl Guard {
             stepper,
             world,
             step: 0,
+            steps_before: 0,
+            time_before: 0.0,
             dt: parameters.dt,
             max_substeps: setup.max_substeps,
+            options: None,
             substeps: 0,
             events: Vec::new(),
             undecided: None,
@@ -548,7 +616,15 @@ impl Guard {
             let mark = self.world.contacts.len();
             let result = self.stepper.sweep(&mut self.world, self.step);
             let scale = (self.dt - elapsed) / self.dt;
-            let real = |time: Real| if elapsed > 0.0 { t0 + elapsed + (time - t0) * scale } else { time };
+            let time_before = self.time_before;
+            let real = |time: Real| {
+                let time = if elapsed > 0.0 { t0 + elapsed + (time - t0) * scale } else { time };
+                if time_before > 0.0 {
+                    time_before + time
+                } else {
+                    time
+                }
+            };
             for contact in &mut self.world.contacts[mark..] {
                 contact.time = real(contact.time);
             }
@@ -761,7 +837,7 @@ impl Guard {
 
     /// The steps guarded so far.
     pub fn steps(&self) -> u64 {
-        self.step
+        self.steps_before + self.step
     }
 
     /// The times the guard moved the world back to a contact so far.

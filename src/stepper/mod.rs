@@ -33,9 +33,7 @@ use std::time::Instant;
 pub(crate) use narrow::{pair_query, Found};
 pub use parameters::StepParameters;
 pub use result::{Contact, Counters, RunResult, Solver, Termination};
-#[cfg(test)]
-pub(crate) use world::Touching;
-pub(crate) use world::{PairState, Rewind, World};
+pub(crate) use world::{PairState, Rewind, Touching, World};
 
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;
