@@ -16,8 +16,9 @@
 //! cannot decide ends the step with [`GuardError::Undecided`]; when a step
 //! needs more than [`GuardOptions::max_substeps`] rewinds, the rest of its
 //! contacts are clamped (below), which keeps dynamic bodies off each other
-//! and off fixed ones but cannot stop a kinematic body driven into a held
-//! one.
+//! and off fixed ones, and a dynamic body touching a kinematic one is
+//! carried along by it, but a body squeezed between a kinematic body and
+//! another can then overlap the other (nothing can hold it).
 //!
 //! # How
 //!
@@ -45,9 +46,16 @@
 //!   [`GuardOptions::max_substeps`] times per step.
 //! - **Clamp, when the rewinds are spent** (and under
 //!   [`before_step`](Guard::before_step) / [`after_step`](Guard::after_step),
-//!   which cannot step rapier again): the dynamic bodies of such a contact
-//!   are held at their poses at contact for the rest of the step (rapier's
-//!   own CCD does the same), velocities left to rapier.
+//!   which cannot step rapier again, or when the contact is at the sweep's
+//!   start, where rapier would only repeat itself): the dynamic bodies of
+//!   such a contact are held at their poses at contact for the rest of the
+//!   step (rapier's own CCD does the same), velocities left to rapier; one
+//!   touching a kinematic body is carried along by it (their relative pose
+//!   kept, the kinematic body's velocities), since that body goes on.
+//! - **A kinematic body has infinite mass**: after a rewind to its contact
+//!   with a dynamic body, the dynamic body leaves at least as fast as the
+//!   kinematic body's contact point along the normal (rapier's soft contact
+//!   alone lets it sink in).
 //! - Fixed and kinematic bodies are never moved by the guard beyond the
 //!   rewind (rapier drives them; a kinematic body rewound is still bound for
 //!   its pose at the step's end).
