@@ -78,6 +78,14 @@ pub struct ResponseJson {
     /// hull` or `triangle mesh`).
     #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub colliders: std::collections::BTreeMap<String, String>,
+    /// Under Simulate: each collider's contact skin (contacts are reported
+    /// two skins apart).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_skin: Option<Real>,
+    /// Under Simulate: how often the guard moved the world back to a
+    /// contact for the engine to solve from there.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rewinds: Option<u64>,
 }
 
 /// A body's pose in `summary.json`: its frame's origin and orientation.
@@ -259,8 +267,15 @@ impl<'a> Summary<'a> {
                 Some(solver) => ResponseJson {
                     solved_by: format!("{} (guarded by nearmiss)", solver.engine),
                     colliders: result.bodies.iter().cloned().zip(solver.colliders.iter().cloned()).collect(),
+                    contact_skin: Some(solver.contact_skin),
+                    rewinds: Some(solver.rewinds),
                 },
-                None => ResponseJson { solved_by: "nearmiss".into(), colliders: Default::default() },
+                None => ResponseJson {
+                    solved_by: "nearmiss".into(),
+                    colliders: Default::default(),
+                    contact_skin: None,
+                    rewinds: None,
+                },
             },
             peer,
             rapier: None,

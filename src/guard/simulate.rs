@@ -333,6 +333,7 @@ pub(crate) fn run(
             Err(error) => return Err(error),
         }
     }
+    let rewinds = guard.substeps();
     let (stepper, world) = guard.into_parts();
     let mut result = stepper.finish(world, steps, termination, start);
     for (i, state) in result.final_states.iter_mut().enumerate() {
@@ -341,6 +342,8 @@ pub(crate) fn run(
         }
     }
     result.solver = Some(Solver {
+        contact_skin: rapier.skin,
+        rewinds,
         engine: ENGINE.into(),
         colliders: rapier.shapes.iter().map(|s| s.name().to_string()).collect(),
     });
