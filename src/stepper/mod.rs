@@ -33,7 +33,9 @@ use std::time::Instant;
 pub(crate) use narrow::{pair_query, Found};
 pub use parameters::StepParameters;
 pub use result::{Contact, Counters, RunResult, Solver, Termination};
-pub(crate) use world::{PairState, Rewind, Touching, World};
+#[cfg(any(test, feature = "rapier"))]
+pub(crate) use world::Touching;
+pub(crate) use world::{PairState, Rewind, World};
 
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;

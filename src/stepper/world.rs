@@ -39,8 +39,10 @@ pub(crate) struct World {
     pub rewind: Option<Rewind>,
 }
 
-/// A contact the guard steps the world back to (see `World::rewind`).
+/// A contact the guard steps the world back to (see `World::rewind`; read
+/// by the guard, which needs the `rapier` feature).
 #[derive(Copy, Clone, Debug)]
+#[cfg_attr(not(feature = "rapier"), allow(dead_code))]
 pub(crate) struct Rewind {
     /// Time into the sweep.
     pub time: Real,
