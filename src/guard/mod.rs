@@ -349,7 +349,7 @@ pub struct Guard {
     /// [`set_bodies`](Guard::set_bodies)); `None` for the scene runner's.
     options: Option<GuardOptions>,
     /// Rewinds so far (rapier solving again from a contact).
-    substeps: u64,
+    rewinds: u64,
     events: Vec<GuardEvent>,
     /// The last step's undecided query, as the stepper reported it.
     pub(crate) undecided: Option<Termination>,
@@ -373,8 +373,8 @@ pub(crate) struct GuardSetup {
 
 impl Guard {
     /// A guard of the bodies `guarded` (their colliders' triangles) for
-    /// steps of `parameters.dt` (every step: for another dt, make another
-    /// guard). Gives each of their colliders the contact skin
+    /// steps of `parameters.dt` (for other bodies or another `dt`,
+    /// [`set_bodies`](Guard::set_bodies)). Gives each of their colliders the contact skin
     /// [`GuardOptions::skin`] (a larger skin is kept).
     pub fn new(
         bodies: &RigidBodySet,
@@ -549,7 +549,7 @@ impl Guard {
             dt: parameters.dt,
             max_substeps: setup.max_substeps,
             options: None,
-            substeps: 0,
+            rewinds: 0,
             events: Vec::new(),
             undecided: None,
         })
@@ -673,7 +673,7 @@ impl Guard {
             }
             elapsed += at * scale;
             substeps += 1;
-            self.substeps += 1;
+            self.rewinds += 1;
             engine(bodies, self.dt - elapsed);
         }
         self.stepper.observe_step_end(&self.world, self.step);
@@ -849,8 +849,8 @@ impl Guard {
     }
 
     /// The times the guard moved the world back to a contact so far.
-    pub fn substeps(&self) -> u64 {
-        self.substeps
+    pub fn rewinds(&self) -> u64 {
+        self.rewinds
     }
 
     /// The guard's world and stepper, for the scene runner.

@@ -321,11 +321,10 @@ pub(crate) fn run(
             engine.step(bodies, colliders, parameters, gravity, dt);
             engine_s += clock.elapsed().as_secs_f64();
         });
-        match outcome.map(|_| ()) {
-            Ok(_) => {
-                guard.stepper.counters_mut().engine_s += engine_s;
-                observer(steps);
-            }
+        let outcome = outcome.map(|_| ());
+        guard.stepper.counters_mut().engine_s += engine_s;
+        match outcome {
+            Ok(()) => observer(steps),
             Err(GuardError::Undecided { .. }) => {
                 termination = guard.undecided.take().unwrap_or(Termination::Completed);
                 break;
@@ -333,7 +332,7 @@ pub(crate) fn run(
             Err(error) => return Err(error),
         }
     }
-    let rewinds = guard.substeps();
+    let rewinds = guard.rewinds();
     let (stepper, world) = guard.into_parts();
     let mut result = stepper.finish(world, steps, termination, start);
     for (i, state) in result.final_states.iter_mut().enumerate() {
