@@ -71,3 +71,21 @@ fn the_format_example_in_scenes_readme_loads() {
     let scene = nearmiss::scene::Scene::from_ron_str(&readme[start..end]).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.bodies.len(), 2);
 }
+
+#[cfg(feature = "rapier")]
+#[test]
+fn the_guards_documented_defaults_are_the_real_ones() {
+    use nearmiss::guard::{GuardOptions, BALL_EXCESS_OF_SKIN, DEFAULT_MAX_SUBSTEPS, DEFAULT_SKIN};
+    // guard/mod.rs: skin "Default: `1.0`" (of rapier's allowed linear error),
+    // max_substeps "Default: `4`", a round shape's polyhedron at most `0.25`
+    // of the skin outside it; the README and scenes/README.md: the skin is
+    // 0.005 under rapier's default parameters, rewinds 4 a step.
+    let options = GuardOptions::default();
+    assert_eq!((options.skin, DEFAULT_SKIN), (1.0, 1.0));
+    assert_eq!((options.max_substeps, DEFAULT_MAX_SUBSTEPS), (4, 4));
+    assert_eq!(BALL_EXCESS_OF_SKIN, 0.25);
+    let parameters = rapier3d_f64::prelude::IntegrationParameters::default();
+    assert_eq!(options.skin_under(&parameters), 0.005);
+    // scenes/README.md: "rapier's prediction distance (0.02)".
+    assert_eq!(parameters.prediction_distance(), 0.02);
+}

@@ -33,6 +33,11 @@ use crate::math::Real;
 use crate::motion::StepMotion;
 use crate::stepper::{pair_query, Found, PairState, Rewind};
 
+/// A pair at the wall at a sweep's start and moving apart is a hit again
+/// only once it comes within this fraction of its distance there (the
+/// `Bounce` response's re-detection, for the guard). `0.5`.
+pub(crate) const WALL_REDETECT_FRACTION: Real = 0.5;
+
 /// The guard's response, with what the engine can stop.
 pub(crate) struct Clamp {
     /// Per body: whether contacts stop it (dynamic bodies; fixed and
@@ -127,9 +132,9 @@ impl Clamp {
     /// is at the wall there: it started the run touching, or the world was
     /// moved back to its wall contact). Approaching, it is a hit then;
     /// moving apart, the query is asked again whether the pair comes within
-    /// half its distance there later in the sweep (a turning body can catch
-    /// up with one pushed straight), and at once again means apart at the
-    /// rounding floor: no hit.
+    /// [`WALL_REDETECT_FRACTION`] of its distance there later in the sweep
+    /// (a turning body can catch up with one pushed straight), and at once
+    /// again means apart at the rounding floor: no hit.
     fn past_the_start(
         &self,
         step: &mut StepContext<'_>,
@@ -141,7 +146,8 @@ impl Clamp {
             return result;
         }
         let distance = result.closest.map_or(0.0, |c| c.distance);
-        let mut again = self.query_pair(step, k, time, ContactRule::Absolute(0.5 * distance));
+        let mut again =
+            self.query_pair(step, k, time, ContactRule::Absolute(WALL_REDETECT_FRACTION * distance));
         if again.time_of_impact == Some(time) && again.status != CcdStatus::OutOfIterations {
             again.time_of_impact = None;
         }
