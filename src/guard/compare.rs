@@ -30,10 +30,11 @@ use crate::math::Real;
 use crate::scene::{BodyMotion, Scene};
 
 /// How deep, in multiples of rapier's allowed linear error
-/// (`normalized_allowed_linear_error` × length unit, 0.001 by default), a
-/// pair may overlap at a step's end before it counts as intersecting: 2.
-/// rapier's soft contacts settle under load a little beyond the allowed
-/// error (a stack of five unit boxes: 1.92e-3 at the default 0.001).
+/// (`normalized_allowed_linear_error` × length unit, 0.005 by default in
+/// rapier 0.36), a pair may overlap at a step's end before it counts as
+/// intersecting: 2. rapier's soft contacts settle under load a little beyond
+/// the allowed error (a stack of five unit boxes: 1.92e-3 at an allowed
+/// error of 0.001, measured with an earlier rapier).
 pub const PENETRATION_LIMIT_FACTOR: Real = 2.0;
 
 /// rapier alone beside nearmiss: per pair and per body (see the module).
