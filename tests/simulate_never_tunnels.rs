@@ -549,3 +549,22 @@ fn a_guard_takes_new_bodies_drops_old_ones_and_a_new_dt() {
     let analytic = 10.0 / 60.0 + (2.0 - 0.01 - 0.001 - skins) / 200.0;
     assert!(time <= analytic + 1e-12 && analytic - time < 1e-9, "{time} vs {analytic}");
 }
+
+#[test]
+fn a_guards_skin_is_checked_and_a_zero_skin_still_takes_balls() {
+    use nearmiss::guard::{Guard, GuardError, GuardOptions};
+    use rapier3d_f64::prelude::*;
+    let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    let ball = bodies.insert(RigidBodyBuilder::dynamic());
+    colliders.insert_with_parent(ColliderBuilder::ball(0.5), ball, &mut bodies);
+    let parameters = IntegrationParameters::default();
+    for skin in [-1.0, f64::NAN, f64::INFINITY] {
+        let options = GuardOptions { skin, ..GuardOptions::default() };
+        let refused = Guard::new(&bodies, &mut colliders, &[ball], &parameters, options);
+        assert!(matches!(refused, Err(GuardError::Skin(_))), "skin {skin}");
+    }
+    // No skin: the round shape's polyhedron is drawn to a quarter of
+    // rapier's allowed linear error instead.
+    let options = GuardOptions { skin: 0.0, ..GuardOptions::default() };
+    assert!(Guard::new(&bodies, &mut colliders, &[ball], &parameters, options).is_ok());
+}

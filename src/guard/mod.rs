@@ -141,10 +141,13 @@ pub struct GuardOptions {
     pub parallel: bool,
     /// The contact skin [`Guard::new`] gives each guarded collider, as a
     /// multiple of rapier's allowed linear error
-    /// (`IntegrationParameters::allowed_linear_error`, 0.001 × `length_unit`
+    /// (`IntegrationParameters::allowed_linear_error`, 0.005 × `length_unit`
     /// by default): rapier then holds touching pairs that far apart, and its
     /// soft contacts sink into the skins, not into the meshes. A collider
-    /// with a larger skin keeps it. Default: `1.0`.
+    /// with a larger skin keeps it. `0`: no skin, and pairs in contact are
+    /// rapier's alone (only pairs apart are swept; rapier's overlaps go
+    /// unchecked). Finite and at least 0 ([`Guard::new`] checks it).
+    /// Default: `1.0`.
     pub skin: Real,
     /// How many times per step [`Guard::step`] may move the world back to a
     /// contact and let rapier solve from there; after that, contacts clamp
@@ -153,8 +156,9 @@ pub struct GuardOptions {
     pub max_substeps: usize,
 }
 
-/// How far outside a ball collider its swept polyhedron may stand, as a
-/// fraction of the contact skin: `0.25`.
+/// How far outside a ball, capsule or cylinder collider its swept
+/// polyhedron may stand, as a fraction of the contact skin (of rapier's
+/// allowed linear error when the skin is 0): `0.25`.
 pub const BALL_EXCESS_OF_SKIN: Real = 0.25;
 
 /// [`GuardOptions::skin`]'s default.
@@ -264,8 +268,8 @@ pub enum GuardEvent {
         contact: Box<Contact>,
     },
     /// Two bodies in contact separated by the step's end (farther apart
-    /// than rapier's prediction distance, or apart for the whole step): the
-    /// guard sweeps them again.
+    /// than the two skins and rapier's prediction distance): apart again,
+    /// swept for coming within the skins.
     Stopped {
         /// The first body.
         a: RigidBodyHandle,
@@ -300,6 +304,9 @@ pub enum GuardError {
         /// The skins' sum (or rapier's prediction distance).
         limit: Real,
     },
+    /// [`GuardOptions::skin`] is negative or not finite.
+    #[error("GuardOptions::skin must be a finite multiple of rapier's allowed linear error, at least 0; found {0}")]
+    Skin(Real),
     /// [`Guard::set_bodies`] on a guard not made by [`Guard::new`].
     #[error("set_bodies needs a guard made by Guard::new")]
     NotFromRapier,
@@ -383,16 +390,20 @@ impl Guard {
         parameters: &IntegrationParameters,
         options: GuardOptions,
     ) -> Result<Guard, GuardError> {
+        if !(options.skin.is_finite() && options.skin >= 0.0) {
+            return Err(GuardError::Skin(options.skin));
+        }
         let skin = options.skin_under(parameters);
+        // A round shape's polyhedron stands at most a quarter skin outside
+        // it, inside the skins rapier rests a pair at.
+        let excess = BALL_EXCESS_OF_SKIN * if skin > 0.0 { skin } else { parameters.allowed_linear_error() };
         let mut scene_bodies = Vec::with_capacity(guarded.len());
         let mut centers = Vec::with_capacity(guarded.len());
         let mut stoppable = Vec::with_capacity(guarded.len());
         for &handle in guarded {
             let body = bodies.get(handle).ok_or(GuardError::UnknownBody(handle))?;
             let name = format!("{handle:?}");
-            // A ball's polyhedron stands at most a quarter skin outside it,
-            // inside the skins rapier rests a pair at.
-            let (mesh, center) = mesh_of_body(body, colliders, &name, BALL_EXCESS_OF_SKIN * skin)?;
+            let (mesh, center) = mesh_of_body(body, colliders, &name, excess)?;
             for collider in body.colliders() {
                 if let Some(collider) = colliders.get_mut(*collider) {
                     collider.set_contact_skin(collider.contact_skin().max(skin));
