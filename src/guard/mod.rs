@@ -96,7 +96,19 @@
 //! a step is the constant linear and angular velocity that takes its start
 //! pose to its end pose (the turn nearest rapier's angular velocity). The
 //! scene runner's `on_contact: Simulate` is built on the same type.
+//!
+//! # f32 rapier
+//!
+//! With the `rapier-f32` feature, `Guard<rapier3d::prelude::RigidBodySet>`
+//! guards an f32 rapier3d 0.36 pipeline (bevy_rapier's) with the same
+//! logic: every pose and velocity crosses into f64 for the sweep
+//! ([`RapierBodies`]). The guarantee above then holds for the poses the guard
+//! proved; what rapier stores is each rounded to f32, at most half an ulp of
+//! its coordinates away (2⁻²⁴ of their size: 6e-5 at 1,000 units), inside
+//! the contact skins as long as that stays well below them (bodies within
+//! about 10⁴ units of the origin under the default skin of 0.005).
 
+mod bodies;
 mod compare;
 mod shapes;
 pub(crate) mod simulate;
@@ -108,10 +120,9 @@ pub use compare::{
 
 use std::sync::Arc;
 
-use nalgebra::Translation3;
-use rapier3d_f64::prelude::{
-    ColliderSet, IntegrationParameters, RigidBody, RigidBodyHandle, RigidBodySet, RigidBodyType,
-};
+use rapier3d_f64::prelude::{IntegrationParameters, RigidBodyHandle, RigidBodySet};
+
+pub use bodies::{BodyKind, BodyView, RapierBodies, ShapePart};
 
 pub use shapes::{
     circumscribed_ball, collider_for, is_convex, mesh_of_body, ColliderShape, CONVEXITY_TOLERANCE,
@@ -119,12 +130,13 @@ pub use shapes::{
 };
 
 use crate::ccd::{CcdOptions, ContactContract, ContactRule};
-use crate::math::{from_parry, pose_from_parry, pose_to_parry, vector_to_parry, Point, Pose, Real, Vector};
+use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::DistanceKernel;
 use crate::motion::StepMotion;
 use crate::response::Clamp;
 use crate::scene::{Body, BodyMotion, OnContact, Scene};
-use crate::stepper::{Contact, PairState, RunOptions, Stepper, Termination, Touching, World};
+use crate::stepper::{Contact, PairState, RunOptions, Stepper, Termination, World};
+use bodies::{body_pose, center_pose};
 
 /// How a [`Guard`] sweeps.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -188,13 +200,13 @@ impl GuardOptions {
 
 /// The largest contact distance the CCD may have under a guard whose
 /// colliders have the contact skin `skin` (each): the two skins, within
-/// which rapier holds a pair, or without skins rapier's prediction
-/// distance.
-pub(crate) fn contact_distance_limit(parameters: &IntegrationParameters, skin: Real) -> Real {
+/// which rapier holds a pair, or without skins rapier's
+/// `prediction_distance`.
+pub(crate) fn contact_distance_limit(prediction_distance: Real, skin: Real) -> Real {
     if skin > 0.0 {
         2.0 * skin
     } else {
-        parameters.prediction_distance()
+        prediction_distance
     }
 }
 
@@ -204,7 +216,10 @@ pub(crate) fn contact_distance_limit(parameters: &IntegrationParameters, skin: R
 /// is the one whose radius sets it).
 pub(crate) fn simulate_contact_limit(ccd: &CcdOptions, bodies: &[Body]) -> Result<(), (String, Real, Real)> {
     let parameters = IntegrationParameters::default();
-    let limit = contact_distance_limit(&parameters, GuardOptions::default().skin_under(&parameters));
+    let limit = contact_distance_limit(
+        parameters.prediction_distance(),
+        GuardOptions::default().skin_under(&parameters),
+    );
     contact_within(ccd, bodies.iter(), limit)
 }
 
@@ -252,17 +267,17 @@ pub(crate) fn largest_pair_radius(bodies: impl Iterator<Item = (Real, bool)>) ->
     }
 }
 
-/// What the guard saw in a step.
+/// What the guard saw in a step (`H`: rapier's body handle).
 #[derive(Clone, Debug, PartialEq)]
-pub enum GuardEvent {
+pub enum GuardEvent<H = RigidBodyHandle> {
     /// Two guarded bodies came into contact within the step (and the
     /// dynamic ones among them were moved back to their poses at that
     /// time).
     Started {
         /// The first body.
-        a: RigidBodyHandle,
+        a: H,
         /// The second body.
-        b: RigidBodyHandle,
+        b: H,
         /// The contact: time (since the guard's first step), distance,
         /// points (world frame), features and the contact contract.
         contact: Box<Contact>,
@@ -272,18 +287,18 @@ pub enum GuardEvent {
     /// swept for coming within the skins.
     Stopped {
         /// The first body.
-        a: RigidBodyHandle,
+        a: H,
         /// The second body.
-        b: RigidBodyHandle,
+        b: H,
     },
 }
 
-/// What can go wrong.
+/// What can go wrong (`H`: rapier's body handle).
 #[derive(Debug, thiserror::Error)]
-pub enum GuardError {
+pub enum GuardError<H: std::fmt::Debug = RigidBodyHandle> {
     /// A guarded handle is not in the body set.
     #[error("rigid body {0:?} is not in the body set")]
-    UnknownBody(RigidBodyHandle),
+    UnknownBody(H),
     /// A body's colliders give no mesh the guard can sweep.
     #[error("body {body}: {message}")]
     Shape {
@@ -318,9 +333,9 @@ pub enum GuardError {
     #[error("the CCD of bodies {a:?} and {b:?} could not decide after {iterations} iterations (proven apart up to t = {time}): raise `GuardOptions::ccd.max_iterations`")]
     Undecided {
         /// The first body.
-        a: RigidBodyHandle,
+        a: H,
         /// The second body.
-        b: RigidBodyHandle,
+        b: H,
         /// Proven apart up to this time (since the guard's first step).
         time: Real,
         /// The CCD iterations made.
@@ -329,12 +344,13 @@ pub enum GuardError {
 }
 
 /// rapier's step by a given `dt`, as [`Guard::step`] calls it.
-type RapierStep<'a> = dyn FnMut(&mut RigidBodySet, Real) + 'a;
+type RapierStep<'a, B> = dyn FnMut(&mut B, Real) + 'a;
 
-/// Guards rapier bodies against tunnelling (see the module).
-pub struct Guard {
+/// Guards rapier bodies against tunnelling (see the module). `B`: rapier's
+/// body set, `rapier3d_f64`'s or (the `rapier-f32` feature) `rapier3d`'s.
+pub struct Guard<B: RapierBodies = RigidBodySet> {
     /// The guarded bodies, in the guard's order.
-    handles: Vec<RigidBodyHandle>,
+    handles: Vec<B::Handle>,
     /// Each body's centre of mass in its body frame.
     centers: Vec<Vector>,
     /// The poses of the centres of mass at the sweep's start.
@@ -357,15 +373,15 @@ pub struct Guard {
     options: Option<GuardOptions>,
     /// Rewinds so far (rapier solving again from a contact).
     rewinds: u64,
-    events: Vec<GuardEvent>,
+    events: Vec<GuardEvent<B::Handle>>,
     /// The last step's undecided query, as the stepper reported it.
     pub(crate) undecided: Option<Termination>,
 }
 
 /// How the guard's scene was made: what the guard needs beside it.
-pub(crate) struct GuardSetup {
+pub(crate) struct GuardSetup<H> {
     /// The rapier handle of each scene body.
-    pub handles: Vec<RigidBodyHandle>,
+    pub handles: Vec<H>,
     /// Each body's centre of mass in its body frame.
     pub centers: Vec<Vector>,
     /// Per body: whether contacts may hold it (dynamic bodies).
@@ -378,56 +394,53 @@ pub(crate) struct GuardSetup {
     pub parallel: bool,
 }
 
-impl Guard {
+impl<B: RapierBodies> Guard<B> {
     /// A guard of the bodies `guarded` (their colliders' triangles) for
     /// steps of `parameters.dt` (for other bodies or another `dt`,
     /// [`set_bodies`](Guard::set_bodies)). Gives each of their colliders the contact skin
     /// [`GuardOptions::skin`] (a larger skin is kept).
     pub fn new(
-        bodies: &RigidBodySet,
-        colliders: &mut ColliderSet,
-        guarded: &[RigidBodyHandle],
-        parameters: &IntegrationParameters,
+        bodies: &B,
+        colliders: &mut B::Colliders,
+        guarded: &[B::Handle],
+        parameters: &B::Parameters,
         options: GuardOptions,
-    ) -> Result<Guard, GuardError> {
+    ) -> Result<Guard<B>, GuardError<B::Handle>> {
         if !(options.skin.is_finite() && options.skin >= 0.0) {
             return Err(GuardError::Skin(options.skin));
         }
-        let skin = options.skin_under(parameters);
+        let allowed_error = B::allowed_linear_error(parameters);
+        let skin = options.skin * allowed_error;
         // A round shape's polyhedron stands at most a quarter skin outside
         // it, inside the skins rapier rests a pair at.
-        let excess = BALL_EXCESS_OF_SKIN * if skin > 0.0 { skin } else { parameters.allowed_linear_error() };
+        let excess = BALL_EXCESS_OF_SKIN * if skin > 0.0 { skin } else { allowed_error };
         let mut scene_bodies = Vec::with_capacity(guarded.len());
         let mut centers = Vec::with_capacity(guarded.len());
         let mut stoppable = Vec::with_capacity(guarded.len());
         for &handle in guarded {
-            let body = bodies.get(handle).ok_or(GuardError::UnknownBody(handle))?;
+            let body = bodies.view(handle).ok_or(GuardError::UnknownBody(handle))?;
             let name = format!("{handle:?}");
-            let (mesh, center) = mesh_of_body(body, colliders, &name, excess)?;
-            for collider in body.colliders() {
-                if let Some(collider) = colliders.get_mut(*collider) {
-                    collider.set_contact_skin(collider.contact_skin().max(skin));
-                }
-            }
+            let (mesh, center) = mesh_of_body(bodies, colliders, handle, &name, excess)?;
+            bodies.give_skin(colliders, handle, skin);
             scene_bodies.push(Body {
                 name,
                 mesh: Arc::new(mesh),
-                pose: center_pose(body, &center),
+                pose: body.center_pose(),
                 velocity: Vector::zeros(),
                 angular_velocity: Vector::zeros(),
                 mass: None,
                 inertia: None,
-                motion: if body.is_fixed() { BodyMotion::Fixed } else { BodyMotion::Free },
-                kinematic: body.is_kinematic(),
+                motion: if body.kind == BodyKind::Fixed { BodyMotion::Fixed } else { BodyMotion::Free },
+                kinematic: matches!(body.kind, BodyKind::Kinematic { .. }),
                 material: None,
             });
             centers.push(center);
-            stoppable.push(body.is_dynamic());
+            stoppable.push(matches!(body.kind, BodyKind::Dynamic { .. }));
         }
         let scene = Scene {
             name: "guard".into(),
             source: "nearmiss::guard".into(),
-            dt: parameters.dt,
+            dt: B::dt(parameters),
             steps: u64::MAX,
             duration: Real::INFINITY,
             integrator: Default::default(),
@@ -468,27 +481,24 @@ impl Guard {
     /// by [`Guard::new`] (otherwise [`GuardError::NotFromRapier`]).
     pub fn set_bodies(
         &mut self,
-        bodies: &RigidBodySet,
-        colliders: &mut ColliderSet,
-        guarded: &[RigidBodyHandle],
-        parameters: &IntegrationParameters,
-    ) -> Result<(), GuardError> {
+        bodies: &B,
+        colliders: &mut B::Colliders,
+        guarded: &[B::Handle],
+        parameters: &B::Parameters,
+    ) -> Result<(), GuardError<B::Handle>> {
         let options = self.options.ok_or(GuardError::NotFromRapier)?;
         let mut next = Guard::new(bodies, colliders, guarded, parameters, options)?;
         next.steps_before = self.steps();
         next.time_before = self.time();
-        // The pairs in contact, by their bodies' handles.
-        let touching: Vec<((RigidBodyHandle, RigidBodyHandle), Touching)> = self
+        // The pairs in contact, carried over by their bodies' handles.
+        let index = |handle: &B::Handle| next.handles.iter().position(|h| h == handle);
+        let mut carried: Vec<PairState> = self
             .world
             .pairs
             .iter()
-            .filter_map(|p| p.touching.map(|t| ((self.handles[p.a], self.handles[p.b]), t)))
-            .collect();
-        let index = |handle: &RigidBodyHandle| next.handles.iter().position(|h| h == handle);
-        let mut carried: Vec<PairState> = touching
-            .iter()
-            .filter_map(|((a, b), t)| {
-                let (i, j) = (index(a)?, index(b)?);
+            .filter_map(|p| {
+                let t = p.touching.as_ref()?;
+                let (i, j) = (index(&self.handles[p.a])?, index(&self.handles[p.b])?);
                 let mut pair = PairState::new(i.min(j), i.max(j));
                 pair.touching = Some(*t);
                 Some(pair)
@@ -518,17 +528,17 @@ impl Guard {
     /// which are their centres of mass).
     pub(crate) fn with_scene(
         scene: Arc<Scene>,
-        setup: GuardSetup,
-        parameters: &IntegrationParameters,
-    ) -> Result<Guard, GuardError> {
-        let limit = contact_distance_limit(parameters, setup.skin);
+        setup: GuardSetup<B::Handle>,
+        parameters: &B::Parameters,
+    ) -> Result<Guard<B>, GuardError<B::Handle>> {
+        let limit = contact_distance_limit(B::prediction_distance(parameters), setup.skin);
         if let Err((body, contact_distance, limit)) = contact_within(&scene.ccd, scene.bodies.iter(), limit) {
             return Err(GuardError::ContactDistance { body, contact_distance, limit });
         }
         let options = RunOptions { parallel: setup.parallel, broad_phase: true };
         let response = Box::new(Clamp {
             stoppable: setup.stoppable,
-            separation: 2.0 * setup.skin + parameters.prediction_distance(),
+            separation: 2.0 * setup.skin + B::prediction_distance(parameters),
             skin_separation: if setup.skin > 0.0 {
                 scene.ccd.minimum_separation + 2.0 * setup.skin
             } else {
@@ -557,7 +567,7 @@ impl Guard {
             step: 0,
             steps_before: 0,
             time_before: 0.0,
-            dt: parameters.dt,
+            dt: B::dt(parameters),
             max_substeps: setup.max_substeps,
             options: None,
             rewinds: 0,
@@ -576,11 +586,11 @@ impl Guard {
     /// contact's dynamic bodies are held at it). Returns the step's events.
     pub fn step<F>(
         &mut self,
-        bodies: &mut RigidBodySet,
+        bodies: &mut B,
         mut rapier_step: F,
-    ) -> Result<&[GuardEvent], GuardError>
+    ) -> Result<&[GuardEvent<B::Handle>], GuardError<B::Handle>>
     where
-        F: FnMut(&mut RigidBodySet, Real),
+        F: FnMut(&mut B, Real),
     {
         self.before_step(bodies);
         rapier_step(bodies, self.dt);
@@ -591,11 +601,11 @@ impl Guard {
     /// [`after_step`](Guard::after_step), for a loop that steps rapier
     /// itself; [`step`](Guard::step) rewinds to contacts, this pair of
     /// calls only clamps).
-    pub fn before_step(&mut self, bodies: &RigidBodySet) {
+    pub fn before_step(&mut self, bodies: &B) {
         for (i, handle) in self.handles.iter().enumerate() {
-            if let Some(body) = bodies.get(*handle) {
-                self.start[i] = center_pose(body, &self.centers[i]);
-                self.velocities[i] = (from_parry(body.linvel()).coords, from_parry(body.angvel()).coords);
+            if let Some(body) = bodies.view(*handle) {
+                self.start[i] = center_pose(&body.pose, &self.centers[i]);
+                self.velocities[i] = (body.linvel, body.angvel);
             }
         }
         self.started = true;
@@ -605,7 +615,7 @@ impl Guard {
     /// [`before_step`](Guard::before_step) to where rapier's step left
     /// them; holds dynamic bodies that would reach the wall at their poses
     /// at contact. Returns the step's events.
-    pub fn after_step(&mut self, bodies: &mut RigidBodySet) -> Result<&[GuardEvent], GuardError> {
+    pub fn after_step(&mut self, bodies: &mut B) -> Result<&[GuardEvent<B::Handle>], GuardError<B::Handle>> {
         self.finish_step(bodies, None)
     }
 
@@ -613,9 +623,9 @@ impl Guard {
     /// [`step`](Guard::step)); `engine` steps rapier again after a rewind.
     fn finish_step(
         &mut self,
-        bodies: &mut RigidBodySet,
-        mut engine: Option<&mut RapierStep<'_>>,
-    ) -> Result<&[GuardEvent], GuardError> {
+        bodies: &mut B,
+        mut engine: Option<&mut RapierStep<'_, B>>,
+    ) -> Result<&[GuardEvent<B::Handle>], GuardError<B::Handle>> {
         if !std::mem::take(&mut self.started) {
             return Err(GuardError::NoStartPoses);
         }
@@ -703,15 +713,15 @@ impl Guard {
     /// Each body's motion over the rest of the step from `elapsed`: from its
     /// pose at the sweep's start to where rapier left it, stretched over
     /// `dt` (the CCD's path is the same; its times map back linearly).
-    fn set_motions(&mut self, bodies: &RigidBodySet, elapsed: Real) {
+    fn set_motions(&mut self, bodies: &B, elapsed: Real) {
         let scale = (self.dt - elapsed) / self.dt;
         for (i, handle) in self.handles.iter().enumerate() {
-            let Some(body) = bodies.get(*handle) else { continue };
-            let end = center_pose(body, &self.centers[i]);
-            self.world.motions[i] = if body.is_fixed() {
+            let Some(body) = bodies.view(*handle) else { continue };
+            let end = center_pose(&body.pose, &self.centers[i]);
+            self.world.motions[i] = if body.kind == BodyKind::Fixed {
                 StepMotion::fixed(end)
             } else {
-                let spin = from_parry(body.angvel()).coords * scale;
+                let spin = body.angvel * scale;
                 StepMotion::between_near(&self.start[i], &end, self.dt, &spin)
             };
         }
@@ -721,35 +731,34 @@ impl Guard {
     /// sweep (velocities interpolated between the sweep's ends, so that the
     /// forces of the step are applied once), kinematic bodies still bound
     /// for the step's end, and wakes the pair `hit`.
-    fn rewind(&mut self, bodies: &mut RigidBodySet, at: Real, hit: [usize; 2]) {
+    fn rewind(&mut self, bodies: &mut B, at: Real, hit: [usize; 2]) {
         let fraction = at / self.dt;
-        for (i, handle) in self.handles.iter().enumerate() {
-            let Some(body) = bodies.get_mut(*handle) else { continue };
-            if body.is_fixed() {
-                continue;
-            }
+        for (i, &handle) in self.handles.iter().enumerate() {
+            let Some(body) = bodies.view(handle) else { continue };
             let woken = hit.contains(&i);
             let pose = self.world.motions[i].pose_at(at);
-            if body.is_kinematic() {
-                let end = *body.position();
-                body.set_position(pose_to_parry(&body_pose(&pose, &self.centers[i])), woken);
-                if body.body_type() == RigidBodyType::KinematicPositionBased {
-                    body.set_next_kinematic_position(end);
+            match body.kind {
+                BodyKind::Fixed => continue,
+                BodyKind::Kinematic { position_based } => {
+                    bodies.set_pose(handle, &body_pose(&pose, &self.centers[i]), woken);
+                    if position_based {
+                        bodies.set_next_kinematic_pose(handle, &body.pose);
+                    }
                 }
-            } else {
-                if body.is_sleeping() && !woken {
-                    continue;
+                BodyKind::Dynamic { sleeping } => {
+                    if sleeping && !woken {
+                        continue;
+                    }
+                    let (v0, w0) = self.velocities[i];
+                    let (v1, w1) = (body.linvel, body.angvel);
+                    let (v, w) = (v0 + (v1 - v0) * fraction, w0 + (w1 - w0) * fraction);
+                    bodies.set_pose(handle, &body_pose(&pose, &self.centers[i]), false);
+                    bodies.set_velocities(handle, &v, &w, false);
+                    if woken {
+                        bodies.wake_up(handle);
+                    }
+                    self.velocities[i] = (v, w);
                 }
-                let (v0, w0) = self.velocities[i];
-                let (v1, w1) = (from_parry(body.linvel()).coords, from_parry(body.angvel()).coords);
-                let (v, w) = (v0 + (v1 - v0) * fraction, w0 + (w1 - w0) * fraction);
-                body.set_position(pose_to_parry(&body_pose(&pose, &self.centers[i])), false);
-                body.set_linvel(vector_to_parry(&v), false);
-                body.set_angvel(vector_to_parry(&w), false);
-                if woken {
-                    body.wake_up(true);
-                }
-                self.velocities[i] = (v, w);
             }
             self.start[i] = pose;
         }
@@ -764,7 +773,7 @@ impl Guard {
     /// on), carried by it from then to the step's end (their relative pose
     /// kept, velocities the kinematic body's), so it is pushed, not passed
     /// through. `scale`: the sweep's real length over `dt`.
-    fn hold_or_carry(&mut self, bodies: &mut RigidBodySet, i: usize, at: Real, scale: Real) {
+    fn hold_or_carry(&mut self, bodies: &mut B, i: usize, at: Real, scale: Real) {
         let held = self.world.motions[i].pose_at(at);
         let carrier = self.world.pairs.iter().filter(|p| p.touching.is_some()).find_map(|p| {
             let other = if p.a == i {
@@ -774,25 +783,20 @@ impl Guard {
             } else {
                 return None;
             };
-            bodies.get(self.handles[other]).is_some_and(|body| body.is_kinematic()).then_some(other)
+            is_kinematic(bodies, self.handles[other]).then_some(other)
         });
         let Some(k) = carrier else {
-            if let Some(body) = bodies.get_mut(self.handles[i]) {
-                body.set_position(pose_to_parry(&body_pose(&held, &self.centers[i])), true);
-            }
+            bodies.set_pose(self.handles[i], &body_pose(&held, &self.centers[i]), true);
             return;
         };
         let (k_at, k_end) = (self.world.motions[k].pose_at(at), self.world.motions[k].pose_at(self.dt));
         let carried = k_end * k_at.inverse() * held;
-        let carrier = &bodies[self.handles[k]];
-        let (v_k, w_k) = (from_parry(carrier.linvel()).coords, from_parry(carrier.angvel()).coords);
+        let Some(carrier) = bodies.view(self.handles[k]) else { return };
+        let (v_k, w_k) = (carrier.linvel, carrier.angvel);
         let velocity = v_k + w_k.cross(&(carried.translation.vector - k_end.translation.vector));
         self.world.motions[i] = StepMotion::between_near(&self.start[i], &carried, self.dt, &(w_k * scale));
-        if let Some(body) = bodies.get_mut(self.handles[i]) {
-            body.set_position(pose_to_parry(&body_pose(&carried, &self.centers[i])), true);
-            body.set_linvel(vector_to_parry(&velocity), true);
-            body.set_angvel(vector_to_parry(&w_k), true);
-        }
+        bodies.set_pose(self.handles[i], &body_pose(&carried, &self.centers[i]), true);
+        bodies.set_velocities(self.handles[i], &velocity, &w_k, true);
     }
 
     /// A dynamic body moved back to its contact with a kinematic one leaves
@@ -802,15 +806,17 @@ impl Guard {
     /// normal speed, through its centre (no spin is added).
     fn push_off_kinematic(
         &self,
-        bodies: &mut RigidBodySet,
+        bodies: &mut B,
         pair: [usize; 2],
         point_a: &Point,
         point_b: &Point,
         at: Real,
     ) {
         let [a, b] = pair;
-        let kinematic = |i: usize| bodies.get(self.handles[i]).is_some_and(|body| body.is_kinematic());
-        let dynamic = |i: usize| bodies.get(self.handles[i]).is_some_and(|body| body.is_dynamic());
+        let kinematic = |i: usize| is_kinematic(bodies, self.handles[i]);
+        let dynamic = |i: usize| {
+            bodies.view(self.handles[i]).is_some_and(|body| matches!(body.kind, BodyKind::Dynamic { .. }))
+        };
         let (k, d, towards_d) = if kinematic(a) && dynamic(b) {
             (a, b, point_b - point_a)
         } else if kinematic(b) && dynamic(a) {
@@ -825,16 +831,15 @@ impl Guard {
             return;
         };
         let contact = Point::from((point_a.coords + point_b.coords) / 2.0);
-        let point_velocity = |i: usize| {
-            let body = &bodies[self.handles[i]];
-            let (v, w) = (from_parry(body.linvel()).coords, from_parry(body.angvel()).coords);
-            v + w.cross(&(contact - center(i)))
+        let (Some(body_k), Some(body_d)) = (bodies.view(self.handles[k]), bodies.view(self.handles[d]))
+        else {
+            return;
         };
-        let deficit = (point_velocity(k) - point_velocity(d)).dot(&normal);
+        let point_velocity =
+            |i: usize, body: &BodyView| body.linvel + body.angvel.cross(&(contact - center(i)));
+        let deficit = (point_velocity(k, &body_k) - point_velocity(d, &body_d)).dot(&normal);
         if deficit > 0.0 {
-            let body = &mut bodies[self.handles[d]];
-            let velocity = from_parry(body.linvel()).coords + normal * deficit;
-            body.set_linvel(vector_to_parry(&velocity), true);
+            bodies.set_velocities(self.handles[d], &(body_d.linvel + normal * deficit), &body_d.angvel, true);
         }
     }
 
@@ -845,7 +850,7 @@ impl Guard {
     }
 
     /// The guarded bodies, in the guard's order.
-    pub fn handles(&self) -> &[RigidBodyHandle] {
+    pub fn handles(&self) -> &[B::Handle] {
         &self.handles
     }
 
@@ -870,14 +875,7 @@ impl Guard {
     }
 }
 
-/// The pose of a body's centre of mass (`center`, body frame).
-fn center_pose(body: &RigidBody, center: &Vector) -> Pose {
-    let pose = pose_from_parry(body.position());
-    Pose::from_parts(Translation3::from(pose.translation.vector + pose.rotation * center), pose.rotation)
-}
-
-/// The body-frame pose whose centre of mass (`center`) is at `center_pose`.
-fn body_pose(center_pose: &Pose, center: &Vector) -> Pose {
-    let rotation = center_pose.rotation;
-    Pose::from_parts(Translation3::from(center_pose.translation.vector - rotation * center), rotation)
+/// Whether the body `handle` is kinematic.
+fn is_kinematic<B: RapierBodies>(bodies: &B, handle: B::Handle) -> bool {
+    bodies.view(handle).is_some_and(|body| matches!(body.kind, BodyKind::Kinematic { .. }))
 }

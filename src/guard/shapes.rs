@@ -2,10 +2,11 @@
 //! mesh the guard sweeps for a rapier body, and the collider rapier sees
 //! for a scene's mesh.
 
-use rapier3d_f64::prelude::{Collider, ColliderBuilder, ColliderSet, RigidBody};
+use rapier3d_f64::prelude::ColliderBuilder;
 
+use super::bodies::{RapierBodies, ShapePart};
 use super::GuardError;
-use crate::math::{from_parry, to_parry, Point, Real, Vector};
+use crate::math::{from_parry, to_parry, Point, Pose, Real, Vector};
 use crate::mesh::TriMesh;
 
 /// The shape rapier is given for a nearmiss mesh.
@@ -102,11 +103,11 @@ pub fn circumscribed_ball(radius: Real, excess: Real) -> Option<(Vec<Point>, Vec
 /// segment, which is the polyhedron swept along the segment and so contains
 /// the capsule (vertices at most `excess` outside it).
 fn circumscribed_capsule(
-    capsule: &parry3d_f64::shape::Capsule,
+    ends: [Point; 2],
+    radius: Real,
     excess: Real,
 ) -> Option<(Vec<Point>, Vec<[u32; 3]>)> {
-    let (ball, _) = circumscribed_ball(capsule.radius, excess)?;
-    let ends = [capsule.segment.a, capsule.segment.b].map(from_parry);
+    let (ball, _) = circumscribed_ball(radius, excess)?;
     let points: Vec<_> =
         ends.iter().flat_map(|end| ball.iter().map(move |p| to_parry(&(p + end.coords)))).collect();
     let (points, triangles) = parry3d_f64::transformation::convex_hull(&points);
@@ -117,7 +118,8 @@ fn circumscribed_capsule(
 /// drawn around its circles (the polygon's sides tangent to them), fine
 /// enough that its vertices stand at most `excess` outside it.
 fn circumscribed_cylinder(
-    cylinder: &parry3d_f64::shape::Cylinder,
+    half_height: Real,
+    radius: Real,
     excess: Real,
 ) -> Option<(Vec<Point>, Vec<[u32; 3]>)> {
     let mut sides = 8u32;
@@ -125,8 +127,9 @@ fn circumscribed_cylinder(
         // The inscribed polygon's sides are `cos(π / n)` of the radius from
         // the axis: scaling by its inverse makes them tangent.
         let scale = 1.0 / (std::f64::consts::PI / sides as Real).cos();
-        if cylinder.radius * (scale - 1.0) <= excess {
-            let (points, triangles) = cylinder.to_trimesh(sides);
+        if radius * (scale - 1.0) <= excess {
+            let (points, triangles) =
+                parry3d_f64::shape::Cylinder::new(half_height, radius).to_trimesh(sides);
             // parry's cylinder runs along y.
             let points = points.into_iter().map(|p| Point::new(p.x * scale, p.y, p.z * scale)).collect();
             return Some((points, triangles));
@@ -140,40 +143,35 @@ fn circumscribed_cylinder(
 /// `vertices` and `triangles`, or why it has none. `excess`: how far a
 /// ball's polyhedron may stand outside it.
 fn append_shape(
-    shape: &dyn parry3d_f64::shape::Shape,
-    frame: &parry3d_f64::math::Pose,
+    shape: &ShapePart,
+    frame: &Pose,
     excess: Real,
     vertices: &mut Vec<Point>,
     triangles: &mut Vec<[u32; 3]>,
 ) -> Result<(), String> {
-    if let Some(compound) = shape.as_compound() {
-        for (pose, part) in compound.shapes() {
-            append_shape(part.as_ref(), &(*frame * *pose), excess, vertices, triangles)?;
+    let (points, indices) = match shape {
+        ShapePart::Compound(parts) => {
+            for (pose, part) in parts {
+                append_shape(part, &(frame * pose), excess, vertices, triangles)?;
+            }
+            return Ok(());
         }
-        return Ok(());
-    }
-    let (points, indices): (Vec<Point>, Vec<[u32; 3]>) = if let Some(mesh) = shape.as_trimesh() {
-        (mesh.vertices().iter().copied().map(from_parry).collect(), mesh.indices().to_vec())
-    } else if let Some(polyhedron) = shape.as_convex_polyhedron() {
-        let (points, indices) = polyhedron.to_trimesh();
-        (points.iter().copied().map(from_parry).collect(), indices)
-    } else if let Some(cuboid) = shape.as_cuboid() {
-        let (points, indices) = cuboid.to_trimesh();
-        (points.iter().copied().map(from_parry).collect(), indices)
-    } else if let Some(ball) = shape.as_ball() {
-        circumscribed_ball(ball.radius, excess).ok_or_else(|| too_round(ball.radius, excess))?
-    } else if let Some(capsule) = shape.as_capsule() {
-        circumscribed_capsule(capsule, excess).ok_or_else(|| too_round(capsule.radius, excess))?
-    } else if let Some(cylinder) = shape.as_cylinder() {
-        circumscribed_cylinder(cylinder, excess).ok_or_else(|| too_round(cylinder.radius, excess))?
-    } else {
-        return Err(format!(
-            "a collider's shape ({:?}) is not one the guard sweeps: triangle meshes, convex polyhedra, cuboids, balls, capsules, cylinders and compounds of them",
-            shape.shape_type()
-        ));
+        ShapePart::Triangles(points, indices) => (points.clone(), indices.clone()),
+        &ShapePart::Ball(radius) => circumscribed_ball(radius, excess).ok_or_else(|| too_round(radius, excess))?,
+        &ShapePart::Capsule { a, b, radius } => {
+            circumscribed_capsule([a, b], radius, excess).ok_or_else(|| too_round(radius, excess))?
+        }
+        &ShapePart::Cylinder { half_height, radius } => {
+            circumscribed_cylinder(half_height, radius, excess).ok_or_else(|| too_round(radius, excess))?
+        }
+        ShapePart::Other(kind) => {
+            return Err(format!(
+                "a collider's shape ({kind}) is not one the guard sweeps: triangle meshes, convex polyhedra, cuboids, balls, capsules, cylinders and compounds of them"
+            ))
+        }
     };
     let first = u32::try_from(vertices.len()).map_err(|_| "too many vertices".to_string())?;
-    vertices.extend(points.into_iter().map(|p| from_parry(frame.transform_point(to_parry(&p)))));
+    vertices.extend(points.iter().map(|p| frame * p));
     triangles.extend(indices.into_iter().map(|t| t.map(|i| i + first)));
     Ok(())
 }
@@ -185,43 +183,32 @@ fn too_round(radius: Real, excess: Real) -> String {
     )
 }
 
-/// The triangles of one collider in its body's frame, appended to
-/// `vertices` and `triangles`, or why it has none.
-fn append_collider(
-    collider: &Collider,
-    excess: Real,
-    vertices: &mut Vec<Point>,
-    triangles: &mut Vec<[u32; 3]>,
-) -> Result<(), String> {
-    let frame = collider.position_wrt_parent().copied().unwrap_or_default();
-    append_shape(collider.shape(), &frame, excess, vertices, triangles)
-}
-
-/// The mesh the guard sweeps for `body`: the triangles of all its
-/// colliders (a ball's circumscribed polyhedron, at most `excess` outside
-/// it), relative to its centre of mass (returned too, body frame).
-pub fn mesh_of_body(
-    body: &RigidBody,
-    colliders: &ColliderSet,
+/// The mesh the guard sweeps for the body `handle`: the triangles of all
+/// its colliders (a ball's circumscribed polyhedron, at most `excess`
+/// outside it), relative to its centre of mass (returned too, body frame).
+/// `name`: the body in messages.
+pub fn mesh_of_body<B: RapierBodies>(
+    bodies: &B,
+    colliders: &B::Colliders,
+    handle: B::Handle,
     name: &str,
     excess: Real,
-) -> Result<(TriMesh, Vector), GuardError> {
+) -> Result<(TriMesh, Vector), GuardError<B::Handle>> {
     let shape_error = |message: String| GuardError::Shape { body: name.to_string(), message };
+    let body = bodies.view(handle).ok_or(GuardError::UnknownBody(handle))?;
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
-    for &handle in body.colliders() {
-        let Some(collider) = colliders.get(handle) else { continue };
-        append_collider(collider, excess, &mut vertices, &mut triangles).map_err(shape_error)?;
+    for (frame, shape) in bodies.shapes(colliders, handle) {
+        append_shape(&shape, &frame, excess, &mut vertices, &mut triangles).map_err(shape_error)?;
     }
     if triangles.is_empty() {
         return Err(shape_error("the body has no collider".into()));
     }
-    let center = from_parry(body.local_center_of_mass()).coords;
     for v in &mut vertices {
-        *v -= center;
+        *v -= body.center;
     }
     let mesh = TriMesh::new(vertices, triangles).map_err(|error| shape_error(error.to_string()))?;
-    Ok((mesh, center))
+    Ok((mesh, body.center))
 }
 
 #[cfg(test)]
@@ -245,8 +232,8 @@ mod tests {
 
     #[test]
     fn capsules_and_cylinders_are_inside_their_polyhedra() {
-        let capsule = parry3d_f64::shape::Capsule::new_y(0.3, 0.1);
-        let (points, triangles) = circumscribed_capsule(&capsule, 0.001).expect("fine enough");
+        let ends = [Point::new(0.0, -0.3, 0.0), Point::new(0.0, 0.3, 0.0)];
+        let (points, triangles) = circumscribed_capsule(ends, 0.1, 0.001).expect("fine enough");
         // The capsule's support: the segment's end farther along n, plus r.
         faces_beyond(&points, &triangles, |n| 0.3 * n.y.abs() + 0.1);
         let farthest = points
@@ -254,8 +241,7 @@ mod tests {
             .map(|p| (p.coords - Vector::y() * p.y.clamp(-0.3, 0.3)).norm())
             .fold(0.0, Real::max);
         assert!(farthest - 0.1 <= 0.001, "{farthest}");
-        let cylinder = parry3d_f64::shape::Cylinder::new(0.3, 0.1);
-        let (points, triangles) = circumscribed_cylinder(&cylinder, 0.001).expect("fine enough");
+        let (points, triangles) = circumscribed_cylinder(0.3, 0.1, 0.001).expect("fine enough");
         faces_beyond(&points, &triangles, |n| 0.3 * n.y.abs() + 0.1 * (n.x * n.x + n.z * n.z).sqrt());
         let farthest = points.iter().map(|p| (p.x * p.x + p.z * p.z).sqrt()).fold(0.0, Real::max);
         assert!(farthest - 0.1 <= 0.001, "{farthest}");

@@ -33,7 +33,7 @@ use std::time::Instant;
 pub(crate) use narrow::{pair_query, Found};
 pub use parameters::StepParameters;
 pub use result::{Contact, Counters, RunResult, Solver, Termination};
-#[cfg(any(test, feature = "rapier"))]
+#[cfg(test)]
 pub(crate) use world::Touching;
 pub(crate) use world::{PairState, Rewind, World};
 
