@@ -7,7 +7,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use nearmiss::kernels::batch::{point_segment_distances_with, PointsSoa};
 use nearmiss::kernels::{point_segment_distance, PointEdgeFormula, SimdLevel};
-use nearmiss::report::parry_point_segment_distance;
+use nearmiss::samples::parry_point_segment_distance;
 use nearmiss::samples::{point_segment_queries, InputClass};
 use std::hint::black_box;
 

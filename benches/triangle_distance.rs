@@ -11,8 +11,8 @@ use nearmiss::kernels::{
     dyop_distance, triangle_distance, triangle_distance_with, PointEdgeFormula, SimdLevel,
 };
 use nearmiss::math::Triangle;
-use nearmiss::report::parry_triangle_distance;
 use nearmiss::samples::nearly_touching_pairs;
+use nearmiss::samples::parry_triangle_distance;
 use std::hint::black_box;
 
 const PAIRS: usize = 10_000;

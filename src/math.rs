@@ -77,3 +77,9 @@ pub fn motion_to_parry(
 pub fn max_abs_coordinate(points: &[Point]) -> Real {
     points.iter().flat_map(|p| p.coords.iter()).fold(0.0, |m: Real, c| m.max(c.abs()))
 }
+
+/// A number in the shortest form that reads back to the same `f64` (what
+/// messages and files quote).
+pub fn shortest(value: Real) -> String {
+    format!("{value:?}")
+}

@@ -7,7 +7,7 @@
 //! rational reference.
 
 use crate::kernels::triangle_distance;
-use crate::math::{Point, Real, Triangle, Vector};
+use crate::math::{max_abs_coordinate, to_parry, triangle_to_parry, Point, Real, Triangle, Vector};
 use crate::motion::StepMotion;
 
 /// A small deterministic random stream (SplitMix64, Steele, Lea and Flood,
@@ -384,4 +384,32 @@ pub fn approach_cases(count: usize, seed: u64, spin: Real) -> Vec<(StepMotion, S
             (motion_a, motion_b)
         })
         .collect()
+}
+
+/// parry3d-f64's distance between two triangles given in world coordinates.
+/// An unsupported pair (never for triangles) is reported as NaN, not hidden.
+pub fn parry_triangle_distance(a: &Triangle, b: &Triangle) -> Real {
+    use parry3d_f64::math::Pose;
+    let identity = Pose::IDENTITY;
+    parry3d_f64::query::distance(&identity, &triangle_to_parry(a), &identity, &triangle_to_parry(b))
+        .map(|d| d.distance)
+        .unwrap_or(Real::NAN)
+}
+
+/// The extent of a pair of triangles about the first vertex of `a`.
+pub fn pair_extent(a: &Triangle, b: &Triangle) -> Real {
+    let local: Vec<Point> = a.iter().chain(b).map(|v| Point::from(v - a[0])).collect();
+    max_abs_coordinate(&local).max(Real::MIN_POSITIVE)
+}
+
+/// The extent of a point–segment query about `a`.
+pub fn query_extent(p: &Point, a: &Point, b: &Point) -> Real {
+    max_abs_coordinate(&[Point::from(p - a), Point::from(b - a)]).max(Real::MIN_POSITIVE)
+}
+
+/// parry's point–segment distance (for cross-checks).
+pub fn parry_point_segment_distance(p: &Point, a: &Point, b: &Point) -> Real {
+    use parry3d_f64::query::PointQuery;
+    let segment = parry3d_f64::shape::Segment::new(to_parry(a), to_parry(b));
+    segment.distance_to_local_point(to_parry(p), true)
 }

@@ -1,4 +1,5 @@
-//! The defaults stated in the docs are the ones in the code.
+//! The defaults stated in the docs are the ones in the code (the
+//! application's: `cli/tests/documented_defaults.rs`).
 
 use nearmiss::kernels::{PointEdgeFormula, REFINE_BELOW_EXTENT, REFINE_TIE_BAND_ULPS};
 
@@ -45,8 +46,6 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(nearmiss::ccd::SPIN_SWEEP_MIN_TURN, 1.0);
     assert_eq!(nearmiss::ccd::SPIN_SWEEP_MAX_RATE_FRACTION, 1.0 / 64.0);
     assert_eq!(nearmiss::ccd::SPIN_SWEEP_AFTER_ITERATIONS, 32);
-    // regression.rs: a recorded tolerance is `2.0` x contact distance / closing speed.
-    assert_eq!(nearmiss::regression::RECORD_TOLERANCE_FACTOR, 2.0);
     // ccd/contact.rs: the target at `0.5` of the tolerance, box margins `2.0` x tolerance x r.
     assert_eq!(nearmiss::ccd::TARGET_FRACTION, 0.5);
     assert_eq!(nearmiss::ccd::BOX_MARGIN_TOLERANCE_FACTOR, 2.0);

@@ -7,7 +7,7 @@ use common::formula_bound;
 use nearmiss::exact;
 use nearmiss::kernels::{dyop_distance, PointEdgeFormula};
 use nearmiss::math::Point;
-use nearmiss::report::pair_extent;
+use nearmiss::samples::pair_extent;
 use nearmiss::samples::{triangle_pairs, InputClass, Rng};
 
 #[test]

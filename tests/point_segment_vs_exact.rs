@@ -21,7 +21,7 @@ mod common;
 use common::formula_bound as bound;
 use nearmiss::exact;
 use nearmiss::kernels::{point_segment_distance, PointEdgeFormula};
-use nearmiss::report::query_extent;
+use nearmiss::samples::query_extent;
 use nearmiss::samples::{point_segment_queries, InputClass};
 
 const QUERIES_PER_CLASS: usize = 3000;

@@ -12,7 +12,7 @@
 
 use nearmiss::exact;
 use nearmiss::kernels::triangle_distance;
-use nearmiss::report::pair_extent;
+use nearmiss::samples::pair_extent;
 use nearmiss::samples::{triangle_pairs, InputClass};
 use num_traits::Zero;
 

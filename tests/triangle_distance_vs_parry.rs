@@ -6,8 +6,8 @@
 
 use nearmiss::exact;
 use nearmiss::kernels::triangle_distance;
-use nearmiss::report::{pair_extent, parry_triangle_distance};
 use nearmiss::samples::nearly_touching_pairs;
+use nearmiss::samples::{pair_extent, parry_triangle_distance};
 
 #[test]
 fn agrees_with_parry_or_parry_is_wrong() {

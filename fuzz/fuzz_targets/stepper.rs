@@ -17,7 +17,7 @@ fuzz_target!(|data: &[u8]| {
     }
     scene.steps = scene.steps.min(MAX_STEPS);
     let result = nearmiss::stepper::run(&scene);
-    assert_eq!(nearmiss::output::first_non_finite(&result), None);
+    assert_eq!(result.first_non_finite(), None);
     for contact in &result.contacts {
         assert!(contact.distance <= contact.contact_distance, "{contact:?}");
         assert!(contact.time >= 0.0 && contact.time <= result.end_time, "{contact:?}");

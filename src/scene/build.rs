@@ -12,9 +12,9 @@ use super::file::{
 use super::{Body, BodyMotion, Expectation, Scene, SceneError, TraceSpec};
 use crate::ccd::CcdOptions;
 use crate::kernels::PointEdgeFormula;
+use crate::math::shortest;
 use crate::math::{Real, Vector};
 use crate::mesh::DistanceKernel;
-use crate::output::shortest;
 
 /// Parses `text` (named `source` in messages; OBJ paths relative to `base`).
 pub(super) fn build(text: &str, source: &str, base: &Path) -> Result<Scene> {
@@ -134,7 +134,7 @@ impl Builder<'_> {
                 field,
                 format!(
                     "{} is too small or too large for a mass or moment (it and its inverse must be normal numbers): give a value between {smallest:e} and {largest:e}",
-                    crate::output::shortest(value)
+                    crate::math::shortest(value)
                 ),
             )
         }

@@ -11,11 +11,11 @@ use super::build::{Builder, Names, Result};
 use super::build::{MAX_MAGNITUDE, MIN_MAGNITUDE};
 use super::file::{BodySettings, MeshSettings, OrientationSettings, SceneFile};
 use super::{Body, BodyMotion};
+use crate::math::shortest;
 use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::{self, TriMesh, MAX_ICOSPHERE_SUBDIVISIONS};
 use crate::motion::classify::{needs_integration, spin_precesses, Influences};
 use crate::motion::{Dynamics, Spring, MAX_TURN_PER_STEP};
-use crate::output::shortest;
 
 impl Builder<'_> {
     /// `components` (finite, any size) divided by their largest magnitude,

@@ -230,8 +230,9 @@ pub enum TracePairs {
 pub struct PlotSettings {
     /// Logarithmic distance axis (`true`), linear (`false`), or chosen from
     /// the trace when absent: logarithmic when its distances span more than
-    /// [`crate::output::LOG_AXIS_SPAN`] (a fall's last millimetres are
-    /// invisible on a linear axis of metres). Default: chosen.
+    /// the distance chart's `LOG_AXIS_SPAN` (in `nearmiss-cli`; a fall's
+    /// last millimetres are invisible on a linear axis of metres). Default:
+    /// chosen.
     #[serde(default)]
     pub log_y: Option<bool>,
     /// Contacts (1-based, in the order reported) to picture as

@@ -155,7 +155,7 @@ pub struct TraceSpec {
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlotSpec {
     /// Logarithmic distance axis (`Some(true)`), linear, or chosen from the
-    /// trace (`None`, see [`crate::output::distance_chart`]).
+    /// trace (`None`; the application's distance chart draws it).
     pub log_y: Option<bool>,
     /// Contacts (1-based) pictured besides the first three.
     pub contacts: Vec<usize>,
@@ -263,8 +263,8 @@ impl Scene {
             message: format!(
                 "the run would take {} steps (duration {} / dt {}), more than the limit of {max_steps}: check `dt` and `duration`, or allow more with --max-steps",
                 self.steps,
-                crate::output::shortest(self.duration),
-                crate::output::shortest(self.dt)
+                crate::math::shortest(self.duration),
+                crate::math::shortest(self.dt)
             ),
         })
     }

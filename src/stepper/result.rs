@@ -164,3 +164,42 @@ pub struct RunResult {
     /// Each body at `end_time`.
     pub final_states: Vec<RigidState>,
 }
+
+impl RunResult {
+    /// The first number of a run's result that is not finite (which JSON would
+    /// write as `null` and CSV as `inf`), named; `None` if all are finite.
+    pub fn first_non_finite(&self) -> Option<String> {
+        let contact_numbers = |c: &Contact| {
+            [c.time, c.distance, c.contact_distance, c.guaranteed_distance]
+                .into_iter()
+                .chain(c.point_a.iter().copied())
+                .chain(c.point_b.iter().copied())
+                .chain([&c.pose_a, &c.pose_b].into_iter().flat_map(|p| {
+                    p.translation
+                        .vector
+                        .iter()
+                        .chain(p.rotation.coords.iter())
+                        .copied()
+                        .collect::<Vec<Real>>()
+                }))
+                .collect::<Vec<Real>>()
+        };
+        if !self.end_time.is_finite() {
+            return Some("end_time".into());
+        }
+        if let Some(k) = self.contacts.iter().position(|c| contact_numbers(c).iter().any(|v| !v.is_finite()))
+        {
+            return Some(format!("contacts[{k}]"));
+        }
+        if let Some(k) = self.trace.iter().position(|r| !r.time.is_finite() || !r.distance.is_finite()) {
+            return Some(format!("trace sample {k}"));
+        }
+        let pose_numbers = |r: &PoseRecord| {
+            r.position.iter().chain(r.orientation.coords.iter()).all(|v| v.is_finite()) && r.time.is_finite()
+        };
+        if let Some(k) = self.poses.iter().position(|r| !pose_numbers(r)) {
+            return Some(format!("pose record {k}"));
+        }
+        (!self.counters.max_energy_drift.is_finite()).then(|| "work.max_energy_drift".into())
+    }
+}

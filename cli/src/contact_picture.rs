@@ -1,0 +1,205 @@
+//! `contact_<n>.png`: a picture of a contact, so that a user sees at a
+//! glance which feature of which body hit which (the `plot` feature).
+//!
+//! Three orthographic wireframe views of the two meshes at their poses at
+//! the time of contact, all centred on the contact (the midpoint of the two
+//! closest points), with `n` the contact normal (from body a's closest
+//! point towards body b's; where they coincide, triangle a's normal):
+//! 1. from the side (n up), both bodies whole;
+//! 2. the same, zoomed on the contact (a few times the two contact
+//!    triangles' size);
+//! 3. looking down the normal onto the contact, zoomed alike.
+//!
+//! Body a is drawn in blue, body b in orange; the two triangles in contact
+//! are filled, the closest points are dots and the normal a red arrow. The
+//! caption gives the time, the bodies, their triangles and features, the
+//! distance and the contact distance.
+
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use crate::output::feature_text;
+use crate::plot::{draw_png, PlotError, FAMILY};
+use nearmiss::math::shortest;
+use nearmiss::math::{Point, Pose, Real, Vector};
+use nearmiss::mesh::TriMesh;
+use nearmiss::stepper::Contact;
+
+/// Contacts pictured per run: the first ones, and any the scene's `plot`
+/// names (`contacts: [12, 40]`).
+pub const PICTURED_CONTACTS: usize = 3;
+
+/// The contacts (1-based numbers) pictured in a run of `contacts`
+/// contacts: the first [`PICTURED_CONTACTS`] and those `named` that
+/// happened, in order, each once.
+pub fn pictured(contacts: usize, named: &[usize]) -> Vec<usize> {
+    let mut numbers: Vec<usize> = (1..=contacts.min(PICTURED_CONTACTS))
+        .chain(named.iter().copied().filter(|&n| n >= 1 && n <= contacts))
+        .collect();
+    numbers.sort_unstable();
+    numbers.dedup();
+    numbers
+}
+
+/// The zoomed views magnify the whole view this many times (and show at
+/// least a few contact distances around the contact).
+pub const ZOOM: Real = 10.0;
+
+const BLUE_BODY: RGBColor = RGBColor(31, 119, 180);
+const ORANGE_BODY: RGBColor = RGBColor(230, 120, 20);
+const NORMAL: RGBColor = RGBColor(200, 30, 30);
+
+/// One orthographic view: the plane spanned by `right` and `up` (unit,
+/// orthogonal) through `center`, showing `half_width` either side.
+struct View {
+    title: String,
+    center: Point,
+    right: Vector,
+    up: Vector,
+    half_width: Real,
+}
+
+impl View {
+    fn project(&self, p: &Point) -> (Real, Real) {
+        let d = p - self.center;
+        (d.dot(&self.right), d.dot(&self.up))
+    }
+}
+
+/// Draws contact `n` (1-based) of a run between `mesh_a` and `mesh_b` to
+/// `path`; `names` are the two bodies' names.
+pub fn draw_contact(
+    contact: &Contact,
+    n: usize,
+    (mesh_a, mesh_b): (&TriMesh, &TriMesh),
+    names: (&str, &str),
+    path: &Path,
+) -> Result<(), PlotError> {
+    let (pa, pb) = (contact.point_a, contact.point_b);
+    let triangle_a = mesh_a.triangle(contact.triangle_a).map(|p| contact.pose_a * p);
+    let face_normal = (triangle_a[1] - triangle_a[0]).cross(&(triangle_a[2] - triangle_a[0]));
+    let normal = [pb - pa, face_normal, Vector::z()]
+        .into_iter()
+        .find(|v| v.norm() > 0.0 && v.norm().is_finite())
+        .map_or(Vector::z(), |v| v.normalize());
+    let center = Point::from((pa.coords + pb.coords) / 2.0);
+    let vertices: Vec<Point> = [(mesh_a, &contact.pose_a), (mesh_b, &contact.pose_b)]
+        .iter()
+        .flat_map(|(mesh, pose)| mesh.vertices().iter().map(move |v| *pose * v))
+        .collect();
+    let spread = |axis: &Vector| vertices.iter().map(|p| (p - center).dot(axis).abs()).fold(0.0, Real::max);
+    // The side view looks across the wider of the two directions across
+    // the normal.
+    let first = normal.cross(&if normal.x.abs() < 0.9 { Vector::x() } else { Vector::y() }).normalize();
+    let second = normal.cross(&first);
+    let (right, depth) = if spread(&first) >= spread(&second) { (first, second) } else { (second, first) };
+    let whole = spread(&right).max(spread(&normal)).max(Real::MIN_POSITIVE) * 1.05;
+    let zoom = (whole / ZOOM).max(4.0 * contact.contact_distance);
+    let views = [
+        View { title: "side view (normal up)".into(), center, right, up: normal, half_width: whole },
+        View { title: "side view, zoomed".into(), center, right, up: normal, half_width: zoom },
+        View { title: "down the normal, zoomed".into(), center, right, up: depth, half_width: zoom },
+    ];
+    let caption = format!(
+        "contact {n}: t = {}   {} (triangle {} {})  /  {} (triangle {} {})   distance {:.3e} (contact distance {:.3e})",
+        shortest(contact.time),
+        names.0,
+        contact.triangle_a,
+        feature_text(contact.feature_a),
+        names.1,
+        contact.triangle_b,
+        feature_text(contact.feature_b),
+        contact.distance,
+        contact.contact_distance
+    );
+
+    draw_png(path, |root| {
+        let error = |e: &dyn std::fmt::Display| e.to_string();
+        let (top, rest) = root.split_vertically(70);
+        top.draw(&Text::new(caption, (20, 12), (FAMILY, 18).into_font())).map_err(|e| error(&e))?;
+        let legend = format!(
+            "blue: {}   orange: {}   red: the contact normal, from {} towards {}",
+            names.0, names.1, names.0, names.1
+        );
+        top.draw(&Text::new(legend, (20, 42), (FAMILY, 16).into_font())).map_err(|e| error(&e))?;
+        let panels = rest.split_evenly((1, 3));
+        for (view, panel) in views.iter().zip(panels.iter()) {
+            // Equal scales on both axes: the plotting area's aspect ratio.
+            let (width, height) = panel.dim_in_pixel();
+            let w = view.half_width;
+            let h =
+                w * (height.saturating_sub(75).max(1) as Real) / (width.saturating_sub(80).max(1) as Real);
+            let mut chart = ChartBuilder::on(panel)
+                .caption(&view.title, (FAMILY, 18).into_font())
+                .margin(10)
+                .x_label_area_size(30)
+                .y_label_area_size(60)
+                .build_cartesian_2d(-w..w, -h..h)
+                .map_err(|e| error(&e))?;
+            chart
+                .configure_mesh()
+                .disable_mesh()
+                .label_style((FAMILY, 12).into_font())
+                .x_labels(3)
+                .y_labels(5)
+                .x_label_formatter(&|v| format!("{v:.2e}"))
+                .y_label_formatter(&|v| format!("{v:.2e}"))
+                .draw()
+                .map_err(|e| error(&e))?;
+            for (mesh, pose, color, contact_triangle) in [
+                (mesh_a, &contact.pose_a, BLUE_BODY, contact.triangle_a),
+                (mesh_b, &contact.pose_b, ORANGE_BODY, contact.triangle_b),
+            ] {
+                draw_wireframe(&mut chart, view, mesh, pose, color).map_err(|e| error(&e))?;
+                let t = mesh.triangle(contact_triangle).map(|p| view.project(&(*pose * p)));
+                chart
+                    .draw_series([Polygon::new(t.to_vec(), color.mix(0.45).filled())])
+                    .map_err(|e| error(&e))?;
+            }
+            let (a, b) = (view.project(&pa), view.project(&pb));
+            chart
+                .draw_series([Circle::new(a, 5, BLUE_BODY.filled()), Circle::new(b, 5, ORANGE_BODY.filled())])
+                .map_err(|e| error(&e))?;
+            let tip = view.project(&(center + normal * (w * 0.4)));
+            let base = view.project(&center);
+            chart
+                .draw_series([PathElement::new(vec![base, tip], NORMAL.stroke_width(3))])
+                .map_err(|e| error(&e))?;
+        }
+        Ok(())
+    })
+}
+
+/// Every edge of `mesh` at `pose`, projected into `view` (edges wholly
+/// outside the view are left out).
+fn draw_wireframe<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        '_,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    view: &View,
+    mesh: &TriMesh,
+    pose: &Pose,
+    color: RGBColor,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let projected: Vec<(Real, Real)> = mesh.vertices().iter().map(|v| view.project(&(pose * v))).collect();
+    let limit = view.half_width * 3.0;
+    let inside = |p: &(Real, Real)| p.0.abs() <= limit && p.1.abs() <= limit;
+    let edges = mesh.triangles().iter().flat_map(|t| {
+        [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]
+            .into_iter()
+            .map(|(i, j)| (projected[i as usize], projected[j as usize]))
+            .filter(|(p, q)| inside(p) || inside(q) || crosses(p, q, limit))
+    });
+    let style = color.mix(0.6).stroke_width(1);
+    chart.draw_series(edges.map(|(p, q)| PathElement::new(vec![p, q], style)))?;
+    Ok(())
+}
+
+/// Whether the segment `p`–`q` may cross the square of half-width `limit`
+/// (its bounding box overlaps it).
+fn crosses(p: &(Real, Real), q: &(Real, Real), limit: Real) -> bool {
+    p.0.min(q.0) <= limit && p.0.max(q.0) >= -limit && p.1.min(q.1) <= limit && p.1.max(q.1) >= -limit
+}

@@ -1,0 +1,632 @@
+//! What `nearmiss run` writes: `summary.json` and, when the scene asks for
+//! a trace, `trace.csv` (and with a plot `distance.png`), in
+//! `<out>/<scene name>/`.
+//!
+//! A run's files appear together or not at all: they are written into a
+//! fresh staging folder beside the target (`.<scene>.<pid>.tmp`, per
+//! process) and the folder is then swapped into place, so a reader never
+//! sees a half-written run, and no file of an earlier run (a `trace.csv` the
+//! new run did not write) sits beside the new ones. Files in the folder that
+//! are not a run's (a sweep's `sweep.csv`) are carried over. Staging
+//! folders left by a killed process are removed by the next run. Report
+//! files (sweeps, suites) are written one by one, each under a temporary
+//! name and renamed ([`write_report`]).
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::report::PeerComparison;
+use nearmiss::kernels::Feature;
+use nearmiss::math::{Point, Real};
+use nearmiss::scene::Scene;
+use nearmiss::stepper::{Contact, RunResult, Termination};
+use nearmiss::trace::write_trace_csv;
+
+/// The `summary.json` document (DESIGN.md's fields, and more).
+#[derive(Serialize)]
+pub struct Summary<'a> {
+    /// The scene's name.
+    pub scene: &'a str,
+    /// Steps taken.
+    pub steps: u64,
+    /// The time reached.
+    pub end_time: Real,
+    /// Wall-clock time of the run (not deterministic).
+    pub wall_time_s: Real,
+    /// Why the run ended: `completed`, `first_contact`, `diverged at ...`
+    /// or `undecided at ...` (the CCD of a pair ran out of iterations: not a
+    /// contact; the run stops there).
+    pub termination: String,
+    /// The earliest contact or `null`.
+    pub first_contact: Option<ContactJson<'a>>,
+    /// Every contact in time order.
+    pub contacts: Vec<ContactJson<'a>>,
+    /// Work counters (deterministic).
+    pub work: WorkJson,
+    /// Seconds per stage (not deterministic).
+    pub stage_wall_time_s: StagesJson,
+    /// Who solved the contact response (`on_contact`), and with `Simulate`
+    /// which collider shape rapier was given for each body.
+    pub response: ResponseJson,
+    /// With `--compare parry`: parry's answers beside nearmiss's.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub peer: &'a [PeerComparison],
+    /// With `--compare rapier`: rapier's outcome per pair beside nearmiss's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rapier: Option<serde_json::Value>,
+}
+
+/// The peers' answers a run is written with (`--compare`).
+#[derive(Clone, Debug, Default)]
+pub struct Peers<'a> {
+    /// parry's first contacts.
+    pub parry: &'a [PeerComparison],
+    /// rapier's outcome per pair, as JSON (`nearmiss::guard::RapierPair` rows).
+    pub rapier: Option<serde_json::Value>,
+}
+
+/// The contact response in `summary.json`.
+#[derive(Serialize)]
+pub struct ResponseJson {
+    /// `nearmiss` (Stop, Record, Bounce) or the engine that solved it
+    /// (`rapier3d-f64 0.36` under Simulate, guarded by nearmiss's CCD).
+    pub solved_by: String,
+    /// Under Simulate: body name → the shape rapier was given (`convex
+    /// hull` or `triangle mesh`).
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub colliders: std::collections::BTreeMap<String, String>,
+    /// Under Simulate: each collider's contact skin (contacts are reported
+    /// two skins apart).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_skin: Option<Real>,
+    /// Under Simulate: how often the guard moved the world back to a
+    /// contact for the engine to solve from there.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rewinds: Option<u64>,
+}
+
+/// A body's pose in `summary.json`: its frame's origin and orientation.
+#[derive(Serialize)]
+pub struct PoseJson {
+    /// The frame's origin, world frame.
+    pub position: [Real; 3],
+    /// The orientation quaternion `[w, x, y, z]`.
+    pub orientation: [Real; 4],
+}
+
+impl PoseJson {
+    fn of(pose: &nearmiss::math::Pose) -> PoseJson {
+        let q = pose.rotation.quaternion();
+        PoseJson { position: pose.translation.vector.into(), orientation: [q.w, q.i, q.j, q.k] }
+    }
+}
+
+/// A contact in `summary.json`.
+#[derive(Serialize)]
+pub struct ContactJson<'a> {
+    /// Time of first contact.
+    pub time: Real,
+    /// First body's name.
+    pub body_a: &'a str,
+    /// Second body's name.
+    pub body_b: &'a str,
+    /// Distance at `time`.
+    pub distance: Real,
+    /// Closest point on `body_a`.
+    pub point_a: [Real; 3],
+    /// Closest point on `body_b`.
+    pub point_b: [Real; 3],
+    /// Triangle of `body_a`.
+    pub triangle_a: usize,
+    /// Triangle of `body_b`.
+    pub triangle_b: usize,
+    /// Feature of `triangle_a` (`vertex 0`, `edge 2`, `face`).
+    pub feature_a: String,
+    /// Feature of `triangle_b`.
+    pub feature_b: String,
+    /// How the CCD iteration ended.
+    pub status: String,
+    /// The pose of `body_a` at `time`.
+    pub pose_a: PoseJson,
+    /// The pose of `body_b` at `time`.
+    pub pose_b: PoseJson,
+    /// No contact is reported farther than this.
+    pub contact_distance: Real,
+    /// Every approach closer than this is reported.
+    pub guaranteed_distance: Real,
+}
+
+/// Work counters in `summary.json`.
+#[derive(Serialize)]
+pub struct WorkJson {
+    /// Mesh distance queries.
+    pub distance_queries: usize,
+    /// Triangle pairs evaluated.
+    pub triangle_pairs: usize,
+    /// Pair-steps settled without a mesh query.
+    pub pairs_culled: usize,
+    /// CCD advancement steps on the hulls' gap alone (one GJK each).
+    pub hull_steps: usize,
+    /// Steps whose implicit gyroscopic solve did not converge.
+    pub gyroscopic_unconverged: usize,
+    /// Pairs handed to CCD by the broad phase, summed over steps.
+    pub candidate_pairs: usize,
+    /// Largest relative drift of an integrated body's mechanical energy.
+    pub max_energy_drift: Real,
+    /// Trace samples settled without a search (the hulls' certificate).
+    pub trace_certified: usize,
+}
+
+/// Stage times in `summary.json`.
+#[derive(Serialize)]
+pub struct StagesJson {
+    /// Integration.
+    pub integrate: Real,
+    /// Broad phase.
+    pub broad_phase: Real,
+    /// CCD (the narrow phase).
+    pub ccd: Real,
+    /// The contact response.
+    pub respond: Real,
+    /// Re-arming pairs that separated.
+    pub rearm: Real,
+    /// Trace.
+    pub trace: Real,
+    /// An outside engine's steps (rapier under Simulate).
+    pub engine: Real,
+}
+
+fn point(p: &Point) -> [Real; 3] {
+    [p.x, p.y, p.z]
+}
+
+/// A contact feature in words ("vertex 0", "edge 2", "face").
+pub fn feature_text(f: Feature) -> String {
+    match f {
+        Feature::Vertex(i) => format!("vertex {i}"),
+        Feature::Edge(i) => format!("edge {i}"),
+        Feature::Face => "face".into(),
+    }
+}
+
+/// The termination as a short text.
+pub fn termination_text(result: &RunResult) -> String {
+    match &result.termination {
+        Termination::Completed => "completed".into(),
+        Termination::FirstContact => "first_contact".into(),
+        Termination::Diverged { step, reason, .. } => format!("diverged at step {step}: {reason}"),
+        Termination::Undecided { pair: (a, b), time, step, iterations } => format!(
+            "undecided at step {step}: the CCD of `{}` / `{}` could not decide in {iterations} iterations whether they touch after t = {} (they are apart until then; nothing later is known). Raise `ccd.max_iterations`, lower `dt`, or raise `ccd.distance_tolerance`",
+            result.bodies[*a], result.bodies[*b], nearmiss::math::shortest(*time)
+        ),
+    }
+}
+
+impl<'a> Summary<'a> {
+    /// The summary of a run.
+    pub fn of(result: &'a RunResult) -> Summary<'a> {
+        Summary::with_peer(result, &[])
+    }
+
+    /// The summary of a run, with parry's answers beside.
+    pub fn with_peer(result: &'a RunResult, peer: &'a [PeerComparison]) -> Summary<'a> {
+        let contact = |c: &Contact| ContactJson {
+            time: c.time,
+            body_a: &result.bodies[c.body_a],
+            body_b: &result.bodies[c.body_b],
+            distance: c.distance,
+            point_a: point(&c.point_a),
+            point_b: point(&c.point_b),
+            triangle_a: c.triangle_a,
+            triangle_b: c.triangle_b,
+            feature_a: feature_text(c.feature_a),
+            feature_b: feature_text(c.feature_b),
+            status: format!("{:?}", c.status),
+            pose_a: PoseJson::of(&c.pose_a),
+            pose_b: PoseJson::of(&c.pose_b),
+            contact_distance: c.contact_distance,
+            guaranteed_distance: c.guaranteed_distance,
+        };
+        let counters = &result.counters;
+        Summary {
+            scene: &result.scene,
+            steps: result.steps,
+            end_time: result.end_time,
+            wall_time_s: result.wall_time_s,
+            termination: termination_text(result),
+            first_contact: result.first_contact.as_ref().map(contact),
+            contacts: result.contacts.iter().map(contact).collect(),
+            work: WorkJson {
+                distance_queries: counters.distance_queries,
+                triangle_pairs: counters.triangle_pairs,
+                pairs_culled: counters.pairs_culled,
+                hull_steps: counters.hull_steps,
+                gyroscopic_unconverged: counters.gyroscopic_unconverged,
+                candidate_pairs: counters.candidate_pairs,
+                max_energy_drift: counters.max_energy_drift,
+                trace_certified: counters.trace_certified,
+            },
+            stage_wall_time_s: StagesJson {
+                integrate: counters.integrate_s,
+                broad_phase: counters.broad_phase_s,
+                ccd: counters.ccd_s,
+                respond: counters.respond_s,
+                rearm: counters.rearm_s,
+                trace: counters.trace_s,
+                engine: counters.engine_s,
+            },
+            response: match &result.solver {
+                Some(solver) => ResponseJson {
+                    solved_by: format!("{} (guarded by nearmiss)", solver.engine),
+                    colliders: result.bodies.iter().cloned().zip(solver.colliders.iter().cloned()).collect(),
+                    contact_skin: Some(solver.contact_skin),
+                    rewinds: Some(solver.rewinds),
+                },
+                None => ResponseJson {
+                    solved_by: "nearmiss".into(),
+                    colliders: Default::default(),
+                    contact_skin: None,
+                    rewinds: None,
+                },
+            },
+            peer,
+            rapier: None,
+        }
+    }
+
+    /// Pretty JSON text.
+    pub fn to_json(&self) -> String {
+        // Serializing plain structs of numbers and strings cannot fail;
+        // non-finite numbers become `null`.
+        serde_json::to_string_pretty(self).unwrap_or_default() + "\n"
+    }
+}
+
+/// Writes the run's files into `<out>/<scene>/` and returns their paths:
+/// `summary.json`, and as the scene asks `trace.csv` and `distance.png`.
+pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::Result<Vec<PathBuf>> {
+    write_outputs_with_peer(out, result, scene, &Peers::default())
+}
+
+/// How many times a run's folder swap is tried when a concurrent run into
+/// the same folder gets in between its two renames. `8`.
+pub const SWAP_ATTEMPTS: usize = 8;
+
+/// The file names a run writes (and replaces as a whole).
+pub const RUN_FILES: [&str; 6] =
+    ["summary.json", "trace.csv", "distance.png", "poses.csv", "animation.glb", "report.md"];
+
+/// Whether `name` is a file a run writes: one of [`RUN_FILES`] or a contact
+/// picture (`contact_<n>.png`).
+pub fn is_run_file(name: &str) -> bool {
+    RUN_FILES.contains(&name)
+        || name
+            .strip_prefix("contact_")
+            .and_then(|rest| rest.strip_suffix(".png"))
+            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// [`write_outputs`], with the peers' answers in `summary.json`.
+pub fn write_outputs_with_peer(
+    out: &Path,
+    result: &RunResult,
+    scene: &Scene,
+    peers: &Peers<'_>,
+) -> std::io::Result<Vec<PathBuf>> {
+    fs::create_dir_all(out)?;
+    remove_abandoned_staging(out, &result.scene);
+    let folder = out.join(&result.scene);
+    let staging = out.join(format!(".{}.{}.tmp", result.scene, std::process::id()));
+    let _ = fs::remove_dir_all(&staging);
+    fs::create_dir(&staging)?;
+    let written = write_run_files(&staging, result, scene, peers)
+        .and_then(|names| {
+            carry_over(&folder, &staging)?;
+            swap_into_place(&staging, &folder, out, &result.scene)?;
+            Ok(names)
+        })
+        .inspect_err(|_| {
+            let _ = fs::remove_dir_all(&staging);
+        })?;
+    Ok(written.iter().map(|name| folder.join(name)).collect())
+}
+
+/// Writes the run's files into `folder`; returns their names.
+fn write_run_files(
+    folder: &Path,
+    result: &RunResult,
+    scene: &Scene,
+    peers: &Peers<'_>,
+) -> std::io::Result<Vec<String>> {
+    if let Some(field) = result.first_non_finite() {
+        // Never a silent null or inf in an output: nothing is written.
+        return Err(std::io::Error::other(format!(
+            "the run produced a number that is not finite ({field}); nothing was written. Please report the scene"
+        )));
+    }
+    let mut written = Vec::new();
+    let summary =
+        Summary { rapier: peers.rapier.clone(), ..Summary::with_peer(result, peers.parry) }.to_json();
+    write_synced(&folder.join("summary.json"), summary.as_bytes())?;
+    written.push("summary.json".to_string());
+    if scene.trace.is_some() {
+        let mut csv = Vec::new();
+        write_trace_csv(&result.trace, &result.bodies, &mut csv)?;
+        write_synced(&folder.join("trace.csv"), &csv)?;
+        written.push("trace.csv".to_string());
+    }
+    if scene.poses.is_some() {
+        let mut csv = Vec::new();
+        nearmiss::poses::write_poses_csv(&result.poses, &result.bodies, &mut csv)?;
+        write_synced(&folder.join("poses.csv"), &csv)?;
+        written.push("poses.csv".to_string());
+        let glb = crate::animation::glb(scene, &result.poses).map_err(std::io::Error::other)?;
+        write_synced(&folder.join("animation.glb"), &glb)?;
+        written.push("animation.glb".to_string());
+    }
+    #[cfg(feature = "plot")]
+    if let Some(plot) = &scene.plot {
+        let path = folder.join("distance.png");
+        crate::plot::render(&distance_chart(result, plot.log_y), &path).map_err(std::io::Error::other)?;
+        written.push("distance.png".to_string());
+        for n in crate::contact_picture::pictured(result.contacts.len(), &plot.contacts) {
+            let contact = &result.contacts[n - 1];
+            let meshes = (&*scene.bodies[contact.body_a].mesh, &*scene.bodies[contact.body_b].mesh);
+            let names = (result.bodies[contact.body_a].as_str(), result.bodies[contact.body_b].as_str());
+            let name = format!("contact_{n}.png");
+            crate::contact_picture::draw_contact(contact, n, meshes, names, &folder.join(&name))
+                .map_err(std::io::Error::other)?;
+            written.push(name);
+        }
+    }
+    written.push("report.md".to_string());
+    let names: Vec<&str> = written.iter().map(String::as_str).collect();
+    let page = crate::run_page::run_page(result, scene, &names);
+    write_synced(&folder.join("report.md"), page.as_bytes())?;
+    Ok(written)
+}
+
+/// Hard-links (or copies) into `staging` every entry of the old `folder`
+/// that is not a run file, so that what else lives there survives the swap.
+fn carry_over(folder: &Path, staging: &Path) -> std::io::Result<()> {
+    let Ok(entries) = fs::read_dir(folder) else { return Ok(()) };
+    for entry in entries {
+        let entry = entry?;
+        let name = entry.file_name();
+        let target = staging.join(&name);
+        if is_run_file(&name.to_string_lossy()) || target.exists() {
+            continue;
+        }
+        link_or_copy(&entry.path(), &target)?;
+    }
+    Ok(())
+}
+
+fn link_or_copy(from: &Path, to: &Path) -> std::io::Result<()> {
+    if fs::symlink_metadata(from)?.is_dir() {
+        fs::create_dir(to)?;
+        for entry in fs::read_dir(from)? {
+            let entry = entry?;
+            link_or_copy(&entry.path(), &to.join(entry.file_name()))?;
+        }
+        return Ok(());
+    }
+    fs::hard_link(from, to).or_else(|_| fs::copy(from, to).map(|_| ()))
+}
+
+/// Puts `staging` where `folder` is: the old folder is renamed aside first
+/// and removed after (two renames; retried if a concurrent run gets in
+/// between).
+fn swap_into_place(staging: &Path, folder: &Path, out: &Path, scene: &str) -> std::io::Result<()> {
+    let aside = out.join(format!(".{scene}.{}.old", std::process::id()));
+    let mut last_error = None;
+    for _ in 0..SWAP_ATTEMPTS {
+        if folder.exists() {
+            let _ = fs::remove_dir_all(&aside);
+            if let Err(error) = fs::rename(folder, &aside) {
+                last_error = Some(error);
+                continue;
+            }
+        }
+        match fs::rename(staging, folder) {
+            Ok(()) => {
+                let _ = fs::remove_dir_all(&aside);
+                return Ok(());
+            }
+            Err(error) => last_error = Some(error),
+        }
+    }
+    Err(last_error.unwrap_or_else(|| std::io::Error::other("the output folder kept changing")))
+}
+
+/// Removes the staging folders (and set-aside old folders) of `scene` left
+/// in `out` by processes that no longer run (killed mid-write).
+fn remove_abandoned_staging(out: &Path, scene: &str) {
+    let Ok(entries) = fs::read_dir(out) else { return };
+    let prefix = format!(".{scene}.");
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let Some(rest) = name.strip_prefix(&prefix) else { continue };
+        let Some((pid, kind)) = rest.split_once('.') else { continue };
+        let Ok(pid) = pid.parse::<u32>() else { continue };
+        if (kind == "tmp" || kind == "old") && pid != std::process::id() && !process_alive(pid) {
+            let _ = fs::remove_dir_all(entry.path());
+        }
+    }
+}
+
+/// Whether process `pid` still runs (where the system says; elsewhere,
+/// assumed alive, so nothing of a running process is ever removed).
+fn process_alive(pid: u32) -> bool {
+    let proc = Path::new("/proc");
+    !proc.is_dir() || proc.join(pid.to_string()).exists()
+}
+
+/// Writes `bytes` to `path` and syncs it to disk.
+fn write_synced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut file = fs::File::create(path)?;
+    file.write_all(bytes)?;
+    file.sync_all()
+}
+
+/// Checks, before a run, that `out` can take its outputs: creates it if
+/// needed and writes (then removes) a probe file.
+pub fn check_writable(out: &Path) -> std::io::Result<()> {
+    fs::create_dir_all(out)?;
+    let probe = out.join(format!(".nearmiss-probe.{}", std::process::id()));
+    fs::write(&probe, b"")?;
+    fs::remove_file(&probe)
+}
+
+/// Contacts labelled on the distance chart (the first ones); every contact
+/// gets a tick on the time axis.
+pub const LABELLED_CONTACTS: usize = 3;
+
+/// Traced pairs named in the distance chart's legend (the first ones; the
+/// title says how many there are).
+pub const LEGEND_PAIRS: usize = 10;
+
+/// The distance axis is chosen logarithmic when the trace's positive
+/// distances (contacts included) span more than this ratio: on a linear
+/// axis the last hundredth of a fall would be a flat line on the floor.
+pub const LOG_AXIS_SPAN: Real = 100.0;
+
+/// The decades a log distance axis shows below the largest distance:
+/// resting contacts at 1e-14 would otherwise squeeze the approach into the
+/// top of the chart.
+pub const LOG_AXIS_DECADES: i32 = 8;
+
+/// The distance-over-time chart of a run's trace: one line per traced
+/// pair, each running down to the distance at its contacts (the CCD's
+/// distance at the time of impact, inside the step), every contact a tick
+/// on the time axis and the first [`LABELLED_CONTACTS`] labelled. `log_y`:
+/// the axis asked for, or `None` to choose it by [`LOG_AXIS_SPAN`].
+#[cfg(feature = "plot")]
+pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::Chart {
+    use crate::plot::{Chart, Series};
+    let mut pairs: Vec<(usize, usize)> = result.trace.iter().map(|r| r.pair).collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let contact_pair = |c: &Contact| (c.body_a.min(c.body_b), c.body_a.max(c.body_b));
+    // Each pair's samples: the trace's, and its contacts' (time of impact,
+    // distance there), in time order.
+    let samples: Vec<Vec<(Real, Real)>> = pairs
+        .iter()
+        .map(|&pair| {
+            let mut points: Vec<(Real, Real)> = result
+                .trace
+                .iter()
+                .filter(|r| r.pair == pair)
+                .map(|r| (r.time, r.distance))
+                .chain(
+                    result
+                        .contacts
+                        .iter()
+                        .filter(|c| contact_pair(c) == (pair.0.min(pair.1), pair.0.max(pair.1)))
+                        .map(|c| (c.time, c.distance)),
+                )
+                .collect();
+            points.sort_by(|x, y| x.0.total_cmp(&y.0));
+            points
+        })
+        .collect();
+    let positive = samples.iter().flatten().map(|p| p.1).filter(|d| *d > 0.0 && d.is_finite());
+    let (smallest, largest) =
+        positive.fold((Real::INFINITY, 0.0 as Real), |(lo, hi), d| (lo.min(d), hi.max(d)));
+    let chosen = log_y.is_none();
+    let log_y = log_y.unwrap_or(largest > LOG_AXIS_SPAN * smallest);
+    // On a log axis a distance of 0 (touching), or below
+    // `LOG_AXIS_DECADES` decades under the largest, is drawn at the floor.
+    let floor = smallest.max(largest * Real::powi(10.0, -LOG_AXIS_DECADES)).clamp(Real::MIN_POSITIVE, 1.0);
+    let shown = |d: Real| if log_y { d.max(floor) } else { d };
+    let series = pairs
+        .iter()
+        .zip(&samples)
+        .enumerate()
+        .map(|(k, (&pair, points))| Series {
+            label: if k < LEGEND_PAIRS {
+                format!("{} – {}", result.bodies[pair.0], result.bodies[pair.1])
+            } else {
+                String::new()
+            },
+            points: points.iter().map(|&(t, d)| (t, shown(d))).collect(),
+            line: true,
+            point_labels: Vec::new(),
+        })
+        .collect();
+    let marks = result
+        .contacts
+        .iter()
+        .take(LABELLED_CONTACTS)
+        .enumerate()
+        .map(|(n, c)| {
+            (
+                c.time,
+                format!(
+                    "contact {}: {} / {}, t = {:.6}",
+                    n + 1,
+                    result.bodies[c.body_a],
+                    result.bodies[c.body_b],
+                    c.time
+                ),
+            )
+        })
+        .collect();
+    let contacts = result.contacts.len();
+    let mut title = format!("{}: distance between traced pairs", result.scene);
+    if pairs.len() > LEGEND_PAIRS {
+        title.push_str(&format!(" ({} pairs, the first {LEGEND_PAIRS} named)", pairs.len()));
+    }
+    let x_label = match contacts {
+        0 => "time (scene time units)".to_string(),
+        n if n <= LABELLED_CONTACTS => format!("time (scene time units); {n} contact(s), red"),
+        n => format!(
+            "time (scene time units); {n} contacts: red ticks, the first {LABELLED_CONTACTS} labelled"
+        ),
+    };
+    let how = if chosen { "chosen: " } else { "" };
+    Chart {
+        title,
+        x_label,
+        y_label: if log_y {
+            format!("distance ({how}log scale; 0 and below {floor:.0e} drawn at it)")
+        } else {
+            format!("distance (scene length units{})", if chosen { ", linear: chosen" } else { "" })
+        },
+        log_x: false,
+        log_y,
+        series,
+        marks,
+        ticks: result.contacts.iter().map(|c| c.time).collect(),
+    }
+}
+
+/// Writes a report file `name` into `folder` (created if needed), whole or
+/// not at all; returns its path. Every report of the CLI goes through here.
+pub fn write_report(folder: &Path, name: &str, bytes: &[u8]) -> std::io::Result<PathBuf> {
+    fs::create_dir_all(folder)?;
+    write_atomically(&folder.join(name), bytes)
+}
+
+/// Draws `chart` to `folder/name` (created if needed); returns its path.
+#[cfg(feature = "plot")]
+pub fn write_chart(folder: &Path, name: &str, chart: &crate::plot::Chart) -> std::io::Result<PathBuf> {
+    fs::create_dir_all(folder)?;
+    let path = folder.join(name);
+    crate::plot::render(chart, &path).map_err(std::io::Error::other)?;
+    Ok(path)
+}
+
+/// Writes `bytes` to a temporary file beside `path`, then renames it.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<PathBuf> {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let temporary = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let result = write_synced(&temporary, bytes).and_then(|()| fs::rename(&temporary, path));
+    if result.is_err() {
+        let _ = fs::remove_file(&temporary);
+    }
+    result.map(|_| path.to_path_buf())
+}

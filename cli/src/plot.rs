@@ -1,0 +1,258 @@
+//! PNG charts with plotters (the `plot` cargo feature, on by default).
+//!
+//! Text is drawn with ab_glyph from the DejaVu Sans font shipped in
+//! `assets/fonts/` and compiled into the binary, so no system font library
+//! is needed. Log axes plot `log10` of the values on a linear axis, labelled
+//! in powers of ten. Files are rendered under a temporary name and renamed.
+
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use nearmiss::math::Real;
+
+/// The font every chart uses, compiled in.
+const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+/// The name the font is registered under.
+pub(crate) const FAMILY: &str = "nearmiss-sans";
+
+/// Series colours (contact marks are red).
+const PALETTE: [RGBColor; 12] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(0, 0, 0),
+    RGBColor(148, 103, 189),
+    RGBColor(23, 190, 207),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(70, 70, 160),
+    RGBColor(200, 120, 40),
+];
+
+/// The height of a tick (`Chart::ticks`), a fraction of the plot's.
+pub const TICK_HEIGHT: Real = 0.04;
+
+/// Chart size in pixels: readable at 1200 × 800.
+pub const CHART_SIZE: (u32, u32) = (1200, 800);
+
+/// One data series.
+#[derive(Clone, Debug, Default)]
+pub struct Series {
+    /// The legend entry.
+    pub label: String,
+    /// The points `(x, y)`; non-finite points and, on log axes, points not
+    /// above zero are left out.
+    pub points: Vec<(Real, Real)>,
+    /// Join the points with a line (otherwise markers only).
+    pub line: bool,
+    /// A text drawn beside each point (empty: none).
+    pub point_labels: Vec<String>,
+}
+
+/// A chart: axes, series and vertical marks.
+#[derive(Clone, Debug, Default)]
+pub struct Chart {
+    /// The title.
+    pub title: String,
+    /// The x axis label, with units.
+    pub x_label: String,
+    /// The y axis label, with units.
+    pub y_label: String,
+    /// Logarithmic x axis.
+    pub log_x: bool,
+    /// Logarithmic y axis.
+    pub log_y: bool,
+    /// The series.
+    pub series: Vec<Series>,
+    /// Vertical lines `(x, label)`, e.g. the first contact times.
+    pub marks: Vec<(Real, String)>,
+    /// Short unlabelled ticks on the x axis, e.g. every contact time: a
+    /// thousand stay readable where a thousand lines would not.
+    pub ticks: Vec<Real>,
+}
+
+/// Why a chart could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// No series had a point that can be drawn.
+    #[error("nothing to plot: no finite point (on a log axis: no positive value)")]
+    Empty,
+    /// plotters or the file system failed.
+    #[error("cannot draw {path}: {message}")]
+    Draw {
+        /// The file.
+        path: String,
+        /// What failed.
+        message: String,
+    },
+}
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The font is compiled in and known to parse; a failure would only
+        // leave text undrawn.
+        let _ = plotters::style::register_font(FAMILY, FontStyle::Normal, FONT);
+    });
+}
+
+/// The value as drawn on an axis.
+fn axis_value(v: Real, log: bool) -> Option<Real> {
+    let drawn = if log { (v > 0.0).then(|| v.log10())? } else { v };
+    drawn.is_finite().then_some(drawn)
+}
+
+/// A tick label.
+fn tick(v: Real, log: bool) -> String {
+    if log {
+        let power = 10f64.powf(v);
+        if (v - v.round()).abs() < 1e-9 {
+            format!("1e{}", v.round() as i64)
+        } else {
+            format!("{power:.1e}")
+        }
+    } else if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e5) {
+        format!("{v:.2e}")
+    } else {
+        format!("{v:.4}").trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
+
+/// Renders the chart to a PNG file at `path`.
+pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
+    let drawn: Vec<Vec<(Real, Real, usize)>> = chart
+        .series
+        .iter()
+        .map(|s| {
+            s.points
+                .iter()
+                .enumerate()
+                .filter_map(|(k, &(x, y))| {
+                    Some((axis_value(x, chart.log_x)?, axis_value(y, chart.log_y)?, k))
+                })
+                .collect()
+        })
+        .collect();
+    let all = || drawn.iter().flatten();
+    let mut xs = all().map(|p| p.0).chain(chart.marks.iter().filter_map(|m| axis_value(m.0, chart.log_x)));
+    let first = xs.next().ok_or(PlotError::Empty)?;
+    let (mut x0, mut x1) = xs.fold((first, first), |(lo, hi), x| (lo.min(x), hi.max(x)));
+    let (mut y0, mut y1) =
+        all().fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), p| (lo.min(p.1), hi.max(p.1)));
+    if !y0.is_finite() {
+        return Err(PlotError::Empty);
+    }
+    let pad = |lo: &mut Real, hi: &mut Real| {
+        let span = (*hi - *lo).max(if chart.log_y { 1.0 } else { 1e-12_f64.max(hi.abs() * 1e-3) });
+        *lo -= span * 0.05;
+        *hi += span * 0.05;
+    };
+    pad(&mut x0, &mut x1);
+    pad(&mut y0, &mut y1);
+
+    draw_png(path, |root| {
+        let error = |e: &dyn std::fmt::Display| e.to_string();
+        let font = |size: u32| (FAMILY, size).into_font();
+        let mut context = ChartBuilder::on(root)
+            .caption(&chart.title, font(30))
+            .margin(20)
+            .x_label_area_size(60)
+            .y_label_area_size(110)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| error(&e))?;
+        let (log_x, log_y) = (chart.log_x, chart.log_y);
+        context
+            .configure_mesh()
+            .x_desc(&chart.x_label)
+            .y_desc(&chart.y_label)
+            .label_style(font(18))
+            .axis_desc_style(font(22))
+            .x_label_formatter(&|v| tick(*v, log_x))
+            .y_label_formatter(&|v| tick(*v, log_y))
+            .draw()
+            .map_err(|e| error(&e))?;
+        let red = RGBColor(200, 30, 30);
+        let tick_top = y0 + (y1 - y0) * TICK_HEIGHT;
+        let ticks = chart.ticks.iter().filter_map(|t| axis_value(*t, log_x));
+        context
+            .draw_series(ticks.map(|x| PathElement::new(vec![(x, y0), (x, tick_top)], red.stroke_width(1))))
+            .map_err(|e| error(&e))?;
+        for (k, (mark, label)) in chart.marks.iter().enumerate() {
+            let Some(x) = axis_value(*mark, log_x) else { continue };
+            let style = ShapeStyle::from(&RGBColor(200, 30, 30)).stroke_width(2);
+            context.draw_series(LineSeries::new([(x, y0), (x, y1)], style)).map_err(|e| error(&e))?;
+            // Labels go beside the line, on the side with more room, staggered
+            // so that close marks stay readable.
+            let y = y1 - (y1 - y0) * (0.10 + 0.05 * (k % 4) as Real);
+            let right_half = x > (x0 + x1) / 2.0;
+            let anchor = Pos::new(if right_half { HPos::Right } else { HPos::Left }, VPos::Center);
+            let shift = (x1 - x0) * 0.005 * if right_half { -1.0 } else { 1.0 };
+            let style = font(18).color(&RGBColor(200, 30, 30)).pos(anchor);
+            context.draw_series([Text::new(label.clone(), (x + shift, y), style)]).map_err(|e| error(&e))?;
+        }
+        for (index, (series, points)) in chart.series.iter().zip(&drawn).enumerate() {
+            let color = PALETTE[index % PALETTE.len()].to_rgba();
+            let style = ShapeStyle::from(&color).stroke_width(2);
+            let coordinates: Vec<(Real, Real)> = points.iter().map(|p| (p.0, p.1)).collect();
+            let legend = if series.line {
+                context.draw_series(LineSeries::new(coordinates.clone(), style)).map_err(|e| error(&e))?
+            } else {
+                context
+                    .draw_series(coordinates.iter().map(|&p| Circle::new(p, 5, style.filled())))
+                    .map_err(|e| error(&e))?
+            };
+            if !series.label.is_empty() {
+                legend
+                    .label(series.label.clone())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3)));
+            }
+            if series.line && coordinates.len() <= 60 {
+                context
+                    .draw_series(coordinates.iter().map(|&p| Circle::new(p, 3, style.filled())))
+                    .map_err(|e| error(&e))?;
+            }
+            for &(x, y, k) in points {
+                if let Some(text) = series.point_labels.get(k).filter(|t| !t.is_empty()) {
+                    context
+                        .draw_series([Text::new(text.clone(), (x, y), font(15).color(&color))])
+                        .map_err(|e| error(&e))?;
+                }
+            }
+        }
+        context
+            .configure_series_labels()
+            .label_font(font(18))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(|e| error(&e))?;
+        Ok(())
+    })
+}
+
+/// Draws a [`CHART_SIZE`] PNG at `path`: `draw` paints on a white canvas
+/// (its errors as text), rendered under a temporary name first (per
+/// process, so that concurrent runs into one folder never share it) and
+/// renamed.
+pub(crate) fn draw_png(
+    path: &Path,
+    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> Result<(), String>,
+) -> Result<(), PlotError> {
+    register_font();
+    let error = |message: String| PlotError::Draw { path: path.display().to_string(), message };
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let temporary = path.with_file_name(format!(".{name}.{}.tmp.png", std::process::id()));
+    {
+        let root = BitMapBackend::new(&temporary, CHART_SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| error(e.to_string()))?;
+        draw(&root).map_err(error)?;
+        root.present().map_err(|e| error(e.to_string()))?;
+    }
+    std::fs::rename(&temporary, path).map_err(|e| error(e.to_string()))
+}

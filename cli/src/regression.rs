@@ -1,0 +1,182 @@
+//! Regression checks of scenes against their stated expectations
+//! (`nearmiss test`).
+
+use std::path::{Path, PathBuf};
+
+use nearmiss::math::Real;
+use nearmiss::scene::{Expectation, Scene};
+use nearmiss::stepper::{RunResult, Termination};
+
+/// The verdict on one scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Verdict {
+    /// Whether the run met the expectation.
+    pub passed: bool,
+    /// The expectation, in words.
+    pub expected: String,
+    /// What the run gave, in words.
+    pub obtained: String,
+    /// obtained − expected time, when both are times.
+    pub error: Option<Real>,
+}
+
+/// Checks a run against the scene's expectation (`None` without one).
+pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
+    let expectation = scene.expect.as_ref()?;
+    let name = |i: usize| scene.bodies[i].name.as_str();
+    let obtained = match (&result.termination, &result.first_contact) {
+        (Termination::Diverged { reason, .. }, _) => format!("diverged: {reason}"),
+        (Termination::Undecided { .. }, None) => crate::output::termination_text(result),
+        (_, Some(c)) => format!("contact {} / {} at t = {:.12e}", name(c.body_a), name(c.body_b), c.time),
+        (_, None) => format!("no contact up to t = {:.6e}", result.end_time),
+    };
+    let diverged = matches!(result.termination, Termination::Diverged { .. });
+    let undecided = matches!(result.termination, Termination::Undecided { .. });
+    Some(match expectation {
+        Expectation::NoContact => Verdict {
+            passed: !diverged && !undecided && result.first_contact.is_none(),
+            expected: "no contact".into(),
+            obtained,
+            error: None,
+        },
+        Expectation::Contact { time, tolerance, bodies, recorded } => {
+            let contact = result.first_contact.as_ref().filter(|_| !diverged);
+            let error = contact.map(|c| c.time - time);
+            let same_bodies = contact.is_some_and(|c| (c.body_a, c.body_b) == *bodies);
+            Verdict {
+                passed: same_bodies && error.is_some_and(|e| e.abs() <= *tolerance),
+                expected: format!(
+                    "contact {} / {} at t = {:.12e} ± {:.1e}{}",
+                    name(bodies.0),
+                    name(bodies.1),
+                    time,
+                    tolerance,
+                    if *recorded { " (recorded)" } else { "" }
+                ),
+                obtained,
+                error,
+            }
+        }
+    })
+}
+
+/// The scene files (`.ron`) named by `path`: the file itself, or every
+/// `.ron` file under the folder, sorted.
+pub fn scene_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
+    if !path.is_dir() {
+        // A missing file is reported when it is loaded.
+        return Ok(vec![path.to_path_buf()]);
+    }
+    let mut found = Vec::new();
+    let mut folders = vec![path.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder)? {
+            let entry = entry?.path();
+            if entry.is_dir() {
+                folders.push(entry);
+            } else if entry.extension().is_some_and(|e| e == "ron") {
+                found.push(entry);
+            }
+        }
+    }
+    found.sort();
+    Ok(found)
+}
+
+/// A recorded expectation's tolerance is this many times the time the
+/// contact's bodies take to close its contact distance at their closing
+/// speed (the most a change within the CCD's contract can move the time).
+/// `2.0`.
+pub const RECORD_TOLERANCE_FACTOR: Real = 2.0;
+
+/// Pins the current answer of the scene at `path` as its expectation
+/// (`nearmiss test --record`): runs it to its first contact, and writes
+/// `expect: Contact(time, tolerance, bodies, recorded: true)` (or
+/// `NoContact`) into the file, marked as recorded. The tolerance is
+/// [`RECORD_TOLERANCE_FACTOR`] × contact distance / closing speed (one step
+/// `dt` if the bodies do not close). A scene whose expectation was derived
+/// (not recorded) is left alone, as is a run that diverged or could not
+/// decide. Returns what was recorded, in words.
+pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
+    use nearmiss::scene::record::{set_expectation, RECORDED_COMMENT};
+    let text = nearmiss::input::read_text(path, nearmiss::input::MAX_SCENE_BYTES, "scene file")
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let scene = Scene::load_within(path, max_steps).map_err(|e| e.to_string())?;
+    let derived = match &scene.expect {
+        None => false,
+        Some(Expectation::Contact { recorded, .. }) => !recorded,
+        Some(Expectation::NoContact) => !text.contains(RECORDED_COMMENT),
+    };
+    if derived {
+        return Err(format!("{}: keeps its derived expectation (not recorded over)", path.display()));
+    }
+    let mut first_contact_only = scene.clone();
+    first_contact_only.on_contact = nearmiss::scene::OnContact::Stop;
+    let result = nearmiss::stepper::run(&first_contact_only);
+    if !matches!(result.termination, Termination::Completed | Termination::FirstContact) {
+        return Err(format!(
+            "{}: not recorded: {}",
+            path.display(),
+            crate::output::termination_text(&result)
+        ));
+    }
+    let name = |i: usize| scene.bodies[i].name.as_str();
+    let (value, words, intended) = match &result.first_contact {
+        None => (
+            "NoContact".to_string(),
+            format!("no contact up to t = {:?}", result.end_time),
+            Expectation::NoContact,
+        ),
+        Some(c) => {
+            // The contact points' closing speed along the contact normal,
+            // the bodies as they are at the contact.
+            let [a, b] = [c.body_a, c.body_b].map(|i| &result.final_states[i]);
+            let velocity = |s: &nearmiss::motion::RigidState, p: &nearmiss::math::Point| {
+                s.velocity + s.angular_velocity.cross(&(p - s.position))
+            };
+            let relative = velocity(a, &c.point_a) - velocity(b, &c.point_b);
+            let gap = c.point_b - c.point_a;
+            let closing = if gap.norm() > 0.0 { relative.dot(&gap) / gap.norm() } else { relative.norm() };
+            let tolerance =
+                if closing > 0.0 { RECORD_TOLERANCE_FACTOR * c.contact_distance / closing } else { scene.dt };
+            let value = format!(
+                "Contact(time: {:?}, tolerance: {:?}, bodies: ({:?}, {:?}), recorded: true)",
+                c.time,
+                tolerance,
+                name(c.body_a),
+                name(c.body_b)
+            );
+            let words = format!(
+                "contact {} / {} at t = {:?} ± {tolerance:.1e}",
+                name(c.body_a),
+                name(c.body_b),
+                c.time
+            );
+            let intended = Expectation::Contact {
+                time: c.time,
+                tolerance,
+                bodies: (c.body_a, c.body_b),
+                recorded: true,
+            };
+            (value, words, intended)
+        }
+    };
+    let updated = set_expectation(&text, &value).map_err(|e| format!("{}: {e}", path.display()))?;
+    // Written beside, loaded back, and only then put in place.
+    let name_of = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let staging = path.with_file_name(format!(".{name_of}.{}.record", std::process::id()));
+    std::fs::write(&staging, &updated).map_err(|e| format!("{}: {e}", staging.display()))?;
+    match Scene::load(&staging).map(|s| s.expect) {
+        Ok(Some(loaded)) if loaded == intended => {
+            std::fs::rename(&staging, path).map_err(|e| format!("{}: {e}", path.display()))?;
+            Ok(words)
+        }
+        other => {
+            let _ = std::fs::remove_file(&staging);
+            Err(format!(
+                "{}: the rewritten file did not load back as recorded ({other:?}); left unchanged",
+                path.display()
+            ))
+        }
+    }
+}

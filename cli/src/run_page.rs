@@ -1,0 +1,133 @@
+//! `report.md`: one page per run that puts the summary, the plot and the
+//! files a run wrote together, readable in a browser or a repository
+//! viewer without opening five files. Every link is relative to the run's
+//! folder and names a file written beside it.
+
+use std::fmt::Write;
+
+use crate::output::termination_text;
+use nearmiss::math::shortest;
+use nearmiss::scene::Scene;
+use nearmiss::stepper::{Contact, RunResult};
+
+/// Contacts listed in the page's table (the first ones; the count is
+/// always given, and `summary.json` has them all).
+pub const LISTED_CONTACTS: usize = 20;
+
+/// The page of a run that wrote `files` (names in its folder).
+pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
+    let mut page = String::new();
+    let name = |i: usize| cell(&result.bodies[i]);
+    let _ = writeln!(page, "# {}\n", result.scene);
+    let _ = writeln!(page, "Scene file: `{}`\n", scene.source);
+    let _ = writeln!(page, "| | |\n|---|---|");
+    let _ = writeln!(page, "| ended | {} |", cell(&termination_text(result)));
+    let _ = writeln!(
+        page,
+        "| steps | {} of dt = {} (to t = {}) |",
+        result.steps,
+        shortest(scene.dt),
+        shortest(result.end_time)
+    );
+    let _ = writeln!(page, "| contacts | {} |", result.contacts.len());
+    if let Some(solver) = &result.solver {
+        let _ = writeln!(page, "| response solved by | {} |", solver.engine);
+    }
+    let _ = writeln!(page, "| wall time | {:.3} s |", result.wall_time_s);
+    let c = &result.counters;
+    let _ = writeln!(
+        page,
+        "| work | {} CCD advancement steps, {} triangle pairs, {} pair-steps skipped without a mesh query |",
+        c.distance_queries, c.triangle_pairs, c.pairs_culled
+    );
+    page.push('\n');
+    if let Some(verdict) = crate::regression::verdict(scene, result) {
+        let _ = writeln!(
+            page,
+            "**{}**: expected {}; obtained {}.\n",
+            if verdict.passed { "Expectation met" } else { "Expectation NOT met" },
+            verdict.expected,
+            verdict.obtained
+        );
+    }
+    if !result.contacts.is_empty() {
+        let _ = writeln!(page, "## Contacts\n");
+        if result.contacts.len() > LISTED_CONTACTS {
+            let _ = writeln!(
+                page,
+                "The first {LISTED_CONTACTS} of {}; `summary.json` lists them all.\n",
+                result.contacts.len()
+            );
+        }
+        let _ = writeln!(
+            page,
+            "| # | time | bodies | features | distance | contact distance |\n|---|---|---|---|---|---|"
+        );
+        for (n, contact) in result.contacts.iter().take(LISTED_CONTACTS).enumerate() {
+            let _ = writeln!(
+                page,
+                "| {} | {} | {} / {} | {} | {:.3e} | {:.3e} |",
+                n + 1,
+                shortest(contact.time),
+                name(contact.body_a),
+                name(contact.body_b),
+                features(contact),
+                contact.distance,
+                contact.contact_distance
+            );
+        }
+        page.push('\n');
+        let missing: Vec<String> = scene
+            .plot
+            .iter()
+            .flat_map(|plot| {
+                plot.contacts.iter().filter(|&&n| n > result.contacts.len()).map(|n| n.to_string())
+            })
+            .collect();
+        if !missing.is_empty() {
+            let _ = writeln!(
+                page,
+                "Pictures were asked for contact(s) {}; the run had {} contact(s).\n",
+                missing.join(", "),
+                result.contacts.len()
+            );
+        }
+        for picture in files.iter().filter(|f| f.starts_with("contact_")) {
+            let _ = writeln!(page, "![{}]({picture})\n", picture.trim_end_matches(".png").replace('_', " "));
+        }
+    }
+    if files.contains(&"distance.png") {
+        let _ = writeln!(page, "## Distance over time\n\n![distance between traced pairs](distance.png)\n");
+    }
+    let _ = writeln!(page, "## Files\n");
+    for file in files.iter().filter(|f| **f != "report.md") {
+        let what = match *file {
+            "summary.json" => "every number of the run (contacts, work, wall times)",
+            "trace.csv" => "distances over time (step, time, the two bodies, distance)",
+            "animation.glb" => "the run as a glTF animation (Blender or any glTF viewer)",
+            "poses.csv" => "every body's pose over time",
+            "distance.png" => "the plot above",
+            f if f.starts_with("contact_") => "the two bodies at that contact (pictured above)",
+            _ => "",
+        };
+        let what = if what.is_empty() { String::new() } else { format!(": {what}") };
+        let _ = writeln!(page, "- [{file}]({file}){what}");
+    }
+    page
+}
+
+/// Text for a table cell: a `|` would end the cell.
+fn cell(text: &str) -> String {
+    text.replace('|', "\\|")
+}
+
+/// The features in contact, e.g. "triangle 12 vertex 0 / triangle 3 face".
+fn features(contact: &Contact) -> String {
+    format!(
+        "triangle {} {} / triangle {} {}",
+        contact.triangle_a,
+        crate::output::feature_text(contact.feature_a),
+        contact.triangle_b,
+        crate::output::feature_text(contact.feature_b)
+    )
+}
