@@ -60,7 +60,7 @@ fn main() {
         let theirs = hit.ok().flatten().map(|hit| hit.time_of_impact);
         let parry_us = start.elapsed().as_secs_f64() * 1e6;
         let t_ours = ours.time_of_impact;
-        let tolerance = 1e-6 * 2.0 / 1.0; // contact distance (1e-6 x (r_a + r_b)) over a closing speed of at least ~1
+        let tolerance = 1e-6 * 2.0 / 1.0; // twice the contact distance (1e-6 x min(r_a, r_b), unit icospheres) over a closing speed of at least ~1
         let verdict = match (t_ours, theirs) {
             (Some(x), Some(y)) if (x - y).abs() <= tolerance => "agree".to_string(),
             (None, None) => "agree: no contact".to_string(),

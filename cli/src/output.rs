@@ -25,7 +25,7 @@ use nearmiss::scene::Scene;
 use nearmiss::stepper::{Contact, RunResult, Termination};
 use nearmiss::trace::write_trace_csv;
 
-/// The `summary.json` document (DESIGN.md's fields, and more).
+/// The `summary.json` document (its fields are listed in `scenes/README.md`).
 #[derive(Serialize)]
 pub struct Summary<'a> {
     /// The scene's name.

@@ -27,8 +27,8 @@ pub const TARGET_FRACTION: Real = 0.5;
 /// Each body's swept box grows by `minimum_separation +
 /// BOX_MARGIN_TOLERANCE_FACTOR × distance_tolerance × r` (`r` its radius), so
 /// that two boxes together cover any pair's contact distance
-/// `minimum_separation + distance_tolerance × (r_a + r_b)` with room to
-/// spare. `2.0`.
+/// `minimum_separation + distance_tolerance × min(r_a, r_b)` (and its
+/// rounding floor) with room to spare. `2.0`.
 pub const BOX_MARGIN_TOLERANCE_FACTOR: Real = 2.0;
 
 /// How a query's contact distance is chosen.

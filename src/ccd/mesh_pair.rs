@@ -143,8 +143,8 @@ pub struct MeshCcdQuery<'a> {
     pub duration: Real,
     /// Tolerances and the iteration limit.
     pub options: CcdOptions,
-    /// How the contact distance is chosen: relative to the pair's size
-    /// `r_a + r_b` (the default), or absolute.
+    /// How the contact distance is chosen: relative to the pair's size, the
+    /// smaller radius `min(r_a, r_b)` (the default), or absolute.
     pub contact: ContactRule,
     /// The triangle distance kernel.
     pub kernel: DistanceKernel,

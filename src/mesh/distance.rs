@@ -48,9 +48,10 @@ pub enum DistanceKernel {
 pub struct MeshDistance {
     /// The distance (0 when the surfaces touch or cross).
     pub distance: Real,
-    /// The closest point on mesh `a`, in world coordinates.
+    /// The closest point on mesh `a`: world coordinates from
+    /// [`mesh_distance`], `a`'s frame from [`mesh_distance_relative`].
     pub point_a: Point,
-    /// The closest point on mesh `b`, in world coordinates.
+    /// The closest point on mesh `b`, in the same frame as `point_a`.
     pub point_b: Point,
     /// The triangle of `a` (index into [`TriMesh::triangles`]).
     pub triangle_a: usize,
