@@ -18,7 +18,7 @@
 //! With `--bunnies`: every fifth body (those that were icospheres of 320
 //! triangles) is the Stanford bunny (3,674 triangles, scaled to radius
 //! 0.29; `scripts/fetch-bunny.sh` fetches it).
-//! Usage: `cargo run --release --example many_bodies -- 10 100 1000 [--steps 240] [--simulate] [--trace N] [--bunnies]`.
+//! Usage: `cargo run --release -p nearmiss-tools --bin many_bodies -- 10 100 1000 [--steps 240] [--simulate] [--trace N] [--bunnies]`.
 use nearmiss::samples::Rng;
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{run_with, RunOptions};
@@ -33,7 +33,7 @@ struct Setup {
 }
 
 /// The bunny's OBJ file (see `scripts/fetch-bunny.sh`).
-const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/meshes/bunny.obj");
+const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/meshes/bunny.obj");
 
 fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
     let Setup { steps, simulate, trace, bunnies } = setup;
