@@ -88,3 +88,28 @@ fn the_guards_documented_defaults_are_the_real_ones() {
     // scenes/README.md: "rapier's prediction distance (0.02)".
     assert_eq!(parameters.prediction_distance(), 0.02);
 }
+
+#[test]
+fn ccd_statuses_are_written_by_their_documented_names() {
+    use nearmiss::ccd::CcdStatus;
+    // summary.json's `status` (scenes/README.md, "Outputs"): the names are
+    // the file format, fixed whatever the variants are called.
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/README.md")).unwrap();
+    for status in [
+        CcdStatus::Converged,
+        CcdStatus::InitiallyTouching,
+        CcdStatus::OutOfIterations,
+        CcdStatus::NonFiniteInput,
+    ] {
+        assert!(
+            readme.contains(&format!("`{}`", status.name())),
+            "{status:?} is not documented as `{}`",
+            status.name()
+        );
+    }
+    let names: Vec<&str> = CcdStatus::ALL.iter().map(|s| s.name()).collect();
+    assert_eq!(
+        names,
+        ["Separated", "Converged", "InitiallyTouching", "OutOfIterations", "Filtered", "NonFiniteInput"]
+    );
+}

@@ -19,7 +19,6 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::output::feature_text;
 use crate::plot::{draw_png, PlotError, FAMILY};
 use nearmiss::math::shortest;
 use nearmiss::math::{Point, Pose, Real, Vector};
@@ -106,10 +105,10 @@ pub fn draw_contact(
         shortest(contact.time),
         names.0,
         contact.triangle_a,
-        feature_text(contact.feature_a),
+        contact.feature_a,
         names.1,
         contact.triangle_b,
-        feature_text(contact.feature_b),
+        contact.feature_b,
         contact.distance,
         contact.contact_distance
     );

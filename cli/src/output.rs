@@ -19,10 +19,9 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use crate::report::PeerComparison;
-use nearmiss::kernels::Feature;
 use nearmiss::math::{Point, Real};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{Contact, RunResult, Termination};
+use nearmiss::stepper::{Contact, RunResult};
 use nearmiss::trace::write_trace_csv;
 
 /// The `summary.json` document (its fields are listed in `scenes/README.md`).
@@ -127,8 +126,8 @@ pub struct ContactJson<'a> {
     pub feature_a: String,
     /// Feature of `triangle_b`.
     pub feature_b: String,
-    /// How the CCD iteration ended.
-    pub status: String,
+    /// How the CCD iteration ended ([`nearmiss::ccd::CcdStatus::name`]).
+    pub status: &'static str,
     /// The pose of `body_a` at `time`.
     pub pose_a: PoseJson,
     /// The pose of `body_b` at `time`.
@@ -183,28 +182,6 @@ fn point(p: &Point) -> [Real; 3] {
     [p.x, p.y, p.z]
 }
 
-/// A contact feature in words ("vertex 0", "edge 2", "face").
-pub fn feature_text(f: Feature) -> String {
-    match f {
-        Feature::Vertex(i) => format!("vertex {i}"),
-        Feature::Edge(i) => format!("edge {i}"),
-        Feature::Face => "face".into(),
-    }
-}
-
-/// The termination as a short text.
-pub fn termination_text(result: &RunResult) -> String {
-    match &result.termination {
-        Termination::Completed => "completed".into(),
-        Termination::FirstContact => "first_contact".into(),
-        Termination::Diverged { step, reason, .. } => format!("diverged at step {step}: {reason}"),
-        Termination::Undecided { pair: (a, b), time, step, iterations } => format!(
-            "undecided at step {step}: the CCD of `{}` / `{}` could not decide in {iterations} iterations whether they touch after t = {} (they are apart until then; nothing later is known). Raise `ccd.max_iterations`, lower `dt`, or raise `ccd.distance_tolerance`",
-            result.bodies[*a], result.bodies[*b], nearmiss::math::shortest(*time)
-        ),
-    }
-}
-
 impl<'a> Summary<'a> {
     /// The summary of a run.
     pub fn of(result: &'a RunResult) -> Summary<'a> {
@@ -222,9 +199,9 @@ impl<'a> Summary<'a> {
             point_b: point(&c.point_b),
             triangle_a: c.triangle_a,
             triangle_b: c.triangle_b,
-            feature_a: feature_text(c.feature_a),
-            feature_b: feature_text(c.feature_b),
-            status: format!("{:?}", c.status),
+            feature_a: c.feature_a.to_string(),
+            feature_b: c.feature_b.to_string(),
+            status: c.status.name(),
             pose_a: PoseJson::of(&c.pose_a),
             pose_b: PoseJson::of(&c.pose_b),
             contact_distance: c.contact_distance,
@@ -236,7 +213,7 @@ impl<'a> Summary<'a> {
             steps: result.steps,
             end_time: result.end_time,
             wall_time_s: result.wall_time_s,
-            termination: termination_text(result),
+            termination: result.termination_text(),
             first_contact: result.first_contact.as_ref().map(contact),
             contacts: result.contacts.iter().map(contact).collect(),
             work: WorkJson {

@@ -26,7 +26,7 @@ pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
     let name = |i: usize| scene.bodies[i].name.as_str();
     let obtained = match (&result.termination, &result.first_contact) {
         (Termination::Diverged { reason, .. }, _) => format!("diverged: {reason}"),
-        (Termination::Undecided { .. }, None) => crate::output::termination_text(result),
+        (Termination::Undecided { .. }, None) => result.termination_text(),
         (_, Some(c)) => format!("contact {} / {} at t = {:.12e}", name(c.body_a), name(c.body_b), c.time),
         (_, None) => format!("no contact up to t = {:.6e}", result.end_time),
     };
@@ -114,11 +114,7 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
     first_contact_only.on_contact = nearmiss::scene::OnContact::Stop;
     let result = nearmiss::stepper::run(&first_contact_only);
     if !matches!(result.termination, Termination::Completed | Termination::FirstContact) {
-        return Err(format!(
-            "{}: not recorded: {}",
-            path.display(),
-            crate::output::termination_text(&result)
-        ));
+        return Err(format!("{}: not recorded: {}", path.display(), result.termination_text()));
     }
     let name = |i: usize| scene.bodies[i].name.as_str();
     let (value, words, intended) = match &result.first_contact {

@@ -5,7 +5,6 @@
 
 use std::fmt::Write;
 
-use crate::output::termination_text;
 use nearmiss::math::shortest;
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{Contact, RunResult};
@@ -21,7 +20,7 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
     let _ = writeln!(page, "# {}\n", result.scene);
     let _ = writeln!(page, "Scene file: `{}`\n", scene.source);
     let _ = writeln!(page, "| | |\n|---|---|");
-    let _ = writeln!(page, "| ended | {} |", cell(&termination_text(result)));
+    let _ = writeln!(page, "| ended | {} |", cell(&result.termination_text()));
     let _ = writeln!(
         page,
         "| steps | {} of dt = {} (to t = {}) |",
@@ -125,9 +124,6 @@ fn cell(text: &str) -> String {
 fn features(contact: &Contact) -> String {
     format!(
         "triangle {} {} / triangle {} {}",
-        contact.triangle_a,
-        crate::output::feature_text(contact.feature_a),
-        contact.triangle_b,
-        crate::output::feature_text(contact.feature_b)
+        contact.triangle_a, contact.feature_a, contact.triangle_b, contact.feature_b
     )
 }

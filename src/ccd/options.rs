@@ -59,6 +59,31 @@ pub enum CcdStatus {
     NonFiniteInput,
 }
 
+impl CcdStatus {
+    /// Every status, in declaration order.
+    pub const ALL: [CcdStatus; 6] = [
+        CcdStatus::Separated,
+        CcdStatus::Converged,
+        CcdStatus::InitiallyTouching,
+        CcdStatus::OutOfIterations,
+        CcdStatus::Filtered,
+        CcdStatus::NonFiniteInput,
+    ];
+
+    /// Its name in files (`summary.json`'s `status`) and messages: written
+    /// out here, so that renaming a variant does not change the file format.
+    pub fn name(self) -> &'static str {
+        match self {
+            CcdStatus::Separated => "Separated",
+            CcdStatus::Converged => "Converged",
+            CcdStatus::InitiallyTouching => "InitiallyTouching",
+            CcdStatus::OutOfIterations => "OutOfIterations",
+            CcdStatus::Filtered => "Filtered",
+            CcdStatus::NonFiniteInput => "NonFiniteInput",
+        }
+    }
+}
+
 /// The detailed result of a CCD query.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct CcdResult {

@@ -14,6 +14,17 @@ pub enum Feature {
     Face,
 }
 
+/// In words, as files and messages write it: `vertex 0`, `edge 2`, `face`.
+impl std::fmt::Display for Feature {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Feature::Vertex(i) => write!(f, "vertex {i}"),
+            Feature::Edge(i) => write!(f, "edge {i}"),
+            Feature::Face => f.write_str("face"),
+        }
+    }
+}
+
 impl Feature {
     /// The feature of edge `edge` at parameter `s` (0 at its first vertex).
     #[inline]

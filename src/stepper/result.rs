@@ -166,6 +166,21 @@ pub struct RunResult {
 }
 
 impl RunResult {
+    /// How the run ended, as `summary.json`'s `termination` and the CLI's
+    /// messages write it: `completed`, `first_contact`, `diverged at step
+    /// ...` or `undecided at step ...` with what to do.
+    pub fn termination_text(&self) -> String {
+        match &self.termination {
+            Termination::Completed => "completed".into(),
+            Termination::FirstContact => "first_contact".into(),
+            Termination::Diverged { step, reason, .. } => format!("diverged at step {step}: {reason}"),
+            Termination::Undecided { pair: (a, b), time, step, iterations } => format!(
+                "undecided at step {step}: the CCD of `{}` / `{}` could not decide in {iterations} iterations whether they touch after t = {} (they are apart until then; nothing later is known). Raise `ccd.max_iterations`, lower `dt`, or raise `ccd.distance_tolerance`",
+                self.bodies[*a], self.bodies[*b], crate::math::shortest(*time)
+            ),
+        }
+    }
+
     /// The first number of a run's result that is not finite (which JSON would
     /// write as `null` and CSV as `inf`), named; `None` if all are finite.
     pub fn first_non_finite(&self) -> Option<String> {

@@ -71,12 +71,12 @@ pub fn main(args: Args) -> CommandResult {
     );
     match &result.first_contact {
         Some(c) => println!(
-            "first contact: {} / {} at t = {:.15e}, distance {:.3e} ({:?}); {} contact(s)",
+            "first contact: {} / {} at t = {:.15e}, distance {:.3e} ({}); {} contact(s)",
             result.bodies[c.body_a],
             result.bodies[c.body_b],
             c.time,
             c.distance,
-            c.status,
+            c.status.name(),
             result.contacts.len()
         ),
         None => println!("no contact"),
@@ -88,12 +88,8 @@ pub fn main(args: Args) -> CommandResult {
         println!("wrote {}", file.display());
     }
     match result.termination {
-        Termination::Diverged { .. } => {
-            Err(CliError::Failed(nearmiss_cli::output::termination_text(&result)))
-        }
-        Termination::Undecided { .. } => {
-            Err(CliError::Undecided(nearmiss_cli::output::termination_text(&result)))
-        }
+        Termination::Diverged { .. } => Err(CliError::Failed(result.termination_text())),
+        Termination::Undecided { .. } => Err(CliError::Undecided(result.termination_text())),
         _ => Ok(()),
     }
 }
