@@ -54,7 +54,7 @@ fn threads_and_broad_phase_change_nothing() {
     let broad = run_with(&scene, RunOptions { parallel: false, broad_phase: true }, quiet);
     same_outcome(&reference, &broad);
     // The broad phase hands far fewer pairs to CCD than all 780.
-    assert!(broad.counters.candidate_pairs < reference.counters.candidate_pairs / 4);
+    assert!(broad.counters.work.candidate_pairs < reference.counters.work.candidate_pairs / 4);
     let threaded = run_with(&scene, RunOptions { parallel: true, broad_phase: true }, quiet);
     same_outcome(&broad, &threaded);
     let pairs = 40 * 39 / 2;

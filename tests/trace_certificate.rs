@@ -67,7 +67,7 @@ fn samples_equal_a_cold_search(every: u64) {
     // The run passes close approaches, not only far pairs, and both ways of
     // sampling were taken.
     assert!(near > 10 / every as usize, "{near} samples nearer than 0.2");
-    let certified = result.counters.trace_certified;
+    let certified = result.counters.work.trace_certified;
     assert!(
         certified > 100 / every as usize && certified < result.trace.len(),
         "{certified} of {} certified",

@@ -21,7 +21,7 @@ use serde::Serialize;
 use crate::report::PeerComparison;
 use nearmiss::math::{Point, Real};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{Contact, RunResult};
+use nearmiss::stepper::{Contact, RunResult, StageSeconds, Work};
 use nearmiss::trace::write_trace_csv;
 
 /// The `summary.json` document (its fields are listed in `scenes/README.md`).
@@ -44,9 +44,9 @@ pub struct Summary<'a> {
     /// Every contact in time order.
     pub contacts: Vec<ContactJson<'a>>,
     /// Work counters (deterministic).
-    pub work: WorkJson,
+    pub work: &'a Work,
     /// Seconds per stage (not deterministic).
-    pub stage_wall_time_s: StagesJson,
+    pub stage_wall_time_s: &'a StageSeconds,
     /// Who solved the contact response (`on_contact`), and with `Simulate`
     /// which collider shape rapier was given for each body.
     pub response: ResponseJson,
@@ -138,46 +138,6 @@ pub struct ContactJson<'a> {
     pub guaranteed_distance: Real,
 }
 
-/// Work counters in `summary.json`.
-#[derive(Serialize)]
-pub struct WorkJson {
-    /// Mesh distance queries.
-    pub distance_queries: usize,
-    /// Triangle pairs evaluated.
-    pub triangle_pairs: usize,
-    /// Pair-steps settled without a mesh query.
-    pub pairs_culled: usize,
-    /// CCD advancement steps on the hulls' gap alone (one GJK each).
-    pub hull_steps: usize,
-    /// Steps whose implicit gyroscopic solve did not converge.
-    pub gyroscopic_unconverged: usize,
-    /// Pairs handed to CCD by the broad phase, summed over steps.
-    pub candidate_pairs: usize,
-    /// Largest relative drift of an integrated body's mechanical energy.
-    pub max_energy_drift: Real,
-    /// Trace samples settled without a search (the hulls' certificate).
-    pub trace_certified: usize,
-}
-
-/// Stage times in `summary.json`.
-#[derive(Serialize)]
-pub struct StagesJson {
-    /// Integration.
-    pub integrate: Real,
-    /// Broad phase.
-    pub broad_phase: Real,
-    /// CCD (the narrow phase).
-    pub ccd: Real,
-    /// The contact response.
-    pub respond: Real,
-    /// Re-arming pairs that separated.
-    pub rearm: Real,
-    /// Trace.
-    pub trace: Real,
-    /// An outside engine's steps (rapier under Simulate).
-    pub engine: Real,
-}
-
 fn point(p: &Point) -> [Real; 3] {
     [p.x, p.y, p.z]
 }
@@ -207,7 +167,6 @@ impl<'a> Summary<'a> {
             contact_distance: c.contact_distance,
             guaranteed_distance: c.guaranteed_distance,
         };
-        let counters = &result.counters;
         Summary {
             scene: &result.scene,
             steps: result.steps,
@@ -216,25 +175,8 @@ impl<'a> Summary<'a> {
             termination: result.termination_text(),
             first_contact: result.first_contact.as_ref().map(contact),
             contacts: result.contacts.iter().map(contact).collect(),
-            work: WorkJson {
-                distance_queries: counters.distance_queries,
-                triangle_pairs: counters.triangle_pairs,
-                pairs_culled: counters.pairs_culled,
-                hull_steps: counters.hull_steps,
-                gyroscopic_unconverged: counters.gyroscopic_unconverged,
-                candidate_pairs: counters.candidate_pairs,
-                max_energy_drift: counters.max_energy_drift,
-                trace_certified: counters.trace_certified,
-            },
-            stage_wall_time_s: StagesJson {
-                integrate: counters.integrate_s,
-                broad_phase: counters.broad_phase_s,
-                ccd: counters.ccd_s,
-                respond: counters.respond_s,
-                rearm: counters.rearm_s,
-                trace: counters.trace_s,
-                engine: counters.engine_s,
-            },
+            work: &result.counters.work,
+            stage_wall_time_s: &result.counters.seconds,
             response: match &result.solver {
                 Some(solver) => ResponseJson {
                     solved_by: format!("{} (guarded by nearmiss)", solver.engine),

@@ -33,7 +33,7 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
         let _ = writeln!(page, "| response solved by | {} |", solver.engine);
     }
     let _ = writeln!(page, "| wall time | {:.3} s |", result.wall_time_s);
-    let c = &result.counters;
+    let c = &result.counters.work;
     let _ = writeln!(
         page,
         "| work | {} CCD advancement steps, {} triangle pairs, {} pair-steps skipped without a mesh query |",

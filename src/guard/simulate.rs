@@ -322,7 +322,7 @@ pub(crate) fn run(
             engine_s += clock.elapsed().as_secs_f64();
         });
         let outcome = outcome.map(|_| ());
-        guard.stepper.counters_mut().engine_s += engine_s;
+        guard.stepper.counters_mut().seconds.engine += engine_s;
         match outcome {
             Ok(()) => observer(steps),
             Err(GuardError::Undecided { .. }) => {

@@ -173,9 +173,9 @@ impl Clamp {
         let query = pair_query(scene, &pair, [&ma, &mb], scene.dt - time, rule);
         let warm = WarmStart { lower_bound: None, hint: pair.hint, axis: pair.axis };
         let mut result = mesh_time_of_impact(&query, warm, step.scratch);
-        step.counters.distance_queries += result.iterations;
-        step.counters.hull_steps += result.hull_steps;
-        step.counters.triangle_pairs += result.triangle_pairs;
+        step.counters.work.distance_queries += result.iterations;
+        step.counters.work.hull_steps += result.hull_steps;
+        step.counters.work.triangle_pairs += result.triangle_pairs;
         if result.status == CcdStatus::OutOfIterations {
             // Undecided is never apart: a hit where it stopped knowing.
             result.time_of_impact = Some(result.time_of_impact.unwrap_or(0.0));

@@ -113,9 +113,9 @@ pub(super) fn stop_in_time_order(
                 let query = pair_query(scene, &pair, [&ma, &mb], dt - time, rule(&pair));
                 let warm = WarmStart { lower_bound: None, hint: pair.hint, axis: pair.axis };
                 let result = mesh_time_of_impact(&query, warm, step.scratch);
-                step.counters.distance_queries += result.iterations;
-                step.counters.hull_steps += result.hull_steps;
-                step.counters.triangle_pairs += result.triangle_pairs;
+                step.counters.work.distance_queries += result.iterations;
+                step.counters.work.hull_steps += result.hull_steps;
+                step.counters.work.triangle_pairs += result.triangle_pairs;
                 if result.status == CcdStatus::OutOfIterations {
                     let undecided =
                         MeshCcdResult { time_of_impact: result.time_of_impact.map(|t| time + t), ..result };

@@ -63,7 +63,7 @@ impl Stepper {
             old.clear();
             self.scratch.spare_pairs = old;
         }
-        self.counters.broad_phase_s += clock.elapsed().as_secs_f64();
-        self.counters.candidate_pairs += world.pairs.len();
+        self.counters.seconds.broad_phase += clock.elapsed().as_secs_f64();
+        self.counters.work.candidate_pairs += world.pairs.len();
     }
 }

@@ -24,7 +24,7 @@ impl Stepper {
         let mut advanced = std::mem::take(&mut self.scratch.advanced);
         let result = self.integrate_into(world, &mut advanced, step, t0);
         self.scratch.advanced = advanced;
-        self.counters.integrate_s += clock.elapsed().as_secs_f64();
+        self.counters.seconds.integrate += clock.elapsed().as_secs_f64();
         result
     }
 
@@ -66,7 +66,7 @@ impl Stepper {
                     let (Some(state), Some((next, converged))) = (world.states[i], advanced[i]) else {
                         continue;
                     };
-                    counters.gyroscopic_unconverged += usize::from(!converged);
+                    counters.work.gyroscopic_unconverged += usize::from(!converged);
                     let diverged = |reason: String| Termination::Diverged { body: i, step, reason };
                     if !next.is_finite() {
                         return Err(diverged(format!("the state of `{}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator", body.name)));
@@ -79,8 +79,8 @@ impl Stepper {
                     if check_energy {
                         let (initial, scale) = world.energies[i];
                         let energy = dynamics.energy(&next);
-                        counters.max_energy_drift =
-                            counters.max_energy_drift.max((energy - initial).abs() / scale);
+                        counters.work.max_energy_drift =
+                            counters.work.max_energy_drift.max((energy - initial).abs() / scale);
                         if energy - initial > parameters.divergence_energy_growth * scale {
                             let time = (step + 1) as Real * scene.dt;
                             let advice = stability_advice(dynamics, scene.integrator, scene.dt);

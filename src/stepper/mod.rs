@@ -32,7 +32,7 @@ use std::time::Instant;
 
 pub(crate) use narrow::{pair_query, Found};
 pub use parameters::StepParameters;
-pub use result::{Contact, Counters, RunResult, Solver, Termination};
+pub use result::{Contact, Counters, RunResult, Solver, StageSeconds, Termination, Work};
 #[cfg(test)]
 pub(crate) use world::Touching;
 pub(crate) use world::{PairState, Rewind, World};
@@ -266,7 +266,7 @@ impl Stepper {
             t0,
         };
         let contact = self.response.respond(&mut context, found);
-        self.counters.respond_s += clock.elapsed().as_secs_f64();
+        self.counters.seconds.respond += clock.elapsed().as_secs_f64();
         contact
     }
 
@@ -338,9 +338,9 @@ impl Stepper {
                 if termination == Termination::FirstContact {
                     trace.sample(steps, end_time, end_time - last_step_start, &world.motions);
                 }
-                self.counters.distance_queries += trace.distance_queries;
-                self.counters.trace_s += trace.seconds;
-                self.counters.trace_certified += trace.certified;
+                self.counters.work.distance_queries += trace.distance_queries;
+                self.counters.seconds.trace += trace.seconds;
+                self.counters.work.trace_certified += trace.certified;
                 trace.into_records()
             }
             None => Vec::new(),

@@ -128,10 +128,10 @@ impl Stepper {
         for (&k, outcome) in work.iter().zip(results.iter_mut()) {
             let pair = &mut world.pairs[k];
             let result = outcome.summary;
-            self.counters.distance_queries += result.iterations;
-            self.counters.triangle_pairs += result.triangle_pairs;
-            self.counters.pairs_culled += usize::from(result.iterations == 0);
-            self.counters.hull_steps += result.hull_steps;
+            self.counters.work.distance_queries += result.iterations;
+            self.counters.work.triangle_pairs += result.triangle_pairs;
+            self.counters.work.pairs_culled += usize::from(result.iterations == 0);
+            self.counters.work.hull_steps += result.hull_steps;
             pair.hint = result.hint;
             pair.axis = result.axis;
             pair.lower_bound = Some(result.end_lower_bound);
@@ -143,6 +143,6 @@ impl Stepper {
                 found.push(Found { pair: k, result: *contact });
             }
         }
-        self.counters.ccd_s += clock.elapsed().as_secs_f64();
+        self.counters.seconds.ccd += clock.elapsed().as_secs_f64();
     }
 }

@@ -27,13 +27,13 @@ impl Stepper {
             // stop at the first pair within it.
             let search = DistanceSearch { kernel: scene.kernel, hint: pair.hint, enough: rearm_distance };
             let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, &mut self.scratch.ccd.distance);
-            self.counters.distance_queries += 1;
+            self.counters.work.distance_queries += 1;
             if d.distance > rearm_distance {
                 pair.touching = None;
                 world.separated.push((pair.a, pair.b));
                 pair.lower_bound = Some(d.distance);
             }
         }
-        self.counters.rearm_s += clock.elapsed().as_secs_f64();
+        self.counters.seconds.rearm += clock.elapsed().as_secs_f64();
     }
 }

@@ -91,9 +91,19 @@ pub enum Termination {
     },
 }
 
-/// Work and time per stage.
-#[derive(Clone, Debug, Default, PartialEq)]
+/// Work and time per stage: `summary.json`'s `work` and
+/// `stage_wall_time_s`, written as they are.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Counters {
+    /// Work done (deterministic).
+    pub work: Work,
+    /// Seconds per stage (wall clock: not deterministic).
+    pub seconds: StageSeconds,
+}
+
+/// The work of a run (deterministic: the same scene does the same work).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Work {
     /// Mesh queries: CCD advancement searches and trace distances.
     pub distance_queries: usize,
     /// Triangle pairs evaluated.
@@ -106,31 +116,36 @@ pub struct Counters {
     pub hull_steps: usize,
     /// Steps where the implicit gyroscopic solve did not converge.
     pub gyroscopic_unconverged: usize,
+    /// Pairs handed to CCD, summed over steps.
+    pub candidate_pairs: usize,
     /// The largest drift of an integrated body's mechanical energy,
     /// `|E − E0|` over its initial energy scale (0 without integrated bodies).
     pub max_energy_drift: Real,
-    /// Seconds spent integrating.
-    pub integrate_s: Real,
-    /// Seconds spent in CCD.
-    pub ccd_s: Real,
-    /// Seconds spent in the broad phase.
-    pub broad_phase_s: Real,
-    /// Pairs handed to CCD, summed over steps.
-    pub candidate_pairs: usize,
-    /// Seconds spent in the contact response (`Bounce`'s ordering,
-    /// re-checks and impulses; recording contacts).
-    pub respond_s: Real,
-    /// Seconds spent re-arming pairs that separated.
-    pub rearm_s: Real,
-    /// Seconds spent tracing.
-    pub trace_s: Real,
     /// Trace samples settled without a search: the gap between the two
     /// meshes' vertex hulls met the distance of a triangle pair (see
     /// [`crate::trace::TraceObserver::sample`]).
     pub trace_certified: usize,
-    /// Seconds spent in an outside engine's steps (`on_contact: Simulate`:
-    /// rapier's dynamics and contact solving).
-    pub engine_s: Real,
+}
+
+/// Seconds spent per stage of the step.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct StageSeconds {
+    /// Integrating.
+    pub integrate: Real,
+    /// The broad phase.
+    pub broad_phase: Real,
+    /// CCD (the narrow phase).
+    pub ccd: Real,
+    /// The contact response (`Bounce`'s ordering, re-checks and impulses;
+    /// recording contacts).
+    pub respond: Real,
+    /// Re-arming pairs that separated.
+    pub rearm: Real,
+    /// Tracing.
+    pub trace: Real,
+    /// An outside engine's steps (`on_contact: Simulate`: rapier's dynamics
+    /// and contact solving).
+    pub engine: Real,
 }
 
 /// The outcome of a run.
@@ -215,6 +230,6 @@ impl RunResult {
         if let Some(k) = self.poses.iter().position(|r| !pose_numbers(r)) {
             return Some(format!("pose record {k}"));
         }
-        (!self.counters.max_energy_drift.is_finite()).then(|| "work.max_energy_drift".into())
+        (!self.counters.work.max_energy_drift.is_finite()).then(|| "work.max_energy_drift".into())
     }
 }

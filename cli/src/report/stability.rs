@@ -92,7 +92,7 @@ pub fn spring_sweep(scene: &Scene, omega_dts: &[Real], integrators: &[Integrator
                 dt,
                 diverged,
                 message,
-                max_energy_drift: result.counters.max_energy_drift,
+                max_energy_drift: result.counters.work.max_energy_drift,
             });
         }
     }

@@ -129,13 +129,13 @@ fn main() {
             "| {n} | {steps} | {:.3} | {:.0} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.0} | {} |",
             per_step(result.wall_time_s),
             steps / result.wall_time_s,
-            per_step(c.integrate_s),
-            per_step(c.broad_phase_s),
-            per_step(c.ccd_s),
-            per_step(c.respond_s),
-            per_step(c.rearm_s),
-            per_step(c.trace_s),
-            c.candidate_pairs as f64 / steps,
+            per_step(c.seconds.integrate),
+            per_step(c.seconds.broad_phase),
+            per_step(c.seconds.ccd),
+            per_step(c.seconds.respond),
+            per_step(c.seconds.rearm),
+            per_step(c.seconds.trace),
+            c.work.candidate_pairs as f64 / steps,
             result.contacts.len()
         );
         if result.steps < setup.steps as u64 {
@@ -177,7 +177,7 @@ fn simulate_beside_rapier(args: &[String], setup: Setup) {
         let scene = box_scene(n, 1, setup);
         let result = run_with(&scene, RunOptions::default(), &mut |_| {});
         let c = &result.counters;
-        let guard = c.broad_phase_s + c.ccd_s + c.respond_s + c.rearm_s;
+        let guard = c.seconds.broad_phase + c.seconds.ccd + c.seconds.respond + c.seconds.rearm;
         let steps = result.steps as f64;
         let ours = steps / result.wall_time_s;
         if args.iter().any(|a| a == "--no-peers") {
@@ -185,15 +185,15 @@ fn simulate_beside_rapier(args: &[String], setup: Setup) {
                 "| {n} | {steps} | {ours:.0} | {:.1}% | {:.3} | {:.3} | | | | | {} |",
                 100.0 * guard / result.wall_time_s,
                 guard * 1e3 / steps,
-                c.engine_s * 1e3 / steps,
+                c.seconds.engine * 1e3 / steps,
                 result.contacts.len()
             );
             eprintln!(
                 "guard ms/step: broad phase {:.3}, CCD {:.3}, respond {:.3}, re-arm {:.3}",
-                c.broad_phase_s * 1e3 / steps,
-                c.ccd_s * 1e3 / steps,
-                c.respond_s * 1e3 / steps,
-                c.rearm_s * 1e3 / steps
+                c.seconds.broad_phase * 1e3 / steps,
+                c.seconds.ccd * 1e3 / steps,
+                c.seconds.respond * 1e3 / steps,
+                c.seconds.rearm * 1e3 / steps
             );
             continue;
         }
@@ -204,7 +204,7 @@ fn simulate_beside_rapier(args: &[String], setup: Setup) {
             "| {n} | {steps} | {ours:.0} | {:.1}% | {:.3} | {:.3} | {:.0} | {:.2} | {:.0} | {:.2} | {} |",
             100.0 * guard / result.wall_time_s,
             guard * 1e3 / steps,
-            c.engine_s * 1e3 / steps,
+            c.seconds.engine * 1e3 / steps,
             rate(&convex),
             ours / rate(&convex),
             rate(&meshes),
