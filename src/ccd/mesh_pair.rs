@@ -203,35 +203,15 @@ pub fn mesh_time_of_impact(
 ) -> MeshCcdResult {
     let MeshCcdQuery { a, b, duration, ref options, contact, kernel } = *query;
     let WarmStart { lower_bound, hint, axis } = warm;
-    let (ra, rb) = (a.mesh.radius(), b.mesh.radius());
-    let speed = (a.motion.velocity - b.motion.velocity).norm()
-        + a.motion.angular_velocity.norm() * ra
-        + b.motion.angular_velocity.norm() * rb;
-    // Rounding: distances are computed in a's frame from the difference of
-    // the reference positions, so they round relative to the pair's own
-    // scale; an integrated body's path can also jump by a few ulps of its
-    // coordinates between steps.
-    let relative_size = StepMotion::center_offset(a.motion, b.motion, 0.0).norm()
-        + (a.motion.velocity - b.motion.velocity).norm() * duration
-        + a.motion.travel(duration)
-        + b.motion.travel(duration)
-        + ra
-        + rb;
-    let jumps = [a.motion, b.motion]
-        .iter()
-        .filter(|m| m.integrated)
-        .map(|m| m.reference.translation.vector.amax() + m.velocity.amax() * duration)
-        .sum::<Real>();
-    let floor = Real::EPSILON * (ROUNDING_FLOOR_ULPS * relative_size + INTEGRATED_JUMP_ULPS * jumps);
+    let pair = PairMotion::of(&a, &b, duration);
     // The scale where the contact happens: the smaller body.
-    let contract = ContactContract::of(options, contact, ra.min(rb), floor);
-    let (contact_distance, target) = (contract.contact_distance, contract.target);
+    let contract = ContactContract::of(options, contact, pair.ra.min(pair.rb), pair.floor);
     let mut result = MeshCcdResult {
         time_of_impact: None,
         status: CcdStatus::Filtered,
         closest: None,
-        contact_distance,
-        guaranteed_distance: target,
+        contact_distance: contract.contact_distance,
+        guaranteed_distance: contract.target,
         end_lower_bound: 0.0,
         hint,
         axis,
@@ -240,34 +220,162 @@ pub fn mesh_time_of_impact(
         triangle_pairs: 0,
         node_pairs: 0,
     };
+    // 1. The bounding spheres (and a carried bound) over the whole step.
+    if let Some(end_lower_bound) = spheres_apart(&pair, lower_bound, contract.target) {
+        result.end_lower_bound = end_lower_bound;
+        return result;
+    }
+    // 2. Advancement on the hulls' gap.
+    let Some((s, hulls_touch)) = advance_on_hulls(&pair, &contract, &mut result) else { return result };
+    let first_touch = if result.hull_steps == 0 && lower_bound.is_none() {
+        CcdStatus::InitiallyTouching
+    } else {
+        CcdStatus::Converged
+    };
+    let hint = hint.filter(|&(i, j)| i < a.mesh.triangles().len() && j < b.mesh.triangles().len());
+    let mut work = StepWork::default();
+    // 3. Where the hulls came within the contact distance, a triangle pair
+    // that is within it too (the pair's last closest, or one around the
+    // hulls' closest vertices: for convex meshes the closest pair is
+    // there) is the contact, with no search: every time before was proven
+    // safe. Otherwise the BVH search decides from there.
+    let touching = match hulls_touch {
+        Some(hulls) if kernel == DistanceKernel::Exact => {
+            pair_at_touching_hulls(&pair, hulls, s, hint, contract.contact_distance, &mut work)
+        }
+        _ => None,
+    };
+    let reached = match touching {
+        Some(found) => Reached { time: s, status: first_touch, pair: Some(found) },
+        None => match search(
+            &pair,
+            &contract,
+            kernel,
+            options,
+            s,
+            hint,
+            first_touch,
+            &mut result,
+            scratch,
+            &mut work,
+        ) {
+            Some(found) => found,
+            // Apart until the interval's end (`result` says so).
+            None => {
+                result.triangle_pairs = work.triangle_pairs;
+                result.node_pairs = work.node_pairs;
+                return result;
+            }
+        },
+    };
+    // 4. The contact's closest points and features, in the world.
+    finish(&pair, kernel, reached, result, scratch, work)
+}
 
-    // The bounding spheres: their centres move linearly, so the smallest
-    // distance between them over the step is exact.
-    let spheres_at = |s: Real| StepMotion::center_offset(a.motion, b.motion, s).norm() - ra - rb;
-    let offset = StepMotion::center_offset(a.motion, b.motion, 0.0);
-    let relative = b.motion.velocity - a.motion.velocity;
+/// Where the advancement stopped: the time, how, and the triangle pair
+/// there (the contact's, or the last limiting one when the iterations ran
+/// out).
+struct Reached {
+    time: Real,
+    status: CcdStatus,
+    pair: Option<(usize, usize)>,
+}
+
+/// The two bodies of a query and what bounds their motion over the step.
+struct PairMotion<'a> {
+    a: MovingMesh<'a>,
+    b: MovingMesh<'a>,
+    /// The interval's length.
+    duration: Real,
+    /// The meshes' radii about their centres of mass.
+    ra: Real,
+    rb: Real,
+    /// The head-on bound of any point's approach speed
+    /// `|v_a − v_b| + |ω_a| r_a + |ω_b| r_b`.
+    speed: Real,
+    /// The rounding floor of the pair's distances.
+    floor: Real,
+}
+
+impl<'a> PairMotion<'a> {
+    fn of(a: &MovingMesh<'a>, b: &MovingMesh<'a>, duration: Real) -> PairMotion<'a> {
+        let (ra, rb) = (a.mesh.radius(), b.mesh.radius());
+        let speed = (a.motion.velocity - b.motion.velocity).norm()
+            + a.motion.angular_velocity.norm() * ra
+            + b.motion.angular_velocity.norm() * rb;
+        // Rounding: distances are computed in a's frame from the difference
+        // of the reference positions, so they round relative to the pair's
+        // own scale; an integrated body's path can also jump by a few ulps
+        // of its coordinates between steps.
+        let relative_size = StepMotion::center_offset(a.motion, b.motion, 0.0).norm()
+            + (a.motion.velocity - b.motion.velocity).norm() * duration
+            + a.motion.travel(duration)
+            + b.motion.travel(duration)
+            + ra
+            + rb;
+        let jumps = [a.motion, b.motion]
+            .iter()
+            .filter(|m| m.integrated)
+            .map(|m| m.reference.translation.vector.amax() + m.velocity.amax() * duration)
+            .sum::<Real>();
+        let floor = Real::EPSILON * (ROUNDING_FLOOR_ULPS * relative_size + INTEGRATED_JUMP_ULPS * jumps);
+        PairMotion { a: *a, b: *b, duration, ra, rb, speed, floor }
+    }
+
+    /// The distance between the bounding spheres at `s` (negative where
+    /// they overlap).
+    fn spheres_at(&self, s: Real) -> Real {
+        StepMotion::center_offset(self.a.motion, self.b.motion, s).norm() - self.ra - self.rb
+    }
+
+    /// `b`'s pose in `a`'s frame at `s`.
+    fn relative_pose(&self, s: Real) -> Pose {
+        StepMotion::relative_pose(self.a.motion, self.b.motion, s)
+    }
+}
+
+/// The bounding spheres' centres move linearly, so the smallest distance
+/// between them over the step is exact: if it (or the carried
+/// `lower_bound` less what the motion can close) stays above `target`, the
+/// pair is apart, and this is a lower bound on its distance at the end.
+fn spheres_apart(pair: &PairMotion<'_>, lower_bound: Option<Real>, target: Real) -> Option<Real> {
+    let offset = StepMotion::center_offset(pair.a.motion, pair.b.motion, 0.0);
+    let relative = pair.b.motion.velocity - pair.a.motion.velocity;
     let closest_approach = if relative.norm_squared() > 0.0 {
-        (-offset.dot(&relative) / relative.norm_squared()).clamp(0.0, duration)
+        (-offset.dot(&relative) / relative.norm_squared()).clamp(0.0, pair.duration)
     } else {
         0.0
     };
-    let carried = lower_bound.unwrap_or(Real::NEG_INFINITY).max(spheres_at(0.0));
-    if spheres_at(closest_approach) > target || carried - speed * duration > target {
-        result.end_lower_bound = (carried - speed * duration).max(spheres_at(duration));
-        return result;
-    }
-    // Conservative advancement on the hulls' gap: at time s, the gap along
-    // a world direction n, less what the motion can close along n (the
-    // centres' approach along n and each body's turn, at most |n × ω| r;
-    // the rounding of the gap's dot products is within the floor), is safe
-    // until it reaches the target. GJK stops early once the head-on bound
-    // is beaten, or once the hulls come within the target. It stops where
-    // the hulls come within the contact distance (the meshes may touch), or
-    // after `HULL_ADVANCE_MAX_STEPS` steps.
+    let carried = lower_bound.unwrap_or(Real::NEG_INFINITY).max(pair.spheres_at(0.0));
+    let closed = carried - pair.speed * pair.duration;
+    (pair.spheres_at(closest_approach) > target || closed > target)
+        .then(|| closed.max(pair.spheres_at(pair.duration)))
+}
+
+/// Where the hulls came within the contact distance: their closest
+/// vertices and the direction between them (in `a`'s frame at that time).
+type HullsTouch = ((usize, usize), Vector);
+
+/// Conservative advancement on the hulls' gap: at time s, the gap along a
+/// world direction n, less what the motion can close along n (the
+/// centres' approach along n and each body's turn, at most |n × ω| r; the
+/// rounding of the gap's dot products is within the floor), is safe until
+/// it reaches the target. GJK stops early once the head-on bound is
+/// beaten, or once the hulls come within the target. The advancement
+/// stops where the hulls come within the contact distance (the meshes may
+/// touch), or after [`HULL_ADVANCE_MAX_STEPS`] steps: the time reached,
+/// and where the hulls touch. `None`: apart over the whole interval
+/// (`result` says so, with its end bound). Sets `result`'s axis and hull
+/// steps.
+fn advance_on_hulls(
+    pair: &PairMotion<'_>,
+    contract: &ContactContract,
+    result: &mut MeshCcdResult,
+) -> Option<(Real, Option<HullsTouch>)> {
+    let PairMotion { a, b, duration, ra, rb, speed, floor } = *pair;
+    let (target, contact_distance) = (contract.target, contract.contact_distance);
     let mut s = 0.0;
     let mut hull_steps = 0;
-    // Where the hulls came within the contact distance: their closest
-    // vertices and direction (in a's frame at that time).
     let mut hulls_touch = None;
     while hull_steps < HULL_ADVANCE_MAX_STEPS {
         let rotation_a = a.motion.rotation_at(s);
@@ -275,7 +383,7 @@ pub fn mesh_time_of_impact(
         let gap = hull_gap(
             a.mesh,
             b.mesh,
-            &StepMotion::relative_pose(a.motion, b.motion, s),
+            &pair.relative_pose(s),
             result.axis.map(|axis| rotation_a.inverse_transform_vector(&axis)),
             (target + floor, target + floor + speed * rest),
         );
@@ -292,8 +400,8 @@ pub fn mesh_time_of_impact(
                 result.status = CcdStatus::Separated;
             }
             result.hull_steps = hull_steps;
-            result.end_lower_bound = (gap.lower - floor - closing * rest).max(spheres_at(duration));
-            return result;
+            result.end_lower_bound = (gap.lower - floor - closing * rest).max(pair.spheres_at(duration));
+            return None;
         }
         if margin < contact_distance - target {
             hulls_touch = gap.support.map(|vertices| (vertices, local));
@@ -303,87 +411,116 @@ pub fn mesh_time_of_impact(
         hull_steps += 1;
     }
     result.hull_steps = hull_steps;
-    let first_touch = if hull_steps == 0 && lower_bound.is_none() {
-        CcdStatus::InitiallyTouching
-    } else {
-        CcdStatus::Converged
-    };
-    let mut hint = hint.filter(|&(i, j)| i < a.mesh.triangles().len() && j < b.mesh.triangles().len());
-    let mut status = CcdStatus::OutOfIterations;
-    let mut work = StepWork::default();
-    // Where the hulls came within the contact distance, a triangle pair
-    // that is within it too (the pair's last closest, or one around the
-    // hulls' closest vertices: for convex meshes the closest pair is
-    // there) is the contact, with no search: every time before was proven
-    // safe. Otherwise the BVH search decides from here.
-    let touching = match hulls_touch {
-        Some(((va, vb), axis)) if kernel == DistanceKernel::Exact => {
-            let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
-            let within =
-                |found: Option<(Real, (usize, usize))>| found.filter(|&(d, _)| d <= contact_distance);
-            let hinted =
-                hint.map(|(i, j)| (triangle_pair_distance(a.mesh, i, b.mesh, j, &pos_ab).distance, (i, j)));
-            work.triangle_pairs += usize::from(hinted.is_some());
-            within(hinted).or_else(|| {
-                let around = first_within((a.mesh, va), (b.mesh, vb), &pos_ab, Some(axis), contact_distance);
-                work.triangle_pairs += around.evaluated;
-                within(around.found)
-            })
+    Some((s, hulls_touch))
+}
+
+/// At `s`, where the hulls touch: the pair's last closest triangles (the
+/// `hint`), or else the first triangle pair around the hulls' closest
+/// vertices, if either is within the contact distance.
+fn pair_at_touching_hulls(
+    pair: &PairMotion<'_>,
+    ((va, vb), axis): HullsTouch,
+    s: Real,
+    hint: Option<(usize, usize)>,
+    contact_distance: Real,
+    work: &mut StepWork,
+) -> Option<(usize, usize)> {
+    let (a, b) = (pair.a.mesh, pair.b.mesh);
+    let pos_ab = pair.relative_pose(s);
+    let within = |found: Option<(Real, (usize, usize))>| found.filter(|&(d, _)| d <= contact_distance);
+    let hinted = hint.map(|(i, j)| (triangle_pair_distance(a, i, b, j, &pos_ab).distance, (i, j)));
+    work.triangle_pairs += usize::from(hinted.is_some());
+    within(hinted)
+        .or_else(|| {
+            let around = first_within((a, va), (b, vb), &pos_ab, Some(axis), contact_distance);
+            work.triangle_pairs += around.evaluated;
+            within(around.found)
+        })
+        .map(|(_, found)| found)
+}
+
+/// The BVH search from `s` (see the module): the time, status and
+/// triangle pair of the contact, or of the time reached when the
+/// iterations ran out ([`CcdStatus::OutOfIterations`]). `None`: apart
+/// until the interval's end (`result` says so, with its end bound and
+/// hint).
+#[allow(clippy::too_many_arguments)]
+fn search(
+    pair: &PairMotion<'_>,
+    contract: &ContactContract,
+    kernel: DistanceKernel,
+    options: &CcdOptions,
+    mut s: Real,
+    mut hint: Option<(usize, usize)>,
+    first_touch: CcdStatus,
+    result: &mut MeshCcdResult,
+    scratch: &mut MeshCcdScratch,
+    work: &mut StepWork,
+) -> Option<Reached> {
+    let PairMotion { a, b, duration, speed, .. } = *pair;
+    let (target, contact_distance) = (contract.target, contract.contact_distance);
+    let relative_velocity = b.motion.velocity - a.motion.velocity;
+    let (omega_a, omega_b) = (a.motion.angular_velocity, b.motion.angular_velocity);
+    // A step shorter than this proves nothing a triangle pair outside the
+    // contact distance could not (see `mesh_search.rs`).
+    let min_step = if speed > 0.0 { (contact_distance - target) / speed } else { Real::INFINITY };
+    let meshes = SearchMeshes { a: a.mesh, b: b.mesh, kernel };
+    scratch.front.reset();
+    for iteration in 0..options.max_iterations.max(1) {
+        if iteration == SPIN_SWEEP_AFTER_ITERATIONS {
+            // The spin-swept bounds start now: from the roots again, so
+            // that whole subtrees can be settled by them.
+            scratch.front.reset();
         }
-        _ => None,
-    };
-    if let Some((_, pair)) = touching {
-        status = first_touch;
-        hint = Some(pair);
-    } else {
-        let relative_velocity = b.motion.velocity - a.motion.velocity;
-        let (omega_a, omega_b) = (a.motion.angular_velocity, b.motion.angular_velocity);
-        // A step shorter than this proves nothing a triangle pair outside the
-        // contact distance could not (see `mesh_search.rs`).
-        let min_step = if speed > 0.0 { (contact_distance - target) / speed } else { Real::INFINITY };
-        let meshes = SearchMeshes { a: a.mesh, b: b.mesh, kernel };
-        scratch.front.reset();
-        for iteration in 0..options.max_iterations.max(1) {
-            if iteration == SPIN_SWEEP_AFTER_ITERATIONS {
-                // The spin-swept bounds start now: from the roots again, so
-                // that whole subtrees can be settled by them.
-                scratch.front.reset();
+        let frame = PairFrame::new(
+            pair.relative_pose(s),
+            &a.motion.rotation_at(s),
+            &relative_velocity,
+            &omega_a,
+            &omega_b,
+        );
+        let limits = StepLimits {
+            start: s,
+            target,
+            contact_distance,
+            horizon: duration - s,
+            min_step,
+            spin_sweep: iteration >= SPIN_SWEEP_AFTER_ITERATIONS,
+        };
+        result.iterations += 1;
+        match scratch.front.advance(&meshes, &frame, &limits, hint, work) {
+            StepOutcome::Contact { pair } => {
+                let status = if iteration == 0 { first_touch } else { CcdStatus::Converged };
+                return Some(Reached { time: s, status, pair: Some(pair) });
             }
-            let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
-            let frame =
-                PairFrame::new(pos_ab, &a.motion.rotation_at(s), &relative_velocity, &omega_a, &omega_b);
-            let limits = StepLimits {
-                start: s,
-                target,
-                contact_distance,
-                horizon: duration - s,
-                min_step,
-                spin_sweep: iteration >= SPIN_SWEEP_AFTER_ITERATIONS,
-            };
-            result.iterations += 1;
-            let outcome = scratch.front.advance(&meshes, &frame, &limits, hint, &mut work);
-            match outcome {
-                StepOutcome::Contact { pair } => {
-                    hint = Some(pair);
-                    status = if iteration == 0 { first_touch } else { CcdStatus::Converged };
-                    break;
+            StepOutcome::Advance { step, limiting } => {
+                hint = limiting.or(hint);
+                if s + step >= duration {
+                    result.status = CcdStatus::Separated;
+                    result.end_lower_bound = target.max(scratch.front.distance_bound_at(duration, speed));
+                    result.hint = hint;
+                    return None;
                 }
-                StepOutcome::Advance { step, limiting } => {
-                    hint = limiting.or(hint);
-                    if s + step >= duration {
-                        result.status = CcdStatus::Separated;
-                        result.end_lower_bound = target.max(scratch.front.distance_bound_at(duration, speed));
-                        result.hint = hint;
-                        result.triangle_pairs = work.triangle_pairs;
-                        result.node_pairs = work.node_pairs;
-                        return result;
-                    }
-                    s += step;
-                }
+                s += step;
             }
         }
     }
-    let pos_ab = StepMotion::relative_pose(a.motion, b.motion, s);
+    Some(Reached { time: s, status: CcdStatus::OutOfIterations, pair: hint })
+}
+
+/// The result of a contact at `s` (or of the time reached when the
+/// iterations ran out): the closest points and features, in the world.
+fn finish(
+    pair: &PairMotion<'_>,
+    kernel: DistanceKernel,
+    reached: Reached,
+    mut result: MeshCcdResult,
+    scratch: &mut MeshCcdScratch,
+    mut work: StepWork,
+) -> MeshCcdResult {
+    let Reached { time: s, status, pair: hint } = reached;
+    let (a, b) = (pair.a, pair.b);
+    let pos_ab = pair.relative_pose(s);
     let mut closest = match (status, hint) {
         // The triangle pair found within the contact distance.
         (CcdStatus::Converged | CcdStatus::InitiallyTouching, Some((i, j))) => {
