@@ -24,6 +24,39 @@
 //! benchmarks and the kernel reports; public with the `testing` feature),
 //! and the linear-vertex CCD queries in [`ccd`].
 //!
+//! # Quick start
+//!
+//! A scene is RON text (a file for the `nearmiss` command, or a string):
+//! bodies with meshes, poses, velocities and forces. The stepper runs it
+//! and returns every contact with its time, points and features:
+//!
+//! ```
+//! use nearmiss::scene::Scene;
+//!
+//! // A ball dropped onto a fixed floor: its lowest point starts 1 above
+//! // it, so it lands at t = sqrt(2 / 9.81) (the chord of a step of RK4
+//! // runs below the parabola: never later).
+//! let scene = Scene::from_ron_str(r#"Scene(
+//!     name: "drop", dt: 0.001, duration: 1.0, integrator: Rk4,
+//!     gravity: (0.0, 0.0, -9.81),
+//!     bodies: [
+//!         (name: "floor", mesh: Box(half_extents: (2.0, 2.0, 0.5)), position: (0.0, 0.0, -0.5), fixed: true),
+//!         (name: "ball", mesh: Icosphere(radius: 0.5, subdivisions: 2), position: (0.0, 0.0, 1.5)),
+//!     ],
+//! )"#)?;
+//! let result = nearmiss::stepper::run(&scene);
+//! let contact = result.first_contact.expect("the ball lands");
+//! let landing = (2.0_f64 / 9.81).sqrt();
+//! assert!(contact.time <= landing && landing - contact.time < 1e-6);
+//! println!("{} touches {} at t = {}", result.bodies[contact.body_b], result.bodies[contact.body_a], contact.time);
+//! # Ok::<(), nearmiss::scene::SceneError>(())
+//! ```
+//!
+//! The queries underneath are called directly too:
+//! [`kernels::triangle_distance`] (two triangles),
+//! [`ccd::mesh_time_of_impact`] (two moving meshes), and with the `rapier`
+//! feature `guard::Guard` keeps a rapier world from tunnelling.
+//!
 //! This crate computes and never draws: the `nearmiss` binary (the
 //! `nearmiss-cli` crate beside it) writes runs, plots, pictures and
 //! reports. Features: `rapier` (default) the guard and `Simulate`;

@@ -538,7 +538,7 @@ fn a_guard_takes_new_bodies_drops_old_ones_and_a_new_dt() {
         .iter()
         .filter_map(|e| match e {
             GuardEvent::Started { a, b, contact } => Some((*a, *b, contact.time)),
-            GuardEvent::Stopped { .. } => None,
+            _ => None,
         })
         .collect();
     let resting = started.iter().filter(|(a, b, _)| [*a, *b].contains(&ball)).count();

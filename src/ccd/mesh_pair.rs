@@ -195,7 +195,36 @@ pub struct MeshCcdScratch {
 }
 
 /// The first time in `[0, duration]` at which two moving meshes come within
-/// the contact distance, by conservative advancement.
+/// the contact distance, by conservative advancement: never later than the
+/// true first contact, early by at most the contact distance over the
+/// closing speed; [`CcdStatus::OutOfIterations`] when it could not decide.
+///
+/// A rod spinning about its long axis flies head-on at a cube: its end cap
+/// stays a square whatever the turn, so it meets the cube's face at
+/// `t = 0.5`.
+///
+/// ```
+/// use nearmiss::ccd::{mesh_time_of_impact, CcdOptions, CcdStatus, MeshCcdQuery, MeshCcdScratch, MovingMesh, WarmStart};
+/// use nearmiss::math::{Pose, Vector};
+/// use nearmiss::mesh::box_mesh;
+/// use nearmiss::motion::StepMotion;
+///
+/// let cube = box_mesh(&Vector::new(0.5, 0.5, 0.5)).unwrap();
+/// let rod = box_mesh(&Vector::new(0.5, 0.1, 0.1)).unwrap();
+/// let at_rest = StepMotion::fixed(Pose::identity());
+/// // The rod's near end 1 from the cube's face, closing at 2, spinning at 20 rad/s.
+/// let flying = StepMotion::free(&Pose::translation(2.0, 0.0, 0.0), Vector::new(-2.0, 0.0, 0.0), Vector::new(20.0, 0.0, 0.0), 0.0);
+/// let query = MeshCcdQuery::new(
+///     MovingMesh { mesh: &cube, motion: &at_rest },
+///     MovingMesh { mesh: &rod, motion: &flying },
+///     1.0,
+///     CcdOptions::default(),
+/// );
+/// let result = mesh_time_of_impact(&query, WarmStart::default(), &mut MeshCcdScratch::default());
+/// assert_eq!(result.status, CcdStatus::Converged);
+/// let time = result.time_of_impact.unwrap();
+/// assert!(time <= 0.5 && time >= 0.5 - result.contact_distance / 2.0);
+/// ```
 pub fn mesh_time_of_impact(
     query: &MeshCcdQuery<'_>,
     warm: WarmStart,

@@ -39,6 +39,7 @@ impl Default for CcdOptions {
 }
 
 /// How a CCD query ended.
+#[non_exhaustive]
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 pub enum CcdStatus {
     /// Separated over the whole step: no contact in `[0, 1]`.

@@ -268,6 +268,7 @@ pub(crate) fn largest_pair_radius(bodies: impl Iterator<Item = (Real, bool)>) ->
 }
 
 /// What the guard saw in a step (`H`: rapier's body handle).
+#[non_exhaustive]
 #[derive(Clone, Debug, PartialEq)]
 pub enum GuardEvent<H = RigidBodyHandle> {
     /// Two guarded bodies came into contact within the step (and the
@@ -294,6 +295,7 @@ pub enum GuardEvent<H = RigidBodyHandle> {
 }
 
 /// What can go wrong (`H`: rapier's body handle).
+#[non_exhaustive]
 #[derive(Debug, thiserror::Error)]
 pub enum GuardError<H: std::fmt::Debug = RigidBodyHandle> {
     /// A guarded handle is not in the body set.

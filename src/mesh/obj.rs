@@ -8,6 +8,7 @@ use super::trimesh::{MeshError, TriMesh};
 use crate::math::Point;
 
 /// Why an OBJ file could not be read as a mesh.
+#[non_exhaustive]
 #[derive(Debug, thiserror::Error)]
 pub enum ObjError {
     /// The file could not be read.

@@ -6,6 +6,7 @@ use super::support::{self, SupportTable};
 use crate::math::{Point, Real, Triangle, Vector};
 
 /// What makes a list of vertices and triangles unusable as a mesh.
+#[non_exhaustive]
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum MeshError {
     /// No triangles at all.

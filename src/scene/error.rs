@@ -1,6 +1,7 @@
 //! Scene errors: each names the file and the line and column, or the field.
 
 /// Why a scene could not be loaded.
+#[non_exhaustive]
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     /// The file could not be read.

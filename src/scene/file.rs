@@ -129,6 +129,7 @@ pub enum FormulaSettings {
 }
 
 /// What the run does at a contact.
+#[non_exhaustive]
 #[derive(Copy, Clone, Debug, Default, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub enum OnContact {

@@ -45,7 +45,22 @@ use crate::response::{Response, StepContext};
 use crate::scene::Scene;
 use crate::trace::TraceObserver;
 
-/// Runs a scene.
+/// Runs a scene: the bodies move step by step, and every contact is found
+/// at its time, never late (see the module for the stages).
+///
+/// Two unit cubes 1 apart closing at 2 touch at `t = 0.5`:
+///
+/// ```
+/// use nearmiss::scene::Scene;
+/// let scene = Scene::from_ron_str(r#"Scene(name: "meet", dt: 0.1, duration: 1.0, bodies: [
+///     (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), velocity: (1.0, 0.0, 0.0)),
+///     (name: "b", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (2.0, 0.0, 0.0), velocity: (-1.0, 0.0, 0.0)),
+/// ])"#).unwrap();
+/// let result = nearmiss::stepper::run(&scene);
+/// let contact = result.first_contact.unwrap();
+/// assert!(contact.time <= 0.5 && contact.time > 0.5 - 1e-6);
+/// assert_eq!((result.bodies[contact.body_a].as_str(), result.bodies[contact.body_b].as_str()), ("a", "b"));
+/// ```
 pub fn run(scene: &Scene) -> RunResult {
     run_observed(scene, &mut |_| {})
 }

@@ -60,6 +60,7 @@ pub struct Contact {
 }
 
 /// Why a run ended.
+#[non_exhaustive]
 #[derive(Clone, Debug, PartialEq)]
 pub enum Termination {
     /// All steps ran.

@@ -208,6 +208,8 @@ fn sweep_row(scene: &Scene, setting: &SweepSetting, reference: Option<Real>) -> 
             Termination::FirstContact => "first contact".into(),
             Termination::Completed => "completed".into(),
             Termination::Undecided { time, .. } => format!("undecided after t = {time:?}"),
+            // A termination the library adds later: its own words.
+            _ => result.termination_text(),
         },
     }
 }
