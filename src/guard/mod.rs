@@ -550,14 +550,7 @@ impl<B: RapierBodies> Guard<B> {
         });
         let mut stepper = Stepper::with_response(Arc::clone(&scene), options, response);
         stepper.set_extra_box_margin(setup.skin);
-        let mut world = World::new(&scene, false);
-        if !stepper.has_broad_phase() {
-            world.pairs = scene
-                .movable_pairs()
-                .into_iter()
-                .map(|(a, b)| crate::stepper::PairState::new(a, b))
-                .collect();
-        }
+        let world = stepper.new_world(false);
         Ok(Guard {
             start: scene.bodies.iter().map(|b| b.pose).collect(),
             velocities: scene.bodies.iter().map(|b| (b.velocity, b.angular_velocity)).collect(),

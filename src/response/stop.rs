@@ -12,11 +12,11 @@ use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 
 use super::StepContext;
-use crate::ccd::{mesh_time_of_impact, CcdStatus, ContactRule, MeshCcdResult, WarmStart};
+use crate::ccd::{mesh_time_of_impact, ContactRule, MeshCcdResult, WarmStart};
 use crate::math::{Point, Real};
 use crate::motion::StepMotion;
 use crate::scene::BodyMotion;
-use crate::stepper::{pair_query, Found, PairState};
+use crate::stepper::{pair_query, CcdVerdict, Found, PairState};
 
 /// What [`stop_in_time_order`] committed.
 pub(super) struct Stops {
@@ -113,16 +113,24 @@ pub(super) fn stop_in_time_order(
                 let query = pair_query(scene, &pair, [&ma, &mb], dt - time, rule(&pair));
                 let warm = WarmStart { lower_bound: None, hint: pair.hint, axis: pair.axis };
                 let result = mesh_time_of_impact(&query, warm, step.scratch);
-                step.counters.work.distance_queries += result.iterations;
-                step.counters.work.hull_steps += result.hull_steps;
-                step.counters.work.triangle_pairs += result.triangle_pairs;
-                if result.status == CcdStatus::OutOfIterations {
-                    let undecided =
-                        MeshCcdResult { time_of_impact: result.time_of_impact.map(|t| time + t), ..result };
-                    step.world.note_undecided(other, &undecided);
-                } else if let Some(after) = result.time_of_impact {
-                    candidates.push(Candidate { time: time + after, pair: other, version: versions[other] });
-                    results.insert(other, result);
+                step.counters.work.add_query(result.iterations, result.triangle_pairs, result.hull_steps);
+                match CcdVerdict::of(&result) {
+                    CcdVerdict::Undecided => {
+                        let undecided = MeshCcdResult {
+                            time_of_impact: result.time_of_impact.map(|t| time + t),
+                            ..result
+                        };
+                        step.world.note_undecided(other, &undecided);
+                    }
+                    CcdVerdict::Contact(after) => {
+                        candidates.push(Candidate {
+                            time: time + after,
+                            pair: other,
+                            version: versions[other],
+                        });
+                        results.insert(other, result);
+                    }
+                    CcdVerdict::Apart => {}
                 }
             }
         }

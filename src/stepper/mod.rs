@@ -30,7 +30,7 @@ mod world;
 use std::sync::Arc;
 use std::time::Instant;
 
-pub(crate) use narrow::{pair_query, Found};
+pub(crate) use narrow::{pair_query, CcdVerdict, Found};
 pub use parameters::StepParameters;
 pub use result::{Contact, Counters, RunResult, Solver, StageSeconds, Termination, Work};
 #[cfg(test)]
@@ -117,10 +117,7 @@ pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64
     }
     let start = Instant::now();
     let mut stepper = Stepper::new(Arc::new(scene.clone()), options);
-    let mut world = World::new(scene, stepper.response.stops_kinematic_bodies());
-    if stepper.broad.is_none() {
-        world.pairs = scene.movable_pairs().into_iter().map(|(a, b)| PairState::new(a, b)).collect();
-    }
+    let mut world = stepper.new_world(stepper.response.stops_kinematic_bodies());
     stepper.observe_start(&world);
     let mut termination = Termination::Completed;
     let mut steps = 0;
@@ -305,8 +302,20 @@ impl Stepper {
         }
     }
 
-    /// Whether pairs come from a broad phase (otherwise the caller sets
-    /// every movable pair once).
+    /// The world at the scene's start, for this stepper: without a broad
+    /// phase, its pairs are every movable pair, once and for all (with one,
+    /// the broad phase sets them each step). `kinematic_states`: see
+    /// [`World::new`].
+    pub(crate) fn new_world(&self, kinematic_states: bool) -> World {
+        let mut world = World::new(&self.scene, kinematic_states);
+        if self.broad.is_none() {
+            world.pairs = self.scene.movable_pairs().into_iter().map(|(a, b)| PairState::new(a, b)).collect();
+        }
+        world
+    }
+
+    /// Whether pairs come from a broad phase (otherwise [`Stepper::new_world`]
+    /// set every movable pair once).
     #[cfg(feature = "rapier")]
     pub(crate) fn has_broad_phase(&self) -> bool {
         self.broad.is_some()

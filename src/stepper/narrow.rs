@@ -24,6 +24,30 @@ thread_local! {
     static THREAD_SCRATCH: RefCell<MeshCcdScratch> = RefCell::new(MeshCcdScratch::default());
 }
 
+/// What a pair's CCD result means to the stepper (the narrow phase's and
+/// a response's re-checks alike).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) enum CcdVerdict {
+    /// The query ran out of iterations: undecided is not a contact; the
+    /// run ends after this step ([`World::note_undecided`]).
+    Undecided,
+    /// A contact at this time (in the query's interval).
+    Contact(Real),
+    /// No contact within the interval.
+    Apart,
+}
+
+impl CcdVerdict {
+    /// The verdict of `result`.
+    pub(crate) fn of(result: &MeshCcdResult) -> CcdVerdict {
+        match (result.status, result.time_of_impact) {
+            (CcdStatus::OutOfIterations, _) => CcdVerdict::Undecided,
+            (_, Some(time)) => CcdVerdict::Contact(time),
+            (_, None) => CcdVerdict::Apart,
+        }
+    }
+}
+
 /// A contact the narrow phase found: the pair (index into `world.pairs`)
 /// and its CCD result (with a time of impact).
 #[derive(Clone, Debug)]
@@ -128,19 +152,16 @@ impl Stepper {
         for (&k, outcome) in work.iter().zip(results.iter_mut()) {
             let pair = &mut world.pairs[k];
             let result = outcome.summary;
-            self.counters.work.distance_queries += result.iterations;
-            self.counters.work.triangle_pairs += result.triangle_pairs;
+            self.counters.work.add_query(result.iterations, result.triangle_pairs, result.hull_steps);
             self.counters.work.pairs_culled += usize::from(result.iterations == 0);
-            self.counters.work.hull_steps += result.hull_steps;
             pair.hint = result.hint;
             pair.axis = result.axis;
             pair.lower_bound = Some(result.end_lower_bound);
             let Some(contact) = outcome.contact.take() else { continue };
-            if contact.status == CcdStatus::OutOfIterations {
-                // Undecided is not contact: the run ends after this step.
-                world.note_undecided(k, &contact);
-            } else if contact.time_of_impact.is_some() {
-                found.push(Found { pair: k, result: *contact });
+            match CcdVerdict::of(&contact) {
+                CcdVerdict::Undecided => world.note_undecided(k, &contact),
+                CcdVerdict::Contact(_) => found.push(Found { pair: k, result: *contact }),
+                CcdVerdict::Apart => {}
             }
         }
         self.counters.seconds.ccd += clock.elapsed().as_secs_f64();

@@ -128,6 +128,17 @@ pub struct Work {
     pub trace_certified: usize,
 }
 
+impl Work {
+    /// Adds one mesh CCD query's work: its search iterations, triangle
+    /// pairs and steps on the hulls (a `MeshCcdResult`'s fields of those
+    /// names).
+    pub(crate) fn add_query(&mut self, iterations: usize, triangle_pairs: usize, hull_steps: usize) {
+        self.distance_queries += iterations;
+        self.triangle_pairs += triangle_pairs;
+        self.hull_steps += hull_steps;
+    }
+}
+
 /// Seconds spent per stage of the step.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct StageSeconds {
