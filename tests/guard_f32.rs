@@ -9,59 +9,9 @@
 use nearmiss::guard::{Guard, GuardEvent, GuardOptions};
 use rapier3d::prelude::*;
 
-/// An f32 rapier application's pipeline and the sets a step needs besides
-/// the bodies and colliders.
-struct Rapier {
-    pipeline: PhysicsPipeline,
-    islands: IslandManager,
-    broad_phase: DefaultBroadPhase,
-    narrow_phase: NarrowPhase,
-    impulse_joints: ImpulseJointSet,
-    multibody_joints: MultibodyJointSet,
-    soft_bodies: SoftBodySet,
-    ccd: CCDSolver,
-}
-
-impl Rapier {
-    fn new() -> Rapier {
-        Rapier {
-            pipeline: PhysicsPipeline::new(),
-            islands: IslandManager::new(),
-            broad_phase: DefaultBroadPhase::default(),
-            narrow_phase: NarrowPhase::new(),
-            impulse_joints: ImpulseJointSet::new(),
-            multibody_joints: MultibodyJointSet::new(),
-            soft_bodies: SoftBodySet::new(),
-            ccd: CCDSolver::new(),
-        }
-    }
-
-    /// `PhysicsPipeline::step` by `dt` (the guard's f64 `dt`, narrowed).
-    fn step(
-        &mut self,
-        bodies: &mut RigidBodySet,
-        colliders: &mut ColliderSet,
-        gravity: Vector,
-        parameters: &IntegrationParameters,
-        dt: f64,
-    ) {
-        self.pipeline.step(
-            gravity,
-            &IntegrationParameters { dt: dt as f32, ..*parameters },
-            &mut self.islands,
-            &mut self.broad_phase,
-            &mut self.narrow_phase,
-            bodies,
-            colliders,
-            &mut self.impulse_joints,
-            &mut self.multibody_joints,
-            &mut self.soft_bodies,
-            &mut self.ccd,
-            &(),
-            &(),
-        );
-    }
-}
+#[path = "rapier_app/mod.rs"]
+mod rapier_app;
+rapier_app!(rapier3d);
 
 /// The plate's half thickness (a 2 mm plate, top face at z = 0.001).
 const HALF_THICKNESS: f32 = 0.001;

@@ -16,60 +16,9 @@ use nearmiss::scene::Scene;
 use nearmiss::stepper::{run, RunResult, Termination};
 use parry3d_f64::shape::ConvexPolyhedron;
 
-/// A rapier application's pipeline and the sets a step needs besides the
-/// bodies and colliders.
-struct Rapier {
-    pipeline: rapier3d_f64::prelude::PhysicsPipeline,
-    islands: rapier3d_f64::prelude::IslandManager,
-    broad_phase: rapier3d_f64::prelude::DefaultBroadPhase,
-    narrow_phase: rapier3d_f64::prelude::NarrowPhase,
-    impulse_joints: rapier3d_f64::prelude::ImpulseJointSet,
-    multibody_joints: rapier3d_f64::prelude::MultibodyJointSet,
-    soft_bodies: rapier3d_f64::prelude::SoftBodySet,
-    ccd: rapier3d_f64::prelude::CCDSolver,
-}
-
-impl Rapier {
-    fn new() -> Rapier {
-        use rapier3d_f64::prelude::*;
-        Rapier {
-            pipeline: PhysicsPipeline::new(),
-            islands: IslandManager::new(),
-            broad_phase: DefaultBroadPhase::default(),
-            narrow_phase: NarrowPhase::new(),
-            impulse_joints: ImpulseJointSet::new(),
-            multibody_joints: MultibodyJointSet::new(),
-            soft_bodies: SoftBodySet::new(),
-            ccd: CCDSolver::new(),
-        }
-    }
-
-    /// `PhysicsPipeline::step` by `dt` (what the guard calls).
-    fn step(
-        &mut self,
-        bodies: &mut rapier3d_f64::prelude::RigidBodySet,
-        colliders: &mut rapier3d_f64::prelude::ColliderSet,
-        gravity: rapier3d_f64::prelude::Vector,
-        parameters: &rapier3d_f64::prelude::IntegrationParameters,
-        dt: Real,
-    ) {
-        self.pipeline.step(
-            gravity,
-            &rapier3d_f64::prelude::IntegrationParameters { dt, ..*parameters },
-            &mut self.islands,
-            &mut self.broad_phase,
-            &mut self.narrow_phase,
-            bodies,
-            colliders,
-            &mut self.impulse_joints,
-            &mut self.multibody_joints,
-            &mut self.soft_bodies,
-            &mut self.ccd,
-            &(),
-            &(),
-        );
-    }
-}
+#[path = "rapier_app/mod.rs"]
+mod rapier_app;
+rapier_app!(rapier3d_f64);
 
 fn simulate(text: &str) -> (Scene, RunResult) {
     let scene = Scene::from_ron_str(text).unwrap_or_else(|e| panic!("{e}\n{text}"));
