@@ -770,6 +770,7 @@ impl<B: RapierBodies> Guard<B> {
     /// through. `scale`: the sweep's real length over `dt`.
     fn hold_or_carry(&mut self, bodies: &mut B, i: usize, at: Real, scale: Real) {
         let held = self.world.motions[i].pose_at(at);
+        // A kinematic body in contact with it, and that body's view.
         let carrier = self.world.pairs.iter().filter(|p| p.touching.is_some()).find_map(|p| {
             let other = if p.a == i {
                 p.b
@@ -778,15 +779,15 @@ impl<B: RapierBodies> Guard<B> {
             } else {
                 return None;
             };
-            is_kinematic(bodies, self.handles[other]).then_some(other)
+            let body = bodies.view(self.handles[other])?;
+            matches!(body.kind, BodyKind::Kinematic { .. }).then_some((other, body))
         });
-        let Some(k) = carrier else {
+        let Some((k, carrier)) = carrier else {
             bodies.set_pose(self.handles[i], &body_pose(&held, &self.centers[i]), true);
             return;
         };
         let (k_at, k_end) = (self.world.motions[k].pose_at(at), self.world.motions[k].pose_at(self.dt));
         let carried = k_end * k_at.inverse() * held;
-        let Some(carrier) = bodies.view(self.handles[k]) else { return };
         let (v_k, w_k) = (carrier.linvel, carrier.angvel);
         let velocity = v_k + w_k.cross(&(carried.translation.vector - k_end.translation.vector));
         self.world.motions[i] = StepMotion::between_near(&self.start[i], &carried, self.dt, &(w_k * scale));
