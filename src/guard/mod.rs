@@ -204,10 +204,16 @@ impl GuardOptions {
 /// `prediction_distance`.
 pub(crate) fn contact_distance_limit(prediction_distance: Real, skin: Real) -> Real {
     if skin > 0.0 {
-        2.0 * skin
+        two_skins(skin)
     } else {
         prediction_distance
     }
+}
+
+/// How far apart rapier holds two touching colliders of contact skin
+/// `skin` each: the guard reports a contact there.
+fn two_skins(skin: Real) -> Real {
+    2.0 * skin
 }
 
 /// Whether a `Simulate` scene's bodies fit the guard under rapier's default
@@ -540,9 +546,9 @@ impl<B: RapierBodies> Guard<B> {
         let options = RunOptions { parallel: setup.parallel, broad_phase: true };
         let response = Box::new(Clamp {
             stoppable: setup.stoppable,
-            separation: 2.0 * setup.skin + B::prediction_distance(parameters),
+            separation: two_skins(setup.skin) + B::prediction_distance(parameters),
             skin_separation: if setup.skin > 0.0 {
-                scene.ccd.minimum_separation + 2.0 * setup.skin
+                scene.ccd.minimum_separation + two_skins(setup.skin)
             } else {
                 0.0
             },
