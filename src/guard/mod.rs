@@ -192,7 +192,9 @@ impl Default for GuardOptions {
 }
 
 impl GuardOptions {
-    /// The contact skin of each guarded collider under `parameters`.
+    /// The contact skin of each guarded collider under `parameters`
+    /// (rapier3d-f64's; under an f32 rapier it is the same product,
+    /// `skin × parameters.allowed_linear_error()`).
     pub fn skin_under(&self, parameters: &IntegrationParameters) -> Real {
         self.skin * parameters.allowed_linear_error()
     }
