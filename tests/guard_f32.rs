@@ -193,21 +193,9 @@ fn a_guarded_f32_ball_stops_at_a_thin_plate() {
 fn a_guarded_f32_kinematic_wall_wakes_and_pushes_a_sleeping_crate() {
     // A velocity-based kinematic wall at 1.5 units/s reaches a crate asleep
     // on a floor after 0.5 s: the crate is woken and pushed, never entered.
-    let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
-    let floor = bodies.insert(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -0.5)));
-    colliders.insert_with_parent(ColliderBuilder::cuboid(10.0, 10.0, 0.5), floor, &mut bodies);
     let parameters = parameters(1.0 / 60.0);
-    let skins = 2.0 * GuardOptions::default().skin as f32 * parameters.allowed_linear_error();
-    let crate_body =
-        bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, 0.5 + skins)));
-    colliders.insert_with_parent(ColliderBuilder::cuboid(0.5, 0.5, 0.5), crate_body, &mut bodies);
-    let wall = bodies.insert(
-        RigidBodyBuilder::kinematic_velocity_based()
-            .translation(Vector::new(-0.5 - skins - 0.1 - 0.75, 0.0, 2.1))
-            .linvel(Vector::new(1.5, 0.0, 0.0)),
-    );
-    colliders.insert_with_parent(ColliderBuilder::cuboid(0.1, 2.0, 2.0), wall, &mut bodies);
-    bodies[crate_body].sleep();
+    let (mut bodies, mut colliders, [floor, crate_body, wall]) = sleeping_crate_and_wall(&parameters);
+    assert!(bodies[crate_body].is_sleeping());
     let mut guard: Guard<RigidBodySet> =
         Guard::new(&bodies, &mut colliders, &[floor, crate_body, wall], &parameters, GuardOptions::default())
             .expect("cuboids");

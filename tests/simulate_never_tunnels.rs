@@ -216,21 +216,8 @@ fn a_guarded_application_wakes_a_sleeping_crate_in_a_kinematic_walls_way() {
     // guard stepping the pipeline (which gives the colliders their skins).
     // The crate must be woken (rapier wakes it too once it sees the
     // contact) and pushed, and the wall never gets into it.
-    let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
-    let floor = bodies.insert(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -0.5)));
-    colliders.insert_with_parent(ColliderBuilder::cuboid(10.0, 10.0, 0.5), floor, &mut bodies);
     let parameters = IntegrationParameters { dt: 1.0 / 60.0, ..Default::default() };
-    let skins = 2.0 * nearmiss::guard::GuardOptions::default().skin_under(&parameters);
-    let crate_body =
-        bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, 0.5 + skins)));
-    colliders.insert_with_parent(ColliderBuilder::cuboid(0.5, 0.5, 0.5), crate_body, &mut bodies);
-    let wall = bodies.insert(
-        RigidBodyBuilder::kinematic_velocity_based()
-            .translation(Vector::new(-0.5 - skins - 0.1 - 0.75, 0.0, 2.1))
-            .linvel(Vector::new(1.5, 0.0, 0.0)),
-    );
-    colliders.insert_with_parent(ColliderBuilder::cuboid(0.1, 2.0, 2.0), wall, &mut bodies);
-    bodies[crate_body].sleep();
+    let (mut bodies, mut colliders, [floor, crate_body, wall]) = sleeping_crate_and_wall(&parameters);
     assert!(bodies[crate_body].is_sleeping());
     let options = nearmiss::guard::GuardOptions::default();
     let mut guard = nearmiss::guard::Guard::new(

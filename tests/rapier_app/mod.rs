@@ -4,7 +4,8 @@
 
 /// Defines `Rapier`: the pipeline and the sets a step needs besides the
 /// bodies and colliders, and `Rapier::step`, `PhysicsPipeline::step` by a
-/// given `dt` (the guard's, in f64).
+/// given `dt` (the guard's, in f64); and `sleeping_crate_and_wall`, the
+/// world both builds' wake-and-push tests guard.
 #[macro_export]
 macro_rules! rapier_app {
     ($rapier:ident) => {
@@ -61,6 +62,37 @@ macro_rules! rapier_app {
                     &(),
                 );
             }
+        }
+
+        /// A unit crate asleep on a fixed floor, resting the two default
+        /// skins above it, and a velocity-based kinematic wall (0.2 thick)
+        /// at 1.5 units/s that reaches it after 0.5 s: the sets and the
+        /// handles `[floor, crate, wall]`.
+        fn sleeping_crate_and_wall(
+            parameters: &$rapier::prelude::IntegrationParameters,
+        ) -> (
+            $rapier::prelude::RigidBodySet,
+            $rapier::prelude::ColliderSet,
+            [$rapier::prelude::RigidBodyHandle; 3],
+        ) {
+            use $rapier::prelude::*;
+            let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+            let floor = bodies.insert(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -0.5)));
+            colliders.insert_with_parent(ColliderBuilder::cuboid(10.0, 10.0, 0.5), floor, &mut bodies);
+            let skins = 2.0
+                * (nearmiss::guard::GuardOptions::default().skin as $rapier::math::Real)
+                * parameters.allowed_linear_error();
+            let crate_body =
+                bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, 0.5 + skins)));
+            colliders.insert_with_parent(ColliderBuilder::cuboid(0.5, 0.5, 0.5), crate_body, &mut bodies);
+            let wall = bodies.insert(
+                RigidBodyBuilder::kinematic_velocity_based()
+                    .translation(Vector::new(-0.5 - skins - 0.1 - 0.75, 0.0, 2.1))
+                    .linvel(Vector::new(1.5, 0.0, 0.0)),
+            );
+            colliders.insert_with_parent(ColliderBuilder::cuboid(0.1, 2.0, 2.0), wall, &mut bodies);
+            bodies[crate_body].sleep();
+            (bodies, colliders, [floor, crate_body, wall])
         }
     };
 }
