@@ -91,14 +91,14 @@ impl StepMotion {
         } else {
             return motion;
         };
-        // The turns that take pose_t0 to pose_t1: axis × (angle + 2πk).
+        // The turns that take pose_t0 to pose_t1: axis × (angle + 2πk). They
+        // differ from `want` by the same part across the axis, so the
+        // nearest is the one whose part along it is nearest: `angle + 2πk`
+        // nearest `want · axis`.
         let k = ((want.dot(&axis) - angle) / tau).round();
-        let turn = |k: Real| if k == 0.0 { short } else { axis * (angle + tau * k) };
-        let best = [k - 1.0, k, k + 1.0]
-            .into_iter()
-            .min_by(|&i, &j| (turn(i) - want).norm().total_cmp(&(turn(j) - want).norm()))
-            .unwrap_or(0.0);
-        motion.angular_velocity = turn(best) / dt;
+        if k != 0.0 {
+            motion.angular_velocity = axis * (angle + tau * k) / dt;
+        }
         motion
     }
 
