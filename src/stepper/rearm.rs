@@ -8,6 +8,8 @@ use std::time::Instant;
 
 use super::world::{Touching, World};
 use super::Stepper;
+use crate::ccd::hull_gap;
+use crate::math::Real;
 use crate::mesh::{mesh_distance_relative, DistanceSearch};
 use crate::motion::StepMotion;
 
@@ -23,6 +25,17 @@ impl Stepper {
             let (mesh_a, mesh_b) = (&scene.bodies[pair.a].mesh, &scene.bodies[pair.b].mesh);
             let rearm_distance =
                 self.response.rearm_distance(contact_distance, self.parameters.rearm_distance_factor);
+            // The hulls' gap first (a few GJK iterations from the pair's
+            // last axis): a pair whose hulls are beyond the re-arm distance
+            // is separated without a search, its bound carried.
+            let gap = hull_gap(mesh_a, mesh_b, &pos_ab, pair.axis, (rearm_distance, Real::INFINITY));
+            if gap.lower > rearm_distance {
+                pair.touching = None;
+                world.separated.push((pair.a, pair.b));
+                pair.lower_bound = Some(gap.lower);
+                self.counters.work.hull_steps += gap.iterations;
+                continue;
+            }
             // Only "beyond the re-arm distance?" is asked: the search may
             // stop at the first pair within it.
             let search = DistanceSearch { kernel: scene.kernel, hint: pair.hint, enough: rearm_distance };
