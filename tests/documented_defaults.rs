@@ -52,13 +52,17 @@ fn scene_defaults_are_the_documented_ones() {
     // stepper/parameters.rs (and README, scenes/README.md): a run is stopped when the
     // energy grows past 10x its scale; re-armed beyond "twice the contact distance"; a
     // bounced pair is a new contact "within half its distance at the bounce"; box
-    // rounding 1e3 ulps; integration on the threads from 64 bodies.
+    // rounding 1e3 ulps; integration on the threads from 64 bodies; the narrow phase on
+    // them whenever there are several (0 s to hand it over), under the guard 3e-4 s.
     let parameters = nearmiss::stepper::StepParameters::default();
     assert_eq!(parameters.divergence_energy_growth, 10.0);
     assert_eq!(parameters.rearm_distance_factor, 2.0);
     assert_eq!(parameters.bounce_redetect_fraction, 0.5);
     assert_eq!(parameters.broad_phase_rounding_ulps, 1e3);
     assert_eq!(parameters.parallel_integration_bodies, 64);
+    assert_eq!(parameters.parallel_narrow_phase_seconds, 0.0);
+    #[cfg(feature = "rapier")]
+    assert_eq!(nearmiss::guard::PARALLEL_NARROW_PHASE_SECONDS, 3e-4);
     assert_eq!(scene.parameters, parameters);
 }
 

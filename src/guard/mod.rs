@@ -119,6 +119,7 @@ pub use compare::{
 };
 
 use std::sync::Arc;
+use std::time::Instant;
 
 use rapier3d_f64::prelude::{IntegrationParameters, RigidBodyHandle, RigidBodySet};
 
@@ -178,6 +179,14 @@ pub const DEFAULT_SKIN: Real = 1.0;
 
 /// [`GuardOptions::max_substeps`]'s default.
 pub const DEFAULT_MAX_SUBSTEPS: usize = 4;
+
+/// [`StepParameters::parallel_narrow_phase_seconds`](crate::stepper::StepParameters::parallel_narrow_phase_seconds) under a guard: between
+/// two of its sweeps rapier steps on one thread and rayon's threads fall
+/// asleep, and waking them cost 1.3e-4 to 1.6e-4 s a step on the 1,000-body
+/// box (2 cores), more than a narrow phase of 0.25 ms gained from the
+/// second thread (and their spinning afterwards slowed rapier's step).
+/// Seconds.
+pub const PARALLEL_NARROW_PHASE_SECONDS: Real = 3e-4;
 
 impl Default for GuardOptions {
     fn default() -> Self {
@@ -558,6 +567,7 @@ impl<B: RapierBodies> Guard<B> {
         });
         let mut stepper = Stepper::with_response(Arc::clone(&scene), options, response);
         stepper.set_extra_box_margin(setup.skin);
+        stepper.set_parallel_narrow_phase_seconds(PARALLEL_NARROW_PHASE_SECONDS);
         let world = stepper.new_world(false);
         Ok(Guard {
             start: scene.bodies.iter().map(|b| b.pose).collect(),
@@ -595,8 +605,14 @@ impl<B: RapierBodies> Guard<B> {
     where
         F: FnMut(&mut B, Real),
     {
+        let clock = Instant::now();
         self.before_step(bodies);
+        let engine = Instant::now();
         rapier_step(bodies, self.dt);
+        let seconds = &mut self.stepper.counters_mut().seconds;
+        seconds.engine += engine.elapsed().as_secs_f64();
+        seconds.engine_sync += (engine - clock).as_secs_f64();
+        let mut rapier_step = |bodies: &mut B, dt: Real| rapier_step(bodies, dt);
         self.finish_step(bodies, Some(&mut rapier_step))
     }
 
@@ -627,8 +643,37 @@ impl<B: RapierBodies> Guard<B> {
     fn finish_step(
         &mut self,
         bodies: &mut B,
-        mut engine: Option<&mut RapierStep<'_, B>>,
+        engine: Option<&mut RapierStep<'_, B>>,
     ) -> Result<&[GuardEvent<B::Handle>], GuardError<B::Handle>> {
+        // The time outside rapier and the sweeps is the guard's own
+        // (`engine_sync`).
+        let clock = Instant::now();
+        let sweeps = self.stepper.counters().seconds.sweep();
+        let mut engine_seconds = 0.0;
+        let outcome = match engine {
+            Some(engine) => {
+                let mut timed = |bodies: &mut B, dt: Real| {
+                    let clock = Instant::now();
+                    engine(bodies, dt);
+                    engine_seconds += clock.elapsed().as_secs_f64();
+                };
+                self.sweep_step(bodies, Some(&mut timed))
+            }
+            None => self.sweep_step(bodies, None),
+        };
+        let seconds = &mut self.stepper.counters_mut().seconds;
+        seconds.engine += engine_seconds;
+        seconds.engine_sync += clock.elapsed().as_secs_f64() - engine_seconds - (seconds.sweep() - sweeps);
+        outcome.map(|()| self.events.as_slice())
+    }
+
+    /// [`finish_step`](Guard::finish_step)'s sweeps and rewinds; the events
+    /// go to `self.events`.
+    fn sweep_step(
+        &mut self,
+        bodies: &mut B,
+        mut engine: Option<&mut RapierStep<'_, B>>,
+    ) -> Result<(), GuardError<B::Handle>> {
         if !std::mem::take(&mut self.started) {
             return Err(GuardError::NoStartPoses);
         }
@@ -710,7 +755,7 @@ impl<B: RapierBodies> Guard<B> {
                 contact: Box::new(contact.clone()),
             }
         }));
-        Ok(&self.events)
+        Ok(())
     }
 
     /// Each body's motion over the rest of the step from `elapsed`: from its

@@ -315,14 +315,10 @@ pub(crate) fn run(
         steps += 1;
         rapier.prepare(scene, steps - 1);
         let RapierScene { bodies, colliders, parameters, gravity, engine, .. } = &mut rapier;
-        let mut engine_s = 0.0;
         let outcome = guard.step(bodies, |bodies, dt| {
-            let clock = Instant::now();
             engine.step(bodies, colliders, parameters, gravity, dt);
-            engine_s += clock.elapsed().as_secs_f64();
         });
         let outcome = outcome.map(|_| ());
-        guard.stepper.counters_mut().seconds.engine += engine_s;
         match outcome {
             Ok(()) => observer(steps),
             Err(GuardError::Undecided { .. }) => {

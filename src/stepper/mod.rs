@@ -176,6 +176,9 @@ struct Scratch {
     spare_pairs: Vec<PairState>,
     /// The pairs queried in the narrow phase (indices into the pairs).
     work: Vec<usize>,
+    /// Whether the next narrow phase runs on several threads (see
+    /// [`StepParameters::parallel_narrow_phase_seconds`]).
+    narrow_parallel: bool,
     /// The narrow phase's results.
     results: Vec<narrow::PairOutcome>,
     /// The contacts found in a step.
@@ -325,6 +328,12 @@ impl Stepper {
     #[cfg(feature = "rapier")]
     pub(crate) fn set_extra_box_margin(&mut self, margin: Real) {
         self.extra_box_margin = margin;
+    }
+
+    /// Sets [`StepParameters::parallel_narrow_phase_seconds`].
+    #[cfg(feature = "rapier")]
+    pub(crate) fn set_parallel_narrow_phase_seconds(&mut self, seconds: Real) {
+        self.parameters.parallel_narrow_phase_seconds = seconds;
     }
 
     /// The work done so far.

@@ -1,5 +1,7 @@
 //! Stage 3, narrow phase: the CCD of every pair in play over the step. The
-//! queries are independent: on rayon's threads when there are several,
+//! queries are independent: on rayon's threads when there are several and
+//! the narrow phase is long enough to gain from them
+//! ([`StepParameters::parallel_narrow_phase_seconds`](super::StepParameters)),
 //! results applied in pair order, so a run gives the same result whatever
 //! the threads. A far pair is settled without a mesh query by its bounding
 //! spheres or the distance bound carried from its previous step.
@@ -140,7 +142,8 @@ impl Stepper {
         // Results go into a buffer kept between steps, and each thread keeps
         // its own scratch: a step allocates nothing once they have grown.
         let results = &mut self.scratch.results;
-        if self.options.parallel && work.len() > 1 {
+        let parallel = self.options.parallel && self.scratch.narrow_parallel && work.len() > 1;
+        if parallel {
             work.par_iter()
                 .map(|&k| THREAD_SCRATCH.with(|scratch| query(k, &mut scratch.borrow_mut())))
                 .collect_into_vec(results);
@@ -164,6 +167,12 @@ impl Stepper {
                 CcdVerdict::Apart => {}
             }
         }
-        self.counters.seconds.ccd += clock.elapsed().as_secs_f64();
+        let seconds = clock.elapsed().as_secs_f64();
+        let threads = rayon::current_num_threads() as Real;
+        let handing_over = self.parameters.parallel_narrow_phase_seconds;
+        let on_one_thread = if parallel { threads * (seconds - handing_over) } else { seconds };
+        self.scratch.narrow_parallel =
+            threads > 1.0 && on_one_thread > handing_over * threads / (threads - 1.0);
+        self.counters.seconds.ccd += seconds;
     }
 }

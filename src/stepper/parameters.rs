@@ -34,6 +34,15 @@ pub struct StepParameters {
     /// Bodies are integrated on several threads from this many bodies on
     /// (a count; the results do not depend on it). Default: `64`.
     pub parallel_integration_bodies: usize,
+    /// What handing a narrow phase to rayon's threads costs in wall time
+    /// (waking them and gathering their results; seconds): the next step's
+    /// narrow phase runs on `n` threads when this step's, on one thread,
+    /// took more than `n / (n − 1)` times it (estimated from a parallel
+    /// step as `n` × (its time − this)). The results do not depend on it.
+    /// Default: `0.0` (on the threads whenever there are several: a run's
+    /// stages keep them busy back to back). The guard uses
+    /// [`PARALLEL_NARROW_PHASE_SECONDS`](crate::guard::PARALLEL_NARROW_PHASE_SECONDS).
+    pub parallel_narrow_phase_seconds: Real,
 }
 
 impl Default for StepParameters {
@@ -44,6 +53,7 @@ impl Default for StepParameters {
             divergence_energy_growth: 10.0,
             broad_phase_rounding_ulps: 1e3,
             parallel_integration_bodies: 64,
+            parallel_narrow_phase_seconds: 0.0,
         }
     }
 }

@@ -156,8 +156,19 @@ pub struct StageSeconds {
     /// Tracing.
     pub trace: Real,
     /// An outside engine's steps (`on_contact: Simulate`: rapier's dynamics
-    /// and contact solving).
+    /// and contact solving; a [`Guard`](crate::guard::Guard)'s `rapier_step`).
     pub engine: Real,
+    /// A guard's work besides its sweeps (broad phase to re-arm): reading
+    /// the engine's bodies into each step's motions, moving bodies back to
+    /// a contact, holding them.
+    pub engine_sync: Real,
+}
+
+impl StageSeconds {
+    /// The stages of a sweep: broad phase, CCD, response and re-arm.
+    pub fn sweep(&self) -> Real {
+        self.broad_phase + self.ccd + self.respond + self.rearm
+    }
 }
 
 /// The outcome of a run.
