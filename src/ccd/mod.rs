@@ -54,8 +54,8 @@ mod vertex_face;
 pub use advance::ROUNDING_FLOOR_ULPS;
 pub use contact::{box_margin, ContactContract, ContactRule, BOX_MARGIN_TOLERANCE_FACTOR, TARGET_FRACTION};
 pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
-pub(crate) use hull_gap::{convex_distance, first_within, hull_gap, ConvexDistance, WarmSimplex};
-pub use hull_gap::{HULL_GAP_MAX_ITERATIONS, HULL_GAP_RELATIVE_TOLERANCE};
+pub(crate) use hull_gap::{convex_distance, first_within, hull_gap, hull_gap_from, ConvexDistance};
+pub use hull_gap::{WarmSimplex, HULL_GAP_MAX_ITERATIONS, HULL_GAP_RELATIVE_TOLERANCE};
 pub use mesh_bound::{SPIN_SWEEP_AFTER_ITERATIONS, SPIN_SWEEP_MAX_RATE_FRACTION, SPIN_SWEEP_MIN_TURN};
 pub use mesh_pair::INTEGRATED_JUMP_ULPS;
 pub use mesh_pair::{

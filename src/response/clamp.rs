@@ -171,7 +171,7 @@ impl Clamp {
         };
         let (ma, mb) = (from(pair.a), from(pair.b));
         let query = pair_query(scene, &pair, [&ma, &mb], scene.dt - time, rule);
-        let warm = WarmStart { lower_bound: None, hint: pair.hint, axis: pair.axis };
+        let warm = WarmStart { lower_bound: None, ..pair.warm_start() };
         let mut result = mesh_time_of_impact(&query, warm, step.scratch);
         step.counters.work.distance_queries += result.iterations;
         step.counters.work.hull_steps += result.hull_steps;

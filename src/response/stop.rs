@@ -111,7 +111,7 @@ pub(super) fn stop_in_time_order(
                 };
                 let (ma, mb) = (held(pair.a), held(pair.b));
                 let query = pair_query(scene, &pair, [&ma, &mb], dt - time, rule(&pair));
-                let warm = WarmStart { lower_bound: None, hint: pair.hint, axis: pair.axis };
+                let warm = WarmStart { lower_bound: None, ..pair.warm_start() };
                 let result = mesh_time_of_impact(&query, warm, step.scratch);
                 step.counters.work.add_query(result.iterations, result.triangle_pairs, result.hull_steps);
                 match CcdVerdict::of(&result) {

@@ -16,6 +16,7 @@ use super::world::{PairState, World};
 use super::Stepper;
 use crate::ccd::{
     mesh_time_of_impact, CcdStatus, ContactRule, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh,
+    WarmSimplex,
 };
 use crate::math::Real;
 use crate::motion::StepMotion;
@@ -75,6 +76,7 @@ struct OutcomeSummary {
     triangle_pairs: usize,
     hint: Option<(usize, usize)>,
     axis: Option<crate::math::Vector>,
+    simplex: WarmSimplex,
     end_lower_bound: Real,
 }
 
@@ -87,6 +89,7 @@ impl From<MeshCcdResult> for PairOutcome {
                 triangle_pairs: result.triangle_pairs,
                 hint: result.hint,
                 axis: result.axis,
+                simplex: result.simplex,
                 end_lower_bound: result.end_lower_bound,
             },
             contact: result.time_of_impact.is_some().then(|| Box::new(result)),
@@ -159,6 +162,7 @@ impl Stepper {
             self.counters.work.pairs_culled += usize::from(result.iterations == 0);
             pair.hint = result.hint;
             pair.axis = result.axis;
+            pair.simplex = result.simplex;
             pair.lower_bound = Some(result.end_lower_bound);
             let Some(contact) = outcome.contact.take() else { continue };
             match CcdVerdict::of(&contact) {

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use super::world::{Touching, World};
 use super::Stepper;
-use crate::ccd::hull_gap;
+use crate::ccd::hull_gap_from;
 use crate::math::Real;
 use crate::mesh::{mesh_distance_relative, DistanceSearch};
 use crate::motion::StepMotion;
@@ -28,7 +28,14 @@ impl Stepper {
             // The hulls' gap first (a few GJK iterations from the pair's
             // last axis): a pair whose hulls are beyond the re-arm distance
             // is separated without a search, its bound carried.
-            let gap = hull_gap(mesh_a, mesh_b, &pos_ab, pair.axis, (rearm_distance, Real::INFINITY));
+            let gap = hull_gap_from(
+                mesh_a,
+                mesh_b,
+                &pos_ab,
+                pair.axis,
+                (rearm_distance, Real::INFINITY),
+                &mut pair.simplex,
+            );
             if gap.lower > rearm_distance {
                 pair.touching = None;
                 world.separated.push((pair.a, pair.b));

@@ -4,7 +4,7 @@
 //! scratch buffers live apart (`mod.rs`).
 
 use super::result::Contact;
-use crate::ccd::{MeshCcdResult, WarmStart};
+use crate::ccd::{MeshCcdResult, WarmSimplex, WarmStart};
 use crate::math::{Point, Real, Vector};
 use crate::motion::{RigidState, StepMotion};
 use crate::response::ImpactBody;
@@ -73,6 +73,8 @@ pub(crate) struct PairState {
     pub hint: Option<(usize, usize)>,
     /// The last direction of the hulls' gap (world frame).
     pub axis: Option<Vector>,
+    /// The hulls' last GJK simplex.
+    pub simplex: WarmSimplex,
     /// In contact (`on_contact: Record` or `Bounce`): not re-reported until
     /// it separates (`Bounce`: until it comes within a fraction of this
     /// distance).
@@ -92,12 +94,20 @@ pub(crate) struct Touching {
 
 impl PairState {
     pub fn new(a: usize, b: usize) -> PairState {
-        PairState { a, b, lower_bound: None, hint: None, axis: None, touching: None }
+        PairState {
+            a,
+            b,
+            lower_bound: None,
+            hint: None,
+            axis: None,
+            simplex: WarmSimplex::default(),
+            touching: None,
+        }
     }
 
     /// What the pair's next CCD query may start from.
     pub fn warm_start(&self) -> WarmStart {
-        WarmStart { lower_bound: self.lower_bound, hint: self.hint, axis: self.axis }
+        WarmStart { lower_bound: self.lower_bound, hint: self.hint, axis: self.axis, simplex: self.simplex }
     }
 }
 
