@@ -79,15 +79,28 @@ impl StepMotion {
     /// angular velocity, so that a body turning more than π in a step is not
     /// swept the short way round.
     pub fn between_near(pose_t0: &Pose, pose_t1: &Pose, dt: Real, spin: &Vector) -> StepMotion {
-        let mut motion = StepMotion::between(pose_t0, pose_t1, dt);
-        let short = motion.angular_velocity * dt;
+        let velocity = (pose_t1.translation.vector - pose_t0.translation.vector) / dt;
+        let mut motion = StepMotion {
+            reference: *pose_t0,
+            elapsed: 0.0,
+            velocity,
+            angular_velocity: Vector::zeros(),
+            integrated: true,
+        };
+        // The short turn's axis and angle, as `UnitQuaternion::scaled_axis`
+        // finds them (the same operations: the short turn is `between`'s to
+        // the bit), from one square root.
+        let turn = pose_t1.rotation * pose_t0.rotation.inverse();
+        let q = turn.quaternion();
+        let (imag, w) = if q.w >= 0.0 { (q.imag(), q.w) } else { (-q.imag(), -q.w) };
+        let sine = imag.norm();
         let want = spin * dt;
-        let angle = short.norm();
-        let tau = std::f64::consts::TAU;
-        let axis = if angle > 0.0 {
-            short / angle
-        } else if want.norm() > 0.0 {
-            want.normalize()
+        // A short turn at the rounding of the quaternion (a whole turn in
+        // the step, or none) has no axis of its own: the spin's is taken.
+        let (axis, angle) = if sine > 4.0 * Real::EPSILON || (sine > 0.0 && want == Vector::zeros()) {
+            (imag / sine, sine.atan2(w) * 2.0)
+        } else if want != Vector::zeros() {
+            (want.normalize(), 0.0)
         } else {
             return motion;
         };
@@ -95,10 +108,9 @@ impl StepMotion {
         // differ from `want` by the same part across the axis, so the
         // nearest is the one whose part along it is nearest: `angle + 2πk`
         // nearest `want · axis`.
+        let tau = std::f64::consts::TAU;
         let k = ((want.dot(&axis) - angle) / tau).round();
-        if k != 0.0 {
-            motion.angular_velocity = axis * (angle + tau * k) / dt;
-        }
+        motion.angular_velocity = if k == 0.0 { axis * angle / dt } else { axis * (angle + tau * k) / dt };
         motion
     }
 
@@ -182,6 +194,37 @@ mod tests {
         let end = motion.pose_at(0.25);
         assert_relative_eq!(end.translation.vector, pose_t1.translation.vector, epsilon = 1e-15);
         assert!(end.rotation.angle_to(&pose_t1.rotation) < 1e-14);
+    }
+
+    /// An engine's body turning by `spin × dt` (more than π in the step,
+    /// or a whole turn) is swept by that turn, not the short one; without
+    /// a spin beyond π it is `between`'s short turn to the bit.
+    #[test]
+    fn between_near_takes_the_turn_nearest_the_spin() {
+        let dt = 0.01;
+        let pose_t0 = Pose::new(Vector::new(1.0, 2.0, 3.0), Vector::new(0.3, -0.2, 0.9));
+        let axis = Vector::new(2.0, -1.0, 0.5).normalize();
+        for angle in [0.3, 2.5, 4.0, -4.0, 7.0, 2.0 * std::f64::consts::PI, 13.0] {
+            let spin = axis * (angle / dt);
+            let turn = UnitQuaternion::from_scaled_axis(axis * angle);
+            let pose_t1 = Pose::from_parts(
+                (pose_t0.translation.vector + Vector::new(0.1, 0.0, -0.2)).into(),
+                turn * pose_t0.rotation,
+            );
+            let motion = StepMotion::between_near(&pose_t0, &pose_t1, dt, &spin);
+            // The spin itself, to rounding of the end pose's quaternion.
+            assert_relative_eq!(motion.angular_velocity, spin, epsilon = 1e-12 / dt);
+            let end = motion.pose_at(dt);
+            assert_relative_eq!(end.translation.vector, pose_t1.translation.vector, epsilon = 1e-15);
+            assert!(end.rotation.angle_to(&pose_t1.rotation) < 1e-13, "angle {angle}");
+            if angle.abs() < std::f64::consts::PI {
+                let short = StepMotion::between(&pose_t0, &pose_t1, dt);
+                assert_eq!(motion.angular_velocity, short.angular_velocity);
+            }
+        }
+        // Not turning, and no spin: no turn (to the rounding of q q⁻¹).
+        let still = StepMotion::between_near(&pose_t0, &pose_t0, dt, &Vector::zeros());
+        assert!(still.angular_velocity.norm() * dt < 1e-15, "{}", still.angular_velocity);
     }
 
     #[test]
