@@ -54,6 +54,8 @@ fn scene_defaults_are_the_documented_ones() {
     // bounced pair is a new contact "within half its distance at the bounce"; box
     // rounding 1e3 ulps; integration on the threads from 64 bodies; the narrow phase on
     // them whenever there are several (0 s to hand it over), under the guard 3e-4 s.
+    // broad_phase.rs: the tree re-optimised at every second refit.
+    assert_eq!(nearmiss::broad_phase::OPTIMIZE_EVERY_REFITS, 2);
     let parameters = nearmiss::stepper::StepParameters::default();
     assert_eq!(parameters.divergence_energy_growth, 10.0);
     assert_eq!(parameters.rearm_distance_factor, 2.0);
