@@ -53,7 +53,7 @@ fn scene_defaults_are_the_documented_ones() {
     // energy grows past 10x its scale; re-armed beyond "twice the contact distance"; a
     // bounced pair is a new contact "within half its distance at the bounce"; box
     // rounding 1e3 ulps; integration on the threads from 64 bodies; the narrow phase on
-    // them whenever there are several (0 s to hand it over), under the guard 3e-4 s.
+    // them when it costs more than handing it over, 1e-4 s (under the guard 3e-4 s).
     // broad_phase.rs: the tree re-optimised at every second refit.
     assert_eq!(nearmiss::broad_phase::OPTIMIZE_EVERY_REFITS, 2);
     let parameters = nearmiss::stepper::StepParameters::default();
@@ -62,7 +62,7 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(parameters.bounce_redetect_fraction, 0.5);
     assert_eq!(parameters.broad_phase_rounding_ulps, 1e3);
     assert_eq!(parameters.parallel_integration_bodies, 64);
-    assert_eq!(parameters.parallel_narrow_phase_seconds, 0.0);
+    assert_eq!(parameters.parallel_narrow_phase_seconds, 1e-4);
     #[cfg(feature = "rapier")]
     assert_eq!(nearmiss::guard::PARALLEL_NARROW_PHASE_SECONDS, 3e-4);
     assert_eq!(scene.parameters, parameters);

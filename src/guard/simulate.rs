@@ -21,7 +21,7 @@ use crate::math::{
 };
 use crate::motion::{RigidState, StepMotion};
 use crate::scene::{BodyMotion, OnContact, Scene};
-use crate::stepper::{RunOptions, RunResult, Solver, Termination};
+use crate::stepper::{Driver, RunOptions, RunResult, Solver, StepEnd, Termination};
 
 /// The engine named in `summary.json`.
 pub const ENGINE: &str = "rapier3d-f64 0.36";
@@ -280,15 +280,19 @@ fn glam_matrix(m: &nalgebra::Matrix3<Real>) -> rapier3d_f64::math::Matrix {
     )
 }
 
-/// Runs a `Simulate` scene (see the module); `observer` is called with the
-/// steps done after each step.
-pub(crate) fn run(
-    scene: &Scene,
-    options: RunOptions,
-    observer: &mut dyn FnMut(u64),
-) -> Result<RunResult, GuardError> {
-    let start = Instant::now();
-    let mut rapier = RapierScene::build(scene, false, true)?;
+/// A `Simulate` scene's steps (see the module), for the run loop
+/// ([`crate::stepper::run_with`]): rapier's bodies and the guard that
+/// sweeps them.
+pub(crate) struct Guarded {
+    scene: Arc<Scene>,
+    rapier: RapierScene,
+    guard: Guard,
+}
+
+/// The driver of a `Simulate` scene: its bodies in rapier, each collider
+/// with the guard's skin, and the guard over them.
+pub(crate) fn driver(scene: &Scene, options: RunOptions) -> Result<Guarded, GuardError> {
+    let rapier = RapierScene::build(scene, false, true)?;
     // The guard's scene: rapier moves the bodies, so none is integrated by
     // the stepper; the dynamic ones are those contacts stop.
     let stoppable: Vec<bool> =
@@ -307,40 +311,51 @@ pub(crate) fn run(
         max_substeps: super::DEFAULT_MAX_SUBSTEPS,
         parallel: options.parallel,
     };
-    let mut guard = Guard::with_scene(Arc::new(guarded), setup, &rapier.parameters)?;
-    guard.stepper.observe_start(&guard.world);
-    let mut termination = Termination::Completed;
-    let mut steps = 0;
-    for _ in 0..scene.steps {
-        steps += 1;
-        rapier.prepare(scene, steps - 1);
-        let RapierScene { bodies, colliders, parameters, gravity, engine, .. } = &mut rapier;
-        let outcome = guard.step(bodies, |bodies, dt| {
+    let guard = Guard::with_scene(Arc::new(guarded), setup, &rapier.parameters)?;
+    Ok(Guarded { scene: Arc::new(scene.clone()), rapier, guard })
+}
+
+impl Driver for Guarded {
+    fn start(&mut self) {
+        self.guard.stepper.observe_start(&self.guard.world);
+    }
+
+    /// rapier's step (kinematic targets and springs' forces first), swept
+    /// and rewound by the guard.
+    fn step(&mut self, step: u64) -> Result<StepEnd, Termination> {
+        self.rapier.prepare(&self.scene, step);
+        let RapierScene { bodies, colliders, parameters, gravity, engine, .. } = &mut self.rapier;
+        let outcome = self.guard.step(bodies, |bodies, dt| {
             engine.step(bodies, colliders, parameters, gravity, dt);
         });
-        let outcome = outcome.map(|_| ());
         match outcome {
-            Ok(()) => observer(steps),
+            Ok(_) => Ok(StepEnd::Continue),
             Err(GuardError::Undecided { .. }) => {
-                termination = guard.undecided.take().unwrap_or(Termination::Completed);
-                break;
+                Err(self.guard.undecided.take().unwrap_or(Termination::Completed))
             }
-            Err(error) => return Err(error),
+            Err(error) => {
+                Err(Termination::Diverged { body: 0, step, reason: format!("the guard failed: {error}") })
+            }
         }
     }
-    let rewinds = guard.rewinds();
-    let (stepper, world) = guard.into_parts();
-    let mut result = stepper.finish(world, steps, termination, start);
-    for (i, state) in result.final_states.iter_mut().enumerate() {
-        if let Some(rapier_state) = rapier.state(i) {
-            *state = rapier_state;
+
+    /// The stepper's result, with rapier's final states and who solved.
+    fn finish(self: Box<Self>, steps: u64, termination: Termination, start: Instant) -> RunResult {
+        let Guarded { rapier, guard, .. } = *self;
+        let rewinds = guard.rewinds();
+        let (stepper, world) = guard.into_parts();
+        let mut result = stepper.finish(world, steps, termination, start);
+        for (i, state) in result.final_states.iter_mut().enumerate() {
+            if let Some(rapier_state) = rapier.state(i) {
+                *state = rapier_state;
+            }
         }
+        result.solver = Some(Solver {
+            contact_skin: rapier.skin,
+            rewinds,
+            engine: ENGINE.into(),
+            colliders: rapier.shapes.iter().map(|s| s.name().to_string()).collect(),
+        });
+        result
     }
-    result.solver = Some(Solver {
-        contact_skin: rapier.skin,
-        rewinds,
-        engine: ENGINE.into(),
-        colliders: rapier.shapes.iter().map(|s| s.name().to_string()).collect(),
-    });
-    Ok(result)
 }

@@ -19,17 +19,19 @@
 //! and one arm of `for_scene`; the stepper does not change.
 
 mod bounce;
+#[cfg(feature = "rapier")]
 mod clamp;
 mod impulse;
 mod record;
 mod stop;
 
+#[cfg(feature = "rapier")]
 pub(crate) use clamp::Clamp;
 pub use impulse::{apply_impulse, approach_speed, contact_frame, ImpactBody};
 
 use crate::ccd::{ContactRule, MeshCcdScratch};
 use crate::math::Real;
-use crate::scene::{BodyMotion, OnContact, Scene};
+use crate::scene::{OnContact, Scene};
 use crate::stepper::{Counters, Found, PairState, World};
 
 /// What a response may read and change during a step.
@@ -90,20 +92,17 @@ pub(crate) trait Response: Sync {
     fn respond(&self, step: &mut StepContext<'_>, found: &mut Vec<Found>) -> bool;
 }
 
-/// The response a scene asks for.
-pub(crate) fn for_scene(scene: &Scene) -> Box<dyn Response> {
+/// The response a scene asks for, for the stepper's own integration;
+/// `None` under `Simulate`, whose steps rapier makes and the guard sweeps
+/// with its own clamp (`clamp.rs`).
+pub(crate) fn for_scene(scene: &Scene) -> Option<Box<dyn Response>> {
     match scene.on_contact {
-        OnContact::Stop => Box::new(record::Record { stop: true }),
-        OnContact::Record => Box::new(record::Record { stop: false }),
-        OnContact::Bounce { restitution } => Box::new(bounce::Bounce {
+        OnContact::Stop => Some(Box::new(record::Record { stop: true })),
+        OnContact::Record => Some(Box::new(record::Record { stop: false })),
+        OnContact::Bounce { restitution } => Some(Box::new(bounce::Bounce {
             restitution,
             redetect_fraction: scene.parameters.bounce_redetect_fraction,
-        }),
-        OnContact::Simulate { .. } => Box::new(Clamp {
-            stoppable: scene.bodies.iter().map(|b| matches!(b.motion, BodyMotion::Integrated(_))).collect(),
-            separation: 0.0,
-            skin_separation: 0.0,
-            guards_touching_pairs: false,
-        }),
+        })),
+        OnContact::Simulate { .. } => None,
     }
 }

@@ -33,9 +33,11 @@ use std::time::Instant;
 pub(crate) use narrow::{pair_query, CcdVerdict, Found};
 pub use parameters::StepParameters;
 pub use result::{Contact, Counters, RunResult, Solver, StageSeconds, Termination, Work};
+#[cfg(feature = "rapier")]
+pub(crate) use world::Rewind;
 #[cfg(test)]
 pub(crate) use world::Touching;
-pub(crate) use world::{PairState, Rewind, World};
+pub(crate) use world::{PairState, World};
 
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;
@@ -88,54 +90,105 @@ pub fn run_observed(scene: &Scene, observer: &mut dyn FnMut(u64)) -> RunResult {
     run_with(scene, RunOptions::default(), observer)
 }
 
-/// Runs a scene with options.
+/// Runs a scene with options: the one run loop of every response, its
+/// steps made by the scene's [`Driver`].
 pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64)) -> RunResult {
-    #[cfg(feature = "rapier")]
-    if let crate::scene::OnContact::Simulate { .. } = scene.on_contact {
-        // The scene loader checked what the guard needs (meshes, contact
-        // distances below rapier's prediction distance): an error here is
-        // a scene built by hand, reported as the run's end.
-        return crate::guard::simulate::run(scene, options, observer).unwrap_or_else(|error| RunResult {
-            scene: scene.name.clone(),
-            bodies: scene.bodies.iter().map(|b| b.name.clone()).collect(),
-            steps: 0,
-            end_time: 0.0,
-            wall_time_s: 0.0,
-            first_contact: None,
-            contacts: Vec::new(),
-            trace: Vec::new(),
-            poses: Vec::new(),
-            solver: None,
-            termination: Termination::Diverged {
-                body: 0,
-                step: 0,
-                reason: format!("rapier could not be set up: {error}"),
-            },
-            counters: Counters::default(),
-            final_states: Vec::new(),
-        });
-    }
     let start = Instant::now();
-    let mut stepper = Stepper::new(Arc::new(scene.clone()), options);
-    let mut world = stepper.new_world(stepper.response.stops_kinematic_bodies());
-    stepper.observe_start(&world);
+    let mut driver = match driver_for(scene, options) {
+        Ok(driver) => driver,
+        Err(reason) => return not_started(scene, reason),
+    };
+    driver.start();
     let mut termination = Termination::Completed;
     let mut steps = 0;
     for step in 0..scene.steps {
         steps = step + 1;
-        match stepper.step(&mut world, step) {
+        match driver.step(step) {
             Ok(StepEnd::Continue) => observer(steps),
             Ok(StepEnd::FirstContact) => {
                 termination = Termination::FirstContact;
                 break;
             }
-            Err(diverged) => {
-                termination = diverged;
+            Err(ended) => {
+                termination = ended;
                 break;
             }
         }
     }
-    stepper.finish(world, steps, termination, start)
+    driver.finish(steps, termination, start)
+}
+
+/// What makes a run's steps: the bodies' motions over each step and the
+/// sweep of that step (stages 1 to 6). [`run_with`] is the loop around it.
+pub(crate) trait Driver {
+    /// The observers' samples at the run's start.
+    fn start(&mut self);
+    /// Step `step` (0-based): how it ended, or why the run ends there.
+    fn step(&mut self, step: u64) -> Result<StepEnd, Termination>;
+    /// The run's result after `steps` steps, ended by `termination`.
+    fn finish(self: Box<Self>, steps: u64, termination: Termination, start: Instant) -> RunResult;
+}
+
+/// The stepper integrating the scene's bodies itself (`Stop`, `Record`,
+/// `Bounce`).
+struct Integrated {
+    stepper: Stepper,
+    world: World,
+}
+
+impl Driver for Integrated {
+    fn start(&mut self) {
+        self.stepper.observe_start(&self.world);
+    }
+
+    fn step(&mut self, step: u64) -> Result<StepEnd, Termination> {
+        self.stepper.step(&mut self.world, step)
+    }
+
+    fn finish(self: Box<Self>, steps: u64, termination: Termination, start: Instant) -> RunResult {
+        let Integrated { stepper, world } = *self;
+        stepper.finish(world, steps, termination, start)
+    }
+}
+
+/// The scene's driver: rapier guarded by nearmiss under `Simulate`, the
+/// stepper's integration otherwise. `Err`: why it could not be set up.
+fn driver_for(scene: &Scene, options: RunOptions) -> Result<Box<dyn Driver>, String> {
+    #[cfg(feature = "rapier")]
+    if let crate::scene::OnContact::Simulate { .. } = scene.on_contact {
+        return crate::guard::simulate::driver(scene, options)
+            .map(|driver| Box::new(driver) as Box<dyn Driver>)
+            .map_err(|error| format!("rapier could not be set up: {error}"));
+    }
+    let Some(response) = crate::response::for_scene(scene) else {
+        return Err(
+            "`Simulate` solves contacts with rapier3d: build nearmiss with the `rapier` feature".into()
+        );
+    };
+    let stepper = Stepper::with_response(Arc::new(scene.clone()), options, response);
+    let world = stepper.new_world(stepper.response.stops_kinematic_bodies());
+    Ok(Box::new(Integrated { stepper, world }))
+}
+
+/// The result of a run whose driver could not be set up (the scene loader
+/// checks what the guard needs, so only a scene built by hand gets here):
+/// no step, and why.
+fn not_started(scene: &Scene, reason: String) -> RunResult {
+    RunResult {
+        scene: scene.name.clone(),
+        bodies: scene.bodies.iter().map(|b| b.name.clone()).collect(),
+        steps: 0,
+        end_time: 0.0,
+        wall_time_s: 0.0,
+        first_contact: None,
+        contacts: Vec::new(),
+        trace: Vec::new(),
+        poses: Vec::new(),
+        solver: None,
+        termination: Termination::Diverged { body: 0, step: 0, reason },
+        counters: Counters::default(),
+        final_states: Vec::new(),
+    }
 }
 
 /// How a step ended, when the run goes on or stops at a contact.
@@ -188,12 +241,8 @@ struct Scratch {
 }
 
 impl Stepper {
-    fn new(scene: Arc<Scene>, options: RunOptions) -> Stepper {
-        let response = crate::response::for_scene(&scene);
-        Stepper::with_response(scene, options, response)
-    }
-
-    /// A stepper whose contacts go to `response` (the guard's clamp).
+    /// A stepper whose contacts go to `response` (the scene's, or the
+    /// guard's clamp).
     pub(crate) fn with_response(
         scene: Arc<Scene>,
         options: RunOptions,
@@ -213,17 +262,12 @@ impl Stepper {
         }
     }
 
-    /// One step (0-based `step`): the stages in order.
+    /// One step (0-based `step`) of the stepper's own integration: the
+    /// stages in order. (Under a guard, rapier makes the motions and the
+    /// guard calls [`Stepper::sweep`] and [`Stepper::observe_step_end`].)
     fn step(&mut self, world: &mut World, step: u64) -> Result<StepEnd, Termination> {
         let t0 = step as Real * self.scene.dt;
         self.integrate(world, step, t0)?;
-        self.after_motion(world, step)
-    }
-
-    /// Stages 2 to 6 of step `step`, the bodies' motions over the step
-    /// already in `world.motions` (by stage 1, or by an outside engine:
-    /// [`crate::guard`]).
-    pub(crate) fn after_motion(&mut self, world: &mut World, step: u64) -> Result<StepEnd, Termination> {
         let end = self.sweep(world, step)?;
         if let StepEnd::Continue = end {
             self.observe_step_end(world, step);

@@ -32,7 +32,9 @@ pub(crate) struct World {
     /// The bodies the response held at a contact in the current step, with
     /// the time into the step they stopped at.
     pub held: Vec<(usize, Real)>,
-    /// The guard may ask for a rewind in this sweep (it has substeps left).
+    /// The guard may ask for a rewind in this sweep (it has substeps left;
+    /// read by its clamp, which needs the `rapier` feature).
+    #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
     pub may_rewind: bool,
     /// The guard's response asks to move the world back to this time into
     /// the sweep and let the engine solve from there.
