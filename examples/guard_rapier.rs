@@ -128,7 +128,7 @@ fn main() {
         if let GuardEvent::Started { contact, .. } = event {
             println!(
                 "  contact at t = {:.9} ({:?} / {:?})",
-                contact.time, contact.feature_a, contact.feature_b
+                contact.time, contact.closest.feature_a, contact.closest.feature_b
             );
         }
     }

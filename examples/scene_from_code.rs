@@ -45,7 +45,7 @@ fn main() {
             result.bodies[contact.body_b],
             contact.time,
             (2.0_f64 / 9.81).sqrt(),
-            contact.distance
+            contact.closest.distance
         ),
         None => println!("no contact"),
     }

@@ -83,3 +83,17 @@ pub fn max_abs_coordinate(points: &[Point]) -> Real {
 pub fn shortest(value: Real) -> String {
     format!("{value:?}")
 }
+
+/// Serialises a point as `[x, y, z]` (serde's `serialize_with`).
+pub(crate) fn serialize_point<S: serde::Serializer>(point: &Point, serializer: S) -> Result<S::Ok, S::Error> {
+    serde::Serialize::serialize(&[point.x, point.y, point.z], serializer)
+}
+
+/// Serialises a value by its `Display` text (serde's `serialize_with`):
+/// enums written by name, stable under renames of their variants.
+pub(crate) fn serialize_display<T: std::fmt::Display, S: serde::Serializer>(
+    value: &T,
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    serializer.collect_str(value)
+}

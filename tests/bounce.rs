@@ -144,5 +144,5 @@ fn a_ball_pressed_on_the_floor_keeps_its_redetection_distance() {
     let floor = scene.parameters.bounce_redetect_fraction * nearmiss::ccd::TARGET_FRACTION * first;
     assert!(least >= floor, "a contact distance of {least:e} against {first:e} at the first contact");
     // The ball never goes through the floor: every contact is at a positive distance.
-    assert!(result.contacts.iter().all(|c| c.distance > 0.0));
+    assert!(result.contacts.iter().all(|c| c.closest.distance > 0.0));
 }

@@ -96,5 +96,5 @@ fn broad_phase_margin_keeps_every_pair_the_ccd_reports() {
     let contact = with_tree.first_contact.expect("the pass is reported");
     assert_eq!((contact.body_a, contact.body_b), (0, 1));
     assert_eq!(contact.contact_distance, contract.contact_distance);
-    assert!(contact.distance <= contract.contact_distance);
+    assert!(contact.closest.distance <= contract.contact_distance);
 }

@@ -53,7 +53,7 @@ fn same_contacts(a: &RunResult, b: &RunResult) {
     for (x, y) in a.contacts.iter().zip(&b.contacts) {
         assert_eq!((x.body_a, x.body_b, x.status), (y.body_a, y.body_b, y.status));
         assert!((x.time - y.time).abs() <= 1e-9, "{} {}: {} against {}", x.body_a, x.body_b, x.time, y.time);
-        assert!(x.distance <= x.contact_distance && y.distance <= y.contact_distance);
+        assert!(x.closest.distance <= x.contact_distance && y.closest.distance <= y.contact_distance);
     }
     assert_eq!(a.trace, b.trace);
     assert_eq!(a.termination, b.termination);

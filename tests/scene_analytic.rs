@@ -23,7 +23,7 @@ fn assert_contact(result: &RunResult, bodies: (&str, &str), expected: f64, closi
     let early = expected - contact.time;
     let bound = contact.contact_distance / closing_speed;
     assert!(early <= bound * (1.0 + 1e-6) + 4.0 * f64::EPSILON * expected, "early by {early:e} > {bound:e}");
-    assert!(contact.distance <= contact.contact_distance);
+    assert!(contact.closest.distance <= contact.contact_distance);
     contact
 }
 
@@ -87,7 +87,7 @@ fn rotation_about_a_fixed_axis_until_an_edge_hits_a_vertex() {
     let contact = assert_contact(&run_ron(&text), ("arm", "probe"), 0.2, 5.0 * 0.6);
     // Within the contact distance of the analytic contact point P.
     let p = nearmiss::math::Point::new(c, s, 0.0);
-    assert!((contact.point_b - p).norm() <= 1e-8, "{contact:?}");
+    assert!((contact.closest.point_b - p).norm() <= 1e-8, "{contact:?}");
 }
 
 #[test]
@@ -110,7 +110,7 @@ fn screw_motion_flag_meets_a_vertex() {
         at(1.5, 1.4, 0.0)
     );
     let contact = assert_contact(&run_ron(&text), ("flag", "probe"), 0.2, 5.0 * 0.6);
-    assert!(matches!(contact.feature_b, nearmiss::kernels::Feature::Vertex(0)));
+    assert!(matches!(contact.closest.feature_b, nearmiss::kernels::Feature::Vertex(0)));
 }
 
 #[test]

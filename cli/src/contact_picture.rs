@@ -75,8 +75,8 @@ pub fn draw_contact(
     names: (&str, &str),
     path: &Path,
 ) -> Result<(), PlotError> {
-    let (pa, pb) = (contact.point_a, contact.point_b);
-    let triangle_a = mesh_a.triangle(contact.triangle_a).map(|p| contact.pose_a * p);
+    let (pa, pb) = (contact.closest.point_a, contact.closest.point_b);
+    let triangle_a = mesh_a.triangle(contact.closest.triangle_a).map(|p| contact.pose_a * p);
     let face_normal = (triangle_a[1] - triangle_a[0]).cross(&(triangle_a[2] - triangle_a[0]));
     let normal = [pb - pa, face_normal, Vector::z()]
         .into_iter()
@@ -104,12 +104,12 @@ pub fn draw_contact(
         "contact {n}: t = {}   {} (triangle {} {})  /  {} (triangle {} {})   distance {:.3e} (contact distance {:.3e})",
         shortest(contact.time),
         names.0,
-        contact.triangle_a,
-        contact.feature_a,
+        contact.closest.triangle_a,
+        contact.closest.feature_a,
         names.1,
-        contact.triangle_b,
-        contact.feature_b,
-        contact.distance,
+        contact.closest.triangle_b,
+        contact.closest.feature_b,
+        contact.closest.distance,
         contact.contact_distance
     );
 
@@ -147,8 +147,8 @@ pub fn draw_contact(
                 .draw()
                 .map_err(|e| error(&e))?;
             for (mesh, pose, color, contact_triangle) in [
-                (mesh_a, &contact.pose_a, BLUE_BODY, contact.triangle_a),
-                (mesh_b, &contact.pose_b, ORANGE_BODY, contact.triangle_b),
+                (mesh_a, &contact.pose_a, BLUE_BODY, contact.closest.triangle_a),
+                (mesh_b, &contact.pose_b, ORANGE_BODY, contact.closest.triangle_b),
             ] {
                 draw_wireframe(&mut chart, view, mesh, pose, color).map_err(|e| error(&e))?;
                 let t = mesh.triangle(contact_triangle).map(|p| view.project(&(*pose * p)));

@@ -19,7 +19,8 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use crate::report::PeerComparison;
-use nearmiss::math::{Point, Real};
+use nearmiss::math::Real;
+use nearmiss::mesh::MeshDistance;
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{Contact, RunResult, StageSeconds, Work};
 use nearmiss::trace::write_trace_csv;
@@ -112,20 +113,11 @@ pub struct ContactJson<'a> {
     pub body_a: &'a str,
     /// Second body's name.
     pub body_b: &'a str,
-    /// Distance at `time`.
-    pub distance: Real,
-    /// Closest point on `body_a`.
-    pub point_a: [Real; 3],
-    /// Closest point on `body_b`.
-    pub point_b: [Real; 3],
-    /// Triangle of `body_a`.
-    pub triangle_a: usize,
-    /// Triangle of `body_b`.
-    pub triangle_b: usize,
-    /// Feature of `triangle_a` (`vertex 0`, `edge 2`, `face`).
-    pub feature_a: String,
-    /// Feature of `triangle_b`.
-    pub feature_b: String,
+    /// The distance at `time` and where: `distance`, `point_a`, `point_b`,
+    /// `triangle_a`, `triangle_b`, `feature_a`, `feature_b` (the library's
+    /// [`nearmiss::mesh::MeshDistance`], written as it serialises).
+    #[serde(flatten)]
+    pub closest: &'a MeshDistance,
     /// How the CCD iteration ended ([`nearmiss::ccd::CcdStatus::name`]).
     pub status: &'static str,
     /// The pose of `body_a` at `time`.
@@ -138,10 +130,6 @@ pub struct ContactJson<'a> {
     pub guaranteed_distance: Real,
 }
 
-fn point(p: &Point) -> [Real; 3] {
-    [p.x, p.y, p.z]
-}
-
 impl<'a> Summary<'a> {
     /// The summary of a run.
     pub fn of(result: &'a RunResult) -> Summary<'a> {
@@ -150,17 +138,11 @@ impl<'a> Summary<'a> {
 
     /// The summary of a run, with parry's answers beside.
     pub fn with_peer(result: &'a RunResult, peer: &'a [PeerComparison]) -> Summary<'a> {
-        let contact = |c: &Contact| ContactJson {
+        let contact = |c: &'a Contact| ContactJson {
             time: c.time,
             body_a: &result.bodies[c.body_a],
             body_b: &result.bodies[c.body_b],
-            distance: c.distance,
-            point_a: point(&c.point_a),
-            point_b: point(&c.point_b),
-            triangle_a: c.triangle_a,
-            triangle_b: c.triangle_b,
-            feature_a: c.feature_a.to_string(),
-            feature_b: c.feature_b.to_string(),
+            closest: &c.closest,
             status: c.status.name(),
             pose_a: PoseJson::of(&c.pose_a),
             pose_b: PoseJson::of(&c.pose_b),
@@ -445,7 +427,7 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
                         .contacts
                         .iter()
                         .filter(|c| contact_pair(c) == (pair.0.min(pair.1), pair.0.max(pair.1)))
-                        .map(|c| (c.time, c.distance)),
+                        .map(|c| (c.time, c.closest.distance)),
                 )
                 .collect();
             points.sort_by(|x, y| x.0.total_cmp(&y.0));

@@ -130,8 +130,8 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
             let velocity = |s: &nearmiss::motion::RigidState, p: &nearmiss::math::Point| {
                 s.velocity + s.angular_velocity.cross(&(p - s.position))
             };
-            let relative = velocity(a, &c.point_a) - velocity(b, &c.point_b);
-            let gap = c.point_b - c.point_a;
+            let relative = velocity(a, &c.closest.point_a) - velocity(b, &c.closest.point_b);
+            let gap = c.closest.point_b - c.closest.point_a;
             let closing = if gap.norm() > 0.0 { relative.dot(&gap) / gap.norm() } else { relative.norm() };
             let tolerance =
                 if closing > 0.0 { RECORD_TOLERANCE_FACTOR * c.contact_distance / closing } else { scene.dt };

@@ -71,7 +71,7 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
                 name(contact.body_a),
                 name(contact.body_b),
                 features(contact),
-                contact.distance,
+                contact.closest.distance,
                 contact.contact_distance
             );
         }
@@ -124,6 +124,9 @@ fn cell(text: &str) -> String {
 fn features(contact: &Contact) -> String {
     format!(
         "triangle {} {} / triangle {} {}",
-        contact.triangle_a, contact.feature_a, contact.triangle_b, contact.feature_b
+        contact.closest.triangle_a,
+        contact.closest.feature_a,
+        contact.closest.triangle_b,
+        contact.closest.feature_b
     )
 }

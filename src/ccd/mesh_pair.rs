@@ -573,7 +573,7 @@ fn finish(
                 &DistanceSearch::new(kernel, hint),
                 &mut scratch.distance,
             );
-            work.triangle_pairs += closest.triangle_pairs;
+            work.triangle_pairs += scratch.distance.triangle_pairs();
             closest
         }
     };

@@ -39,30 +39,36 @@ pub enum DistanceKernel {
     Dyop(PointEdgeFormula),
 }
 
-/// The distance between two meshes and where it is attained.
+/// The distance between two meshes and where it is attained: the closest
+/// points, triangles and features. The one type of closest points from a
+/// distance query to a run's contacts ([`crate::stepper::Contact::closest`])
+/// and `summary.json` (its serialisation: points as `[x, y, z]`, features
+/// by name, `"vertex 0"`, `"edge 2"`, `"face"`).
 ///
 /// With [`DistanceKernel::Dyop`], `distance` is DyOP's value for the
 /// winning triangle pair, while the points and features come from the exact
 /// kernel on that pair (DyOP gives no points).
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, serde::Serialize)]
 pub struct MeshDistance {
     /// The distance (0 when the surfaces touch or cross).
     pub distance: Real,
     /// The closest point on mesh `a`: world coordinates from
     /// [`mesh_distance`], `a`'s frame from [`mesh_distance_relative`].
+    #[serde(serialize_with = "crate::math::serialize_point")]
     pub point_a: Point,
     /// The closest point on mesh `b`, in the same frame as `point_a`.
+    #[serde(serialize_with = "crate::math::serialize_point")]
     pub point_b: Point,
     /// The triangle of `a` (index into [`TriMesh::triangles`]).
     pub triangle_a: usize,
     /// The triangle of `b`.
     pub triangle_b: usize,
     /// The feature of `triangle_a` that `point_a` lies on.
+    #[serde(serialize_with = "crate::math::serialize_display")]
     pub feature_a: Feature,
     /// The feature of `triangle_b` that `point_b` lies on.
+    #[serde(serialize_with = "crate::math::serialize_display")]
     pub feature_b: Feature,
-    /// Triangle pairs evaluated (a measure of the work done).
-    pub triangle_pairs: usize,
 }
 
 /// Reusable buffers of [`mesh_distance`], so queries do not allocate once
@@ -74,6 +80,16 @@ pub struct MeshDistanceScratch {
     queue_b: batch::TrianglesSoa,
     queue_pairs: Vec<(u32, u32)>,
     distances: Vec<Real>,
+    /// Triangle pairs the last query evaluated.
+    triangle_pairs: usize,
+}
+
+impl MeshDistanceScratch {
+    /// Triangle pairs the last [`mesh_distance`] query evaluated (a
+    /// measure of its work).
+    pub fn triangle_pairs(&self) -> usize {
+        self.triangle_pairs
+    }
 }
 
 /// How a mesh distance query searches.
@@ -192,11 +208,8 @@ pub fn mesh_distance_relative(
 
     let (i, j) = (search.best_pair.0 as usize, search.best_pair.1 as usize);
     // The kernel's value (DyOP's, if chosen), points and features exact.
-    MeshDistance {
-        distance: search.best,
-        triangle_pairs: search.evaluated,
-        ..triangle_pair_distance(a, i, b, j, &pos_ab)
-    }
+    scratch.triangle_pairs = search.evaluated;
+    MeshDistance { distance: search.best, ..triangle_pair_distance(a, i, b, j, &pos_ab) }
 }
 
 /// Triangle `i` of `a` and triangle `j` of `b` (posed by `pos_ab` in `a`'s
@@ -217,7 +230,6 @@ pub(crate) fn triangle_pair_distance(
         triangle_b: j,
         feature_a: closest.feature_a,
         feature_b: closest.feature_b,
-        triangle_pairs: 1,
     }
 }
 
@@ -318,6 +330,29 @@ pub(crate) fn node_lower_bound(
 
 #[cfg(test)]
 mod tests {
+    /// `summary.json` writes a contact's closest points as a
+    /// `MeshDistance` serialises: points as arrays, features by their
+    /// names (not the variants' Rust names, so a rename changes no file).
+    #[test]
+    fn a_distance_serialises_with_features_by_name() {
+        let d = MeshDistance {
+            distance: 0.25,
+            point_a: Point::new(1.0, 2.0, 3.0),
+            point_b: Point::new(1.0, 2.0, 3.25),
+            triangle_a: 4,
+            triangle_b: 7,
+            feature_a: Feature::Edge(2),
+            feature_b: Feature::Vertex(0),
+        };
+        let json = serde_json::to_string(&d).expect("serialisable");
+        assert_eq!(
+            json,
+            r#"{"distance":0.25,"point_a":[1.0,2.0,3.0],"point_b":[1.0,2.0,3.25],"triangle_a":4,"triangle_b":7,"feature_a":"edge 2","feature_b":"vertex 0"}"#
+        );
+        let face = MeshDistance { feature_a: Feature::Face, ..d };
+        assert!(serde_json::to_string(&face).expect("serialisable").contains(r#""feature_a":"face""#));
+    }
+
     use super::super::primitives::{box_mesh, icosphere};
     use super::*;
     use crate::math::Vector;
@@ -339,7 +374,7 @@ mod tests {
             // The two move b by different roundings: agree to rounding of the poses.
             assert!((fast.distance - slow).abs() <= 1e-13, "case {case}: {} vs {slow}", fast.distance);
             assert!(((fast.point_a - fast.point_b).norm() - fast.distance).abs() <= 1e-13);
-            assert!(fast.triangle_pairs < a.triangles().len() * b.triangles().len());
+            assert!(scratch.triangle_pairs() < a.triangles().len() * b.triangles().len());
         }
     }
 }

@@ -87,7 +87,8 @@ impl Bounce {
             let time = contact.time - step.t0;
             let (a, b) = (contact.body_a, contact.body_b);
             let mut sides = [a, b].map(|i| world.impact_body(scene, i, stopped[i].unwrap_or(time).min(time)));
-            let (point, normal) = contact_frame(&contact.point_a, &contact.point_b, &sides[0], &sides[1]);
+            let (point, normal) =
+                contact_frame(&contact.closest.point_a, &contact.closest.point_b, &sides[0], &sides[1]);
             let [side_a, side_b] = &mut sides;
             apply_impulse(side_a, side_b, &point, &normal, self.restitution);
             for (i, side) in [(a, sides[0]), (b, sides[1])] {

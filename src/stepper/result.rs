@@ -1,8 +1,8 @@
 //! What a run returns: contacts, why it ended, work counters.
 
 use crate::ccd::CcdStatus;
-use crate::kernels::Feature;
-use crate::math::{Point, Pose, Real};
+use crate::math::{Pose, Real};
+use crate::mesh::MeshDistance;
 use crate::motion::RigidState;
 use crate::poses::PoseRecord;
 use crate::trace::TraceRecord;
@@ -31,20 +31,12 @@ pub struct Contact {
     pub body_a: usize,
     /// The second body.
     pub body_b: usize,
-    /// The distance at `time` (at most the contact distance).
-    pub distance: Real,
-    /// The closest point of `body_a`, world frame.
-    pub point_a: Point,
-    /// The closest point of `body_b`, world frame.
-    pub point_b: Point,
-    /// The triangle of `body_a` (in its mesh's triangle order).
-    pub triangle_a: usize,
-    /// The triangle of `body_b`.
-    pub triangle_b: usize,
-    /// The feature of `triangle_a` that `point_a` lies on.
-    pub feature_a: Feature,
-    /// The feature of `triangle_b` that `point_b` lies on.
-    pub feature_b: Feature,
+    /// The distance at `time` (at most the contact distance) and where:
+    /// the closest points (world frame), the triangles (in their meshes'
+    /// triangle order) and the features they lie on. Not necessarily the
+    /// closest pair at `time`: the pair within the contact distance that
+    /// stopped the search.
+    pub closest: MeshDistance,
     /// How the CCD iteration ended.
     pub status: CcdStatus,
     /// The contact distance of the pair (`minimum_separation + tolerance`):
@@ -223,10 +215,10 @@ impl RunResult {
     /// write as `null` and CSV as `inf`), named; `None` if all are finite.
     pub fn first_non_finite(&self) -> Option<String> {
         let contact_numbers = |c: &Contact| {
-            [c.time, c.distance, c.contact_distance, c.guaranteed_distance]
+            [c.time, c.closest.distance, c.contact_distance, c.guaranteed_distance]
                 .into_iter()
-                .chain(c.point_a.iter().copied())
-                .chain(c.point_b.iter().copied())
+                .chain(c.closest.point_a.iter().copied())
+                .chain(c.closest.point_b.iter().copied())
                 .chain([&c.pose_a, &c.pose_b].into_iter().flat_map(|p| {
                     p.translation
                         .vector

@@ -75,7 +75,7 @@ pub fn main(args: Args) -> CommandResult {
             result.bodies[c.body_a],
             result.bodies[c.body_b],
             c.time,
-            c.distance,
+            c.closest.distance,
             c.status.name(),
             result.contacts.len()
         ),
