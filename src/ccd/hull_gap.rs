@@ -552,6 +552,16 @@ mod tests {
         box_mesh(&Vector::new(1.0, 1.0, 1.0)).expect("a box")
     }
 
+    /// An icosphere of radius 0.7 (`subdivisions`), the unit box and an
+    /// icosahedron of radius 0.4.
+    fn sphere_box_icosahedron(subdivisions: u32) -> [TriMesh; 3] {
+        [
+            icosphere(0.7, subdivisions).expect("an icosphere"),
+            unit_box(),
+            icosphere(0.4, 0).expect("an icosahedron"),
+        ]
+    }
+
     #[test]
     fn two_boxes_face_to_face_give_their_gap() {
         let (a, b) = (unit_box(), unit_box());
@@ -599,11 +609,7 @@ mod tests {
     /// search), over random poses of two icospheres and a box.
     #[test]
     fn never_above_the_mesh_distance() {
-        let meshes = [
-            icosphere(0.7, 1).expect("an icosphere"),
-            unit_box(),
-            icosphere(0.4, 0).expect("an icosahedron"),
-        ];
+        let meshes = sphere_box_icosahedron(1);
         let mut rng = crate::samples::Rng::new(7);
         let mut scratch = crate::mesh::MeshDistanceScratch::default();
         for k in 0..300 {
@@ -642,11 +648,7 @@ mod tests {
     /// vertex indices out of range) is a cold start.
     #[test]
     fn a_warm_start_gives_the_same_bounds_sooner() {
-        let meshes = [
-            icosphere(0.7, 2).expect("an icosphere"),
-            unit_box(),
-            icosphere(0.4, 0).expect("an icosahedron"),
-        ];
+        let meshes = sphere_box_icosahedron(2);
         let search = crate::mesh::DistanceSearch::new(crate::mesh::DistanceKernel::Exact, None);
         let mut scratch = crate::mesh::MeshDistanceScratch::default();
         let mut rng = crate::samples::Rng::new(5);
