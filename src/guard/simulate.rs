@@ -1,10 +1,12 @@
 //! `on_contact: Simulate`: a scene run by rapier3d and guarded by a
-//! [`Guard`]. Each fixed step: the springs' forces are set from the
-//! bodies' states, rapier steps (gravity, forces, contact solving), and the
-//! guard sweeps every pair from the step's start poses to rapier's end
-//! poses, holding dynamic bodies that would come into contact at their
-//! poses at contact. The trace and the poses are the stepper's observers,
-//! run by the guard's stepper.
+//! [`Guard`], as the run loop's driver ([`crate::stepper::run_with`]).
+//! Each fixed step: kinematic bodies' targets and the springs' forces are
+//! set from the bodies' states, rapier steps (gravity, forces, contact
+//! solving), and the guard sweeps every pair from the step's start poses to
+//! rapier's end poses, moving the world back to a contact where rapier
+//! would let a pair reach the meshes and letting rapier solve the rest of
+//! the step from there. The trace and the poses are the stepper's
+//! observers, run by the guard's stepper.
 
 use std::sync::Arc;
 use std::time::Instant;

@@ -1,16 +1,23 @@
 //! The time-stepper: each fixed step runs the stages below in order, one
 //! file each, each timed by its counter ([`Counters`]):
 //!
-//! 1. **integrate** (`integrate.rs`): each body's motion over the step;
+//! 1. **integrate** (`integrate.rs`): each body's motion over the step (or,
+//!    under `Simulate`, rapier's step read back as motions: [`crate::guard`]);
 //! 2. **broad phase** (`broad.rs`): the pairs whose swept boxes overlap
 //!    (scenes of more than two bodies; with two, the one pair is queried);
 //! 3. **narrow phase** (`narrow.rs`): the CCD of every pair in play, on
-//!    rayon's threads, results in pair order (a run is the same whatever the
-//!    threads);
+//!    rayon's threads when it is long enough to gain from them, results in
+//!    pair order (a run is the same whatever the threads);
 //! 4. **respond** ([`crate::response`]): what the scene's `on_contact` does
 //!    with the contacts found (stop, record, bounce);
 //! 5. **re-arm** (`rearm.rs`): touching pairs that separated are armed again;
 //! 6. **observe** ([`crate::trace`]): the distance trace, when asked for.
+//!
+//! One run loop ([`run_with`]) serves every response: it asks the scene's
+//! driver for each step, the stepper's own integration (`Stop`, `Record`,
+//! `Bounce`) or rapier guarded by nearmiss (`Simulate`: rapier steps, the
+//! guard runs stages 2 to 5 on its motions, rewinding to a contact where
+//! rapier would let a pair through, then stage 6).
 //!
 //! The world state (bodies' states and motions, pairs, contacts:
 //! `world.rs`) is passed to each stage; the `Stepper` owns only the run's
