@@ -98,7 +98,8 @@ pub fn run_observed(scene: &Scene, observer: &mut dyn FnMut(u64)) -> RunResult {
 }
 
 /// Runs a scene with options: the one run loop of every response, its
-/// steps made by the scene's [`Driver`].
+/// steps made by the scene's driver (the stepper's integration, or rapier
+/// guarded by nearmiss under `Simulate`).
 pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64)) -> RunResult {
     let start = Instant::now();
     let mut driver = match driver_for(scene, options) {
