@@ -49,6 +49,10 @@ impl BodyView {
 /// The pose of a body's centre of mass (`center`, body frame) when the body
 /// frame is at `pose`.
 pub(crate) fn center_pose(pose: &Pose, center: &Vector) -> Pose {
+    if *center == Vector::zeros() {
+        // The body frame's origin (a scene body's, by construction).
+        return *pose;
+    }
     Pose::from_parts((pose.translation.vector + pose.rotation * center).into(), pose.rotation)
 }
 

@@ -117,7 +117,13 @@ impl StepMotion {
     /// The rotation at time `s` after the step's start.
     #[inline]
     pub fn rotation_at(&self, s: Real) -> UnitQuaternion<Real> {
-        UnitQuaternion::from_scaled_axis(self.angular_velocity * (self.elapsed + s)) * self.reference.rotation
+        let turn = self.angular_velocity * (self.elapsed + s);
+        if turn == Vector::zeros() {
+            // The reference itself (the turn's exponential is the identity:
+            // at the reference's time, or not turning).
+            return self.reference.rotation;
+        }
+        UnitQuaternion::from_scaled_axis(turn) * self.reference.rotation
     }
 
     /// The pose at time `s` after the step's start.
