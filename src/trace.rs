@@ -24,7 +24,7 @@ use crate::mesh::{
     TriMesh,
 };
 use crate::motion::StepMotion;
-use crate::scene::{Scene, TraceSpec};
+use crate::scene::{Model, RunSpec, TraceSpec};
 
 /// A sample is certified without a search when the hulls' gap is within
 /// this many ulps of the pair's scale (the centres' distance plus both
@@ -51,8 +51,10 @@ pub struct TraceRecord {
 /// Samples a run's trace. Built only for a scene that asks for a trace.
 #[derive(Debug)]
 pub struct TraceObserver {
-    scene: Arc<Scene>,
+    model: Arc<Model>,
     spec: TraceSpec,
+    /// The run's steps (its last step is always sampled).
+    steps: u64,
     records: Vec<TraceRecord>,
     /// What each traced pair's next sample starts from.
     states: Vec<PairTrace>,
@@ -99,7 +101,7 @@ struct PairSample {
 /// What every pair's sample in one call shares: the scene, the motions,
 /// the bodies' orientations and the time.
 struct SampleAt<'a> {
-    scene: &'a Scene,
+    model: &'a Model,
     motions: &'a [StepMotion],
     rotations: &'a [UnitQuaternion<Real>],
     s: Real,
@@ -107,11 +109,12 @@ struct SampleAt<'a> {
 }
 
 impl TraceObserver {
-    /// The observer of `scene`'s trace (its pairs sampled on rayon's
-    /// threads when `parallel`; the samples are the same either way), or
-    /// `None` if it asks for none.
-    pub fn of(scene: &Arc<Scene>, parallel: bool) -> Option<TraceObserver> {
-        scene.trace.clone().map(|spec| TraceObserver {
+    /// The observer of the trace `run` asks for on `model` (its pairs
+    /// sampled on rayon's threads when `parallel`; the samples are the same
+    /// either way), or `None` if it asks for none.
+    pub fn of(model: &Arc<Model>, run: &RunSpec, parallel: bool) -> Option<TraceObserver> {
+        run.trace.clone().map(|spec| TraceObserver {
+            steps: run.steps,
             states: vec![PairTrace::default(); spec.pairs.len()],
             parallel,
             traced_bodies: {
@@ -120,11 +123,11 @@ impl TraceObserver {
                 bodies.dedup();
                 bodies
             },
-            rotations: vec![UnitQuaternion::identity(); scene.bodies.len()],
+            rotations: vec![UnitQuaternion::identity(); model.bodies.len()],
             scratch: MeshDistanceScratch::default(),
             samples: Vec::new(),
             certified: 0,
-            scene: Arc::clone(scene),
+            model: Arc::clone(model),
             spec,
             records: Vec::new(),
             distance_queries: 0,
@@ -135,8 +138,8 @@ impl TraceObserver {
     /// After step `step` (1-based count of steps done) ending at `time`:
     /// samples if the cadence asks for it.
     pub fn step_done(&mut self, step: u64, time: Real, motions: &[StepMotion]) {
-        if step % self.spec.every == 0 || step == self.scene.steps {
-            self.sample(step, time, self.scene.dt, motions);
+        if step % self.spec.every == 0 || step == self.steps {
+            self.sample(step, time, self.model.dt, motions);
         }
     }
 
@@ -172,7 +175,7 @@ impl TraceObserver {
             self.rotations[body] = motions[body].rotation_at(s);
         }
         let at = SampleAt {
-            scene: &self.scene,
+            model: &self.model,
             motions,
             rotations: &self.rotations,
             s,
@@ -240,18 +243,18 @@ impl SampleAt<'_> {
         state: &mut PairTrace,
         scratch: &mut MeshDistanceScratch,
     ) -> PairSample {
-        let scene = self.scene;
+        let model = self.model;
         let pos_ab = StepMotion::relative_pose_turned(
             (&self.motions[a], &self.rotations[a]),
             (&self.motions[b], &self.rotations[b]),
             self.s,
         );
-        let (mesh_a, mesh_b) = (&*scene.bodies[a].mesh, &*scene.bodies[b].mesh);
+        let (mesh_a, mesh_b) = (&*model.bodies[a].mesh, &*model.bodies[b].mesh);
         let scale = pos_ab.translation.vector.norm() + mesh_a.radius() + mesh_b.radius();
         let slack = CERTIFICATE_ULPS * Real::EPSILON * scale;
         // The certificates hold for the exact kernel's values (DyOP's own
         // error may exceed their slack: always searched).
-        let exact = scene.kernel == DistanceKernel::Exact;
+        let exact = model.kernel == DistanceKernel::Exact;
         if exact && !self.reference && mesh_a.is_convex() && mesh_b.is_convex() {
             if let ConvexDistance::Certified(upper) =
                 convex_distance(mesh_a, mesh_b, &pos_ab, &mut state.warm, slack)
@@ -270,7 +273,7 @@ impl SampleAt<'_> {
         let (distance, certified) = match certified.flatten() {
             Some(distance) => (distance, true),
             None => {
-                let search = DistanceSearch::new(scene.kernel, state.hint);
+                let search = DistanceSearch::new(model.kernel, state.hint);
                 let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, scratch);
                 state.hint = Some((d.triangle_a, d.triangle_b));
                 (d.distance, false)

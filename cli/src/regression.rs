@@ -22,8 +22,8 @@ pub struct Verdict {
 
 /// Checks a run against the scene's expectation (`None` without one).
 pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
-    let expectation = scene.expect.as_ref()?;
-    let name = |i: usize| scene.bodies[i].name.as_str();
+    let expectation = scene.run.expect.as_ref()?;
+    let name = |i: usize| scene.model.bodies[i].name.as_str();
     let obtained = match (&result.termination, &result.first_contact) {
         (Termination::Diverged { reason, .. }, _) => format!("diverged: {reason}"),
         (Termination::Undecided { .. }, None) => result.termination_text(),
@@ -102,7 +102,7 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
     let text = nearmiss::input::read_text(path, nearmiss::input::MAX_SCENE_BYTES, "scene file")
         .map_err(|e| format!("{}: {e}", path.display()))?;
     let scene = Scene::load_within(path, max_steps).map_err(|e| e.to_string())?;
-    let derived = match &scene.expect {
+    let derived = match &scene.run.expect {
         None => false,
         Some(Expectation::Contact { recorded, .. }) => !recorded,
         Some(Expectation::NoContact) => !text.contains(RECORDED_COMMENT),
@@ -111,12 +111,12 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
         return Err(format!("{}: keeps its derived expectation (not recorded over)", path.display()));
     }
     let mut first_contact_only = scene.clone();
-    first_contact_only.on_contact = nearmiss::scene::OnContact::Stop;
+    first_contact_only.model.on_contact = nearmiss::scene::OnContact::Stop;
     let result = nearmiss::stepper::run(&first_contact_only);
     if !matches!(result.termination, Termination::Completed | Termination::FirstContact) {
         return Err(format!("{}: not recorded: {}", path.display(), result.termination_text()));
     }
-    let name = |i: usize| scene.bodies[i].name.as_str();
+    let name = |i: usize| scene.model.bodies[i].name.as_str();
     let (value, words, intended) = match &result.first_contact {
         None => (
             "NoContact".to_string(),
@@ -133,8 +133,11 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
             let relative = velocity(a, &c.closest.point_a) - velocity(b, &c.closest.point_b);
             let gap = c.closest.point_b - c.closest.point_a;
             let closing = if gap.norm() > 0.0 { relative.dot(&gap) / gap.norm() } else { relative.norm() };
-            let tolerance =
-                if closing > 0.0 { RECORD_TOLERANCE_FACTOR * c.contact_distance / closing } else { scene.dt };
+            let tolerance = if closing > 0.0 {
+                RECORD_TOLERANCE_FACTOR * c.contact_distance / closing
+            } else {
+                scene.model.dt
+            };
             let value = format!(
                 "Contact(time: {:?}, tolerance: {:?}, bodies: ({:?}, {:?}), recorded: true)",
                 c.time,
@@ -162,7 +165,7 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
     let name_of = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let staging = path.with_file_name(format!(".{name_of}.{}.record", std::process::id()));
     std::fs::write(&staging, &updated).map_err(|e| format!("{}: {e}", staging.display()))?;
-    match Scene::load(&staging).map(|s| s.expect) {
+    match Scene::load(&staging).map(|s| s.run.expect) {
         Ok(Some(loaded)) if loaded == intended => {
             std::fs::rename(&staging, path).map_err(|e| format!("{}: {e}", path.display()))?;
             Ok(words)

@@ -104,15 +104,15 @@ pub fn compare_with_rapier(
     let mut rapier = RapierScene::build(scene, true, false)?;
     let allowed = rapier.parameters.allowed_linear_error();
     // A guard that watches rapier's motion and never moves a body.
-    let mut watched = scene.clone();
+    let mut watched = scene.model.clone();
     for body in Arc::make_mut(&mut watched.bodies) {
         if body.motion != BodyMotion::Fixed {
             body.motion = BodyMotion::Free;
         }
     }
     let watched = std::sync::Arc::new(watched);
-    let stoppable = vec![false; scene.bodies.len()];
-    let centers = vec![crate::math::Vector::zeros(); scene.bodies.len()];
+    let stoppable = vec![false; scene.model.bodies.len()];
+    let centers = vec![crate::math::Vector::zeros(); scene.model.bodies.len()];
     let setup = super::GuardSetup {
         handles: rapier.handles.clone(),
         centers,
@@ -121,18 +121,18 @@ pub fn compare_with_rapier(
         max_substeps: 0,
         parallel: true,
     };
-    let mut guard = Guard::with_scene(watched, setup, &rapier.parameters)?;
-    let pairs = scene.movable_pairs();
+    let mut guard = Guard::with_model(watched, None, setup, &rapier.parameters)?;
+    let pairs = scene.model.movable_pairs();
     // Per pair: rapier's first contact, the step it passed through, the
     // deepest overlap so far.
     type Row = (Option<Real>, Option<Real>, Option<Real>);
     let mut rows: BTreeMap<(usize, usize), Row> =
         pairs.iter().map(|&p| (p, (None, None, Some(0.0)))).collect();
     let mut touching_before: Vec<bool> = pairs.iter().map(|&(a, b)| rapier.in_contact(a, b)).collect();
-    for step in 0..scene.steps {
+    for step in 0..scene.run.steps {
         guard.before_step(&rapier.bodies);
         rapier.step(scene, step);
-        let end = (step + 1) as Real * scene.dt;
+        let end = (step + 1) as Real * scene.model.dt;
         let crossed: Vec<(usize, usize)> = match guard.after_step(&mut rapier.bodies) {
             Ok(events) => events
                 .iter()
@@ -157,7 +157,7 @@ pub fn compare_with_rapier(
                 row.0 = Some(end);
             }
             if crossed.contains(&(a, b)) && !touching && !touching_before[k] && row.1.is_none() {
-                row.1 = Some(end - scene.dt);
+                row.1 = Some(end - scene.model.dt);
             }
             touching_before[k] = touching;
             row.2 = match (row.2, rapier.penetration(a, b)) {
@@ -167,7 +167,7 @@ pub fn compare_with_rapier(
         }
     }
     let triple = |v: &crate::math::Vector| [v.x, v.y, v.z];
-    let bodies = (0..scene.bodies.len())
+    let bodies = (0..scene.model.bodies.len())
         .map(|i| {
             let rapier_state = rapier.state(i);
             let (v, w) = rapier_state.map_or(([0.0; 3], [0.0; 3]), |state| {
@@ -177,7 +177,7 @@ pub fn compare_with_rapier(
                 (triple(&state.velocity), triple(&state.angular_velocity))
             });
             RapierBody {
-                body: scene.bodies[i].name.clone(),
+                body: scene.model.bodies[i].name.clone(),
                 rapier_velocity: v,
                 rapier_angular_velocity: w,
                 nearmiss_velocity: nv,
@@ -200,8 +200,8 @@ pub fn compare_with_rapier(
                 "no contact"
             };
             RapierPair {
-                body_a: scene.bodies[a].name.clone(),
-                body_b: scene.bodies[b].name.clone(),
+                body_a: scene.model.bodies[a].name.clone(),
+                body_b: scene.model.bodies[b].name.clone(),
                 nearmiss: nearmiss_first.get(&(a, b)).copied(),
                 rapier: first,
                 passed_through_at: passed,
@@ -265,7 +265,7 @@ pub struct RapierAlone {
 pub fn run_rapier_alone(scene: &Scene, triangle_meshes: bool) -> Result<RapierAlone, super::GuardError> {
     let mut scene = scene.clone();
     if triangle_meshes {
-        for body in Arc::make_mut(&mut scene.bodies) {
+        for body in Arc::make_mut(&mut scene.model.bodies) {
             let material = body.material.get_or_insert(crate::scene::Material {
                 friction: crate::scene::file::DEFAULT_FRICTION,
                 restitution: 0.0,
@@ -276,8 +276,8 @@ pub fn run_rapier_alone(scene: &Scene, triangle_meshes: bool) -> Result<RapierAl
     }
     let mut rapier = RapierScene::build(&scene, true, false)?;
     let clock = std::time::Instant::now();
-    for step in 0..scene.steps {
+    for step in 0..scene.run.steps {
         rapier.step(&scene, step);
     }
-    Ok(RapierAlone { steps: scene.steps, wall_time_s: clock.elapsed().as_secs_f64() })
+    Ok(RapierAlone { steps: scene.run.steps, wall_time_s: clock.elapsed().as_secs_f64() })
 }

@@ -135,7 +135,7 @@ use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::DistanceKernel;
 use crate::motion::StepMotion;
 use crate::response::Clamp;
-use crate::scene::{Body, BodyMotion, OnContact, Scene};
+use crate::scene::{Body, BodyMotion, Model, OnContact, RunSpec};
 use crate::stepper::{Contact, PairState, RunOptions, Stepper, Termination, World};
 use bodies::{body_pose, center_pose};
 
@@ -456,12 +456,10 @@ impl<B: RapierBodies> Guard<B> {
             centers.push(center);
             stoppable.push(matches!(body.kind, BodyKind::Dynamic { .. }));
         }
-        let scene = Scene {
-            name: "guard".into(),
-            source: "nearmiss::guard".into(),
+        // What the guard sweeps: rapier's bodies as meshes, rapier's step
+        // (no run to write: no trace, no poses, no name).
+        let model = Model {
             dt: B::dt(parameters),
-            steps: u64::MAX,
-            duration: Real::INFINITY,
             integrator: Default::default(),
             gyroscopic: Default::default(),
             ccd: options.ccd,
@@ -471,11 +469,7 @@ impl<B: RapierBodies> Guard<B> {
                 friction: crate::scene::file::DEFAULT_FRICTION,
                 solver_iterations: crate::scene::file::DEFAULT_SOLVER_ITERATIONS,
             },
-            trace: None,
-            plot: None,
             bodies: Arc::new(scene_bodies),
-            expect: None,
-            poses: None,
             parameters: Default::default(),
         };
         let setup = GuardSetup {
@@ -486,7 +480,7 @@ impl<B: RapierBodies> Guard<B> {
             max_substeps: options.max_substeps,
             parallel: options.parallel,
         };
-        let mut guard = Guard::with_scene(Arc::new(scene), setup, parameters)?;
+        let mut guard = Guard::with_model(Arc::new(model), None, setup, parameters)?;
         guard.options = Some(options);
         Ok(guard)
     }
@@ -542,16 +536,18 @@ impl<B: RapierBodies> Guard<B> {
         self.time_before + self.step as Real * self.dt
     }
 
-    /// The guard of a scene already built (the scene runner's: its bodies
-    /// are `setup.handles`, its meshes relative to their bodies' frames,
-    /// which are their centres of mass).
-    pub(crate) fn with_scene(
-        scene: Arc<Scene>,
+    /// The guard of `model` (the scene runner's, with the observers of its
+    /// `run`; or [`Guard::new`]'s, of rapier's bodies: its bodies are
+    /// `setup.handles`, its meshes relative to their bodies' frames, which
+    /// are their centres of mass).
+    pub(crate) fn with_model(
+        model: Arc<Model>,
+        run: Option<&RunSpec>,
         setup: GuardSetup<B::Handle>,
         parameters: &B::Parameters,
     ) -> Result<Guard<B>, GuardError<B::Handle>> {
         let limit = contact_distance_limit(B::prediction_distance(parameters), setup.skin);
-        if let Err((body, contact_distance, limit)) = contact_within(&scene.ccd, scene.bodies.iter(), limit) {
+        if let Err((body, contact_distance, limit)) = contact_within(&model.ccd, model.bodies.iter(), limit) {
             return Err(GuardError::ContactDistance { body, contact_distance, limit });
         }
         let options = RunOptions { parallel: setup.parallel, broad_phase: true };
@@ -559,19 +555,19 @@ impl<B: RapierBodies> Guard<B> {
             stoppable: setup.stoppable,
             separation: two_skins(setup.skin) + B::prediction_distance(parameters),
             skin_separation: if setup.skin > 0.0 {
-                scene.ccd.minimum_separation + two_skins(setup.skin)
+                model.ccd.minimum_separation + two_skins(setup.skin)
             } else {
                 0.0
             },
             guards_touching_pairs: setup.skin > 0.0,
         });
-        let mut stepper = Stepper::with_response(Arc::clone(&scene), options, response);
+        let mut stepper = Stepper::with_response(Arc::clone(&model), run, options, response);
         stepper.set_extra_box_margin(setup.skin);
         stepper.set_parallel_narrow_phase_seconds(PARALLEL_NARROW_PHASE_SECONDS);
         let world = stepper.new_world(false);
         Ok(Guard {
-            start: scene.bodies.iter().map(|b| b.pose).collect(),
-            velocities: scene.bodies.iter().map(|b| (b.velocity, b.angular_velocity)).collect(),
+            start: model.bodies.iter().map(|b| b.pose).collect(),
+            velocities: model.bodies.iter().map(|b| (b.velocity, b.angular_velocity)).collect(),
             handles: setup.handles,
             centers: setup.centers,
             started: false,

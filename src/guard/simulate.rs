@@ -94,13 +94,13 @@ impl RapierScene {
     /// (`--compare rapier`); `guarded`: give every collider the guard's
     /// contact skin ([`super::GuardOptions::skin`]'s default).
     pub fn build(scene: &Scene, rapier_ccd: bool, guarded: bool) -> Result<RapierScene, GuardError> {
-        let (friction, restitution, solver_iterations) = match scene.on_contact {
+        let (friction, restitution, solver_iterations) = match scene.model.on_contact {
             OnContact::Simulate { friction, restitution, solver_iterations } => {
                 (friction, restitution, solver_iterations)
             }
             _ => (crate::scene::file::DEFAULT_FRICTION, 0.0, crate::scene::file::DEFAULT_SOLVER_ITERATIONS),
         };
-        let mut parameters = IntegrationParameters { dt: scene.dt, ..Default::default() };
+        let mut parameters = IntegrationParameters { dt: scene.model.dt, ..Default::default() };
         parameters.num_solver_iterations = solver_iterations;
         // A scene's velocities are what it says: no speed cap (rapier's
         // default caps bodies at 400 units per second).
@@ -108,14 +108,14 @@ impl RapierScene {
         let skin = if guarded { super::GuardOptions::default().skin_under(&parameters) } else { 0.0 };
         let mut bodies = RigidBodySet::new();
         let mut colliders = ColliderSet::new();
-        let mut handles = Vec::with_capacity(scene.bodies.len());
-        let mut shapes = Vec::with_capacity(scene.bodies.len());
+        let mut handles = Vec::with_capacity(scene.model.bodies.len());
+        let mut shapes = Vec::with_capacity(scene.model.bodies.len());
         let mut gravity = Vector::zeros();
         // One collider shape per mesh asset (and shape kind): bodies of one
         // mesh share it, as they share the mesh (a thousand icospheres are
         // one convexity check and one hull).
         let mut built: Vec<(*const crate::mesh::TriMesh, bool, SharedShape, ColliderShape)> = Vec::new();
-        for body in scene.bodies.iter() {
+        for body in scene.model.bodies.iter() {
             let builder = match &body.motion {
                 BodyMotion::Fixed => RigidBodyBuilder::fixed(),
                 // Driven along its exact motion (`step` sets each next pose).
@@ -199,14 +199,20 @@ impl RapierScene {
     /// then `PhysicsPipeline::step` by the scene's `dt`.
     pub fn step(&mut self, scene: &Scene, step: u64) {
         self.prepare(scene, step);
-        self.engine.step(&mut self.bodies, &mut self.colliders, &self.parameters, &self.gravity, scene.dt);
+        self.engine.step(
+            &mut self.bodies,
+            &mut self.colliders,
+            &self.parameters,
+            &self.gravity,
+            scene.model.dt,
+        );
     }
 
     /// Before rapier's step `step`: kinematic bodies' next poses on their
     /// exact motions, the springs' forces from the bodies' states.
     pub fn prepare(&mut self, scene: &Scene, step: u64) {
-        let end = (step + 1) as Real * scene.dt;
-        for (body, handle) in scene.bodies.iter().zip(&self.handles) {
+        let end = (step + 1) as Real * scene.model.dt;
+        for (body, handle) in scene.model.bodies.iter().zip(&self.handles) {
             if body.kinematic {
                 if let Some(rigid) = self.bodies.get_mut(*handle) {
                     let motion = StepMotion::free(&body.pose, body.velocity, body.angular_velocity, 0.0);
@@ -295,11 +301,11 @@ pub(crate) struct Guarded {
 /// with the guard's skin, and the guard over them.
 pub(crate) fn driver(scene: &Scene, options: RunOptions) -> Result<Guarded, GuardError> {
     let rapier = RapierScene::build(scene, false, true)?;
-    // The guard's scene: rapier moves the bodies, so none is integrated by
+    // The guard's model: rapier moves the bodies, so none is integrated by
     // the stepper; the dynamic ones are those contacts stop.
     let stoppable: Vec<bool> =
-        scene.bodies.iter().map(|b| matches!(b.motion, BodyMotion::Integrated(_))).collect();
-    let mut guarded = scene.clone();
+        scene.model.bodies.iter().map(|b| matches!(b.motion, BodyMotion::Integrated(_))).collect();
+    let mut guarded = scene.model.clone();
     for body in Arc::make_mut(&mut guarded.bodies) {
         if body.motion != BodyMotion::Fixed {
             body.motion = BodyMotion::Free;
@@ -307,13 +313,13 @@ pub(crate) fn driver(scene: &Scene, options: RunOptions) -> Result<Guarded, Guar
     }
     let setup = GuardSetup {
         handles: rapier.handles.clone(),
-        centers: vec![Vector::zeros(); scene.bodies.len()],
+        centers: vec![Vector::zeros(); scene.model.bodies.len()],
         stoppable,
         skin: rapier.skin,
         max_substeps: super::DEFAULT_MAX_SUBSTEPS,
         parallel: options.parallel,
     };
-    let guard = Guard::with_scene(Arc::new(guarded), setup, &rapier.parameters)?;
+    let guard = Guard::with_model(Arc::new(guarded), Some(&scene.run), setup, &rapier.parameters)?;
     Ok(Guarded { scene: Arc::new(scene.clone()), rapier, guard })
 }
 
@@ -343,10 +349,10 @@ impl Driver for Guarded {
 
     /// The stepper's result, with rapier's final states and who solved.
     fn finish(self: Box<Self>, steps: u64, termination: Termination, start: Instant) -> RunResult {
-        let Guarded { rapier, guard, .. } = *self;
+        let Guarded { scene, rapier, guard } = *self;
         let rewinds = guard.rewinds();
         let (stepper, world) = guard.into_parts();
-        let mut result = stepper.finish(world, steps, termination, start);
+        let mut result = stepper.finish(world, scene.run.name.clone(), steps, termination, start);
         for (i, state) in result.final_states.iter_mut().enumerate() {
             if let Some(rapier_state) = rapier.state(i) {
                 *state = rapier_state;

@@ -66,9 +66,9 @@ impl Response for Bounce {
                 && !approaching(step, *k, result);
             !moving_apart
         });
-        let scene = step.scene;
+        let model = step.model;
         // Kinematic bodies stop too (for the rest of the step); fixed ones never move.
-        let can_stop = |i: usize| scene.bodies[i].motion != BodyMotion::Fixed;
+        let can_stop = |i: usize| model.bodies[i].motion != BodyMotion::Fixed;
         let Stops { committed, stopped } =
             stop_in_time_order(step, found, &|pair| self.contact_rule(pair), &can_stop);
         self.apply_impulses(step, &committed, &stopped);
@@ -81,12 +81,12 @@ impl Bounce {
     /// The committed contacts' impulses in time order, at the bodies' poses
     /// at contact; the pushed bodies' states take the new velocities.
     fn apply_impulses(&self, step: &mut StepContext<'_>, committed: &[usize], stopped: &[Option<Real>]) {
-        let (scene, world) = (step.scene, &mut *step.world);
+        let (model, world) = (step.model, &mut *step.world);
         for &c in committed {
             let contact = world.contacts[c].clone();
             let time = contact.time - step.t0;
             let (a, b) = (contact.body_a, contact.body_b);
-            let mut sides = [a, b].map(|i| world.impact_body(scene, i, stopped[i].unwrap_or(time).min(time)));
+            let mut sides = [a, b].map(|i| world.impact_body(model, i, stopped[i].unwrap_or(time).min(time)));
             let (point, normal) =
                 contact_frame(&contact.closest.point_a, &contact.closest.point_b, &sides[0], &sides[1]);
             let [side_a, side_b] = &mut sides;
@@ -108,8 +108,8 @@ impl Bounce {
 fn approaching(step: &StepContext<'_>, k: usize, contact: &MeshCcdResult) -> bool {
     let Some(closest) = contact.closest else { return true };
     let pair = &step.world.pairs[k];
-    let a = step.world.impact_body(step.scene, pair.a, 0.0);
-    let b = step.world.impact_body(step.scene, pair.b, 0.0);
+    let a = step.world.impact_body(step.model, pair.a, 0.0);
+    let b = step.world.impact_body(step.model, pair.b, 0.0);
     let (point, normal) = contact_frame(&closest.point_a, &closest.point_b, &a, &b);
     approach_speed(&a, &b, &point, &normal) < 0.0
 }

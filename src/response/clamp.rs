@@ -163,14 +163,14 @@ impl Clamp {
         time: Real,
         rule: ContactRule,
     ) -> MeshCcdResult {
-        let scene = step.scene;
+        let model = step.model;
         let pair = step.world.pairs[k].clone();
         let from = |i: usize| {
             let motion = &step.world.motions[i];
             StepMotion { elapsed: motion.elapsed + time, ..*motion }
         };
         let (ma, mb) = (from(pair.a), from(pair.b));
-        let query = pair_query(scene, &pair, [&ma, &mb], scene.dt - time, rule);
+        let query = pair_query(model, &pair, [&ma, &mb], model.dt - time, rule);
         let warm = WarmStart { lower_bound: None, ..pair.warm_start() };
         let mut result = mesh_time_of_impact(&query, warm, step.scratch);
         step.counters.work.distance_queries += result.iterations;
@@ -237,8 +237,8 @@ fn time_of(found: &Found) -> Real {
 fn approaching(step: &StepContext<'_>, k: usize, contact: &MeshCcdResult, time: Real) -> bool {
     let Some(closest) = contact.closest else { return true };
     let pair = &step.world.pairs[k];
-    let a = step.world.impact_body(step.scene, pair.a, time);
-    let b = step.world.impact_body(step.scene, pair.b, time);
+    let a = step.world.impact_body(step.model, pair.a, time);
+    let b = step.world.impact_body(step.model, pair.b, time);
     let (point, normal) = contact_frame(&closest.point_a, &closest.point_b, &a, &b);
     approach_speed(&a, &b, &point, &normal) < 0.0
 }

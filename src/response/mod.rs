@@ -16,7 +16,7 @@
 //!   velocities left to rapier ([`crate::guard`]).
 //!
 //! A new response is a new file implementing the crate's `Response` trait
-//! and one arm of `for_scene`; the stepper does not change.
+//! and one arm of `for_model`; the stepper does not change.
 
 mod bounce;
 #[cfg(feature = "rapier")]
@@ -31,13 +31,13 @@ pub use impulse::{apply_impulse, approach_speed, contact_frame, ImpactBody};
 
 use crate::ccd::{ContactRule, MeshCcdScratch};
 use crate::math::Real;
-use crate::scene::{OnContact, Scene};
+use crate::scene::{Model, OnContact};
 use crate::stepper::{Counters, Found, PairState, World};
 
 /// What a response may read and change during a step.
 pub(crate) struct StepContext<'a> {
     /// The scene.
-    pub scene: &'a Scene,
+    pub model: &'a Model,
     /// The world state.
     pub world: &'a mut World,
     /// CCD scratch, for queries the response makes itself.
@@ -95,13 +95,13 @@ pub(crate) trait Response: Sync {
 /// The response a scene asks for, for the stepper's own integration;
 /// `None` under `Simulate`, whose steps rapier makes and the guard sweeps
 /// with its own clamp (`clamp.rs`).
-pub(crate) fn for_scene(scene: &Scene) -> Option<Box<dyn Response>> {
-    match scene.on_contact {
+pub(crate) fn for_model(model: &Model) -> Option<Box<dyn Response>> {
+    match model.on_contact {
         OnContact::Stop => Some(Box::new(record::Record { stop: true })),
         OnContact::Record => Some(Box::new(record::Record { stop: false })),
         OnContact::Bounce { restitution } => Some(Box::new(bounce::Bounce {
             restitution,
-            redetect_fraction: scene.parameters.bounce_redetect_fraction,
+            redetect_fraction: model.parameters.bounce_redetect_fraction,
         })),
         OnContact::Simulate { .. } => None,
     }

@@ -64,8 +64,8 @@ pub(super) fn stop_in_time_order(
     rule: &dyn Fn(&PairState) -> ContactRule,
     can_stop: &dyn Fn(usize) -> bool,
 ) -> Stops {
-    let scene = step.scene;
-    let dt = scene.dt;
+    let model = step.model;
+    let dt = model.dt;
     let mut candidates = BinaryHeap::new();
     let mut results: HashMap<usize, MeshCcdResult> = HashMap::new();
     for Found { pair, result } in found.drain(..) {
@@ -73,7 +73,7 @@ pub(super) fn stop_in_time_order(
         candidates.push(Candidate { time, pair, version: 0 });
         results.insert(pair, result);
     }
-    let mut stopped: Vec<Option<Real>> = vec![None; scene.bodies.len()];
+    let mut stopped: Vec<Option<Real>> = vec![None; model.bodies.len()];
     let mut versions = vec![0u32; step.world.pairs.len()];
     let mut committed = Vec::new();
     while let Some(candidate) = candidates.pop() {
@@ -110,7 +110,7 @@ pub(super) fn stop_in_time_order(
                     None => StepMotion { elapsed: motions[i].elapsed + time, ..motions[i] },
                 };
                 let (ma, mb) = (held(pair.a), held(pair.b));
-                let query = pair_query(scene, &pair, [&ma, &mb], dt - time, rule(&pair));
+                let query = pair_query(model, &pair, [&ma, &mb], dt - time, rule(&pair));
                 let warm = WarmStart { lower_bound: None, ..pair.warm_start() };
                 let result = mesh_time_of_impact(&query, warm, step.scratch);
                 step.counters.work.add_query(result.iterations, result.triangle_pairs, result.hull_steps);
@@ -142,7 +142,7 @@ pub(super) fn stop_in_time_order(
 /// motion and, where the stepper keeps one, their state); kinematic bodies
 /// with a state that did not stop reach the step's end.
 pub(super) fn hold_stopped_bodies(step: &mut StepContext<'_>, stopped: &[Option<Real>]) {
-    let (scene, world) = (step.scene, &mut *step.world);
+    let (model, world) = (step.model, &mut *step.world);
     for (i, at) in stopped.iter().enumerate() {
         let Some(at) = *at else { continue };
         let pose = world.motions[i].pose_at(at);
@@ -152,10 +152,10 @@ pub(super) fn hold_stopped_bodies(step: &mut StepContext<'_>, stopped: &[Option<
         }
         world.motions[i] = StepMotion::fixed(pose);
     }
-    for (i, body) in scene.bodies.iter().enumerate() {
+    for (i, body) in model.bodies.iter().enumerate() {
         if body.motion == BodyMotion::Free && stopped[i].is_none() {
             if let Some(state) = world.states[i].as_mut() {
-                let pose = world.motions[i].pose_at(scene.dt);
+                let pose = world.motions[i].pose_at(model.dt);
                 state.position = Point::from(pose.translation.vector);
                 state.orientation = pose.rotation;
             }

@@ -204,22 +204,26 @@ impl Builder<'_> {
         };
         let expect = self.expect(file.expect.as_ref(), &names)?;
         Ok(Scene {
-            name: file.name,
-            source: self.source.to_string(),
-            dt,
-            steps,
-            duration: file.duration.unwrap_or(steps as Real * dt),
-            integrator: file.integrator,
-            gyroscopic: file.gyroscopic,
-            ccd,
-            kernel,
-            on_contact: file.on_contact,
-            trace,
-            plot,
-            bodies: Arc::new(bodies),
-            expect,
-            poses,
-            parameters: Default::default(),
+            model: super::Model {
+                dt,
+                integrator: file.integrator,
+                gyroscopic: file.gyroscopic,
+                ccd,
+                kernel,
+                on_contact: file.on_contact,
+                bodies: Arc::new(bodies),
+                parameters: Default::default(),
+            },
+            run: super::RunSpec {
+                name: file.name,
+                source: self.source.to_string(),
+                steps,
+                duration: file.duration.unwrap_or(steps as Real * dt),
+                trace,
+                plot,
+                expect,
+                poses,
+            },
         })
     }
 

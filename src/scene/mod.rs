@@ -1,5 +1,8 @@
 //! Scenes: the RON file format ([`file`](mod@file)), its validation, and the
-//! validated [`Scene`] that the [`stepper`](crate::stepper) runs.
+//! validated [`Scene`] that the [`stepper`](crate::stepper) runs: its
+//! [`Model`] (what is simulated: bodies, step, engine settings; what the
+//! stepper and the guard take) and its [`RunSpec`] (what a run covers and
+//! writes: name, length, trace, plot, poses, expectation).
 //!
 //! Loading resolves everything a run needs and checks it: numbers finite
 //! and in range, names unique and resolved, meshes built (OBJ paths
@@ -20,7 +23,8 @@
 //!         expect: Contact(time: 1.0, tolerance: 1e-6, bodies: ("a", "b")),
 //!     )
 //! "#).unwrap();
-//! assert_eq!(scene.steps, 100);
+//! assert_eq!(scene.run.steps, 100);
+//! assert_eq!(scene.model.bodies.len(), 2);
 //! ```
 
 mod build;
@@ -47,16 +51,41 @@ use crate::motion::{Dynamics, Gyroscopic, Integrator};
 /// A validated scene, ready to run.
 #[derive(Clone, Debug)]
 pub struct Scene {
-    /// The scene's name.
+    /// What is simulated: the bodies, the step, the engine's settings.
+    pub model: Model,
+    /// What a run of it covers and writes: its name, length, trace, plot,
+    /// poses and expectation.
+    pub run: RunSpec,
+}
+
+/// What a run writes and how long it runs (a [`Scene`]'s half that the
+/// simulation does not need).
+#[derive(Clone, Debug)]
+pub struct RunSpec {
+    /// The scene's name (its output folder).
     pub name: String,
     /// Where it was read from (for messages).
     pub source: String,
-    /// The fixed step.
-    pub dt: Real,
     /// The number of steps.
     pub steps: u64,
     /// The time the scene asks to cover (`duration`, or `steps × dt`).
     pub duration: Real,
+    /// The distance trace, if asked for.
+    pub trace: Option<TraceSpec>,
+    /// The distance plot, if asked for (drawn from the trace).
+    pub plot: Option<PlotSpec>,
+    /// The expectation `nearmiss test` checks.
+    pub expect: Option<Expectation>,
+    /// The pose record (`poses.csv`), if asked for.
+    pub poses: Option<PosesSpec>,
+}
+
+/// What is simulated: the bodies and how they move and meet (a [`Scene`]'s
+/// half that the stepper and the guard need).
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// The fixed step.
+    pub dt: Real,
     /// The integrator of bodies with forces.
     pub integrator: Integrator,
     /// The rotation update of semi-implicit Euler.
@@ -67,17 +96,9 @@ pub struct Scene {
     pub kernel: DistanceKernel,
     /// What happens at a contact.
     pub on_contact: OnContact,
-    /// The distance trace, if asked for.
-    pub trace: Option<TraceSpec>,
-    /// The distance plot, if asked for (drawn from the trace).
-    pub plot: Option<PlotSpec>,
-    /// The bodies, shared: a copy of the scene (the stepper keeps one)
+    /// The bodies, shared: a copy of the model (the stepper keeps one)
     /// does not copy them; `Arc::make_mut` changes a copy's own.
     pub bodies: Arc<Vec<Body>>,
-    /// The expectation `nearmiss test` checks.
-    pub expect: Option<Expectation>,
-    /// The pose record (`poses.csv`), if asked for.
-    pub poses: Option<PosesSpec>,
     /// The stepper's parameters (not part of the file format: defaults).
     pub parameters: crate::stepper::StepParameters,
 }
@@ -236,10 +257,10 @@ impl Scene {
     /// of steps recomputed to cover the same duration).
     pub fn with_settings(&self, dt: Real, kernel: DistanceKernel, integrator: Integrator) -> Scene {
         let mut scene = self.clone();
-        scene.dt = dt;
-        scene.steps = steps_for(self.duration, dt);
-        scene.kernel = kernel;
-        scene.integrator = integrator;
+        scene.model.dt = dt;
+        scene.run.steps = steps_for(self.run.duration, dt);
+        scene.model.kernel = kernel;
+        scene.model.integrator = integrator;
         scene
     }
 
@@ -254,17 +275,17 @@ impl Scene {
     /// Checks that the run takes at most `max_steps` steps (see
     /// [`DEFAULT_MAX_STEPS`]); the error names the field and the limit.
     pub fn check_steps(&self, max_steps: u64) -> Result<(), SceneError> {
-        if self.steps <= max_steps {
+        if self.run.steps <= max_steps {
             return Ok(());
         }
         Err(SceneError::Invalid {
-            path: self.source.clone(),
+            path: self.run.source.clone(),
             field: "steps".into(),
             message: format!(
                 "the run would take {} steps (duration {} / dt {}), more than the limit of {max_steps}: check `dt` and `duration`, or allow more with --max-steps",
-                self.steps,
-                crate::math::shortest(self.duration),
-                crate::math::shortest(self.dt)
+                self.run.steps,
+                crate::math::shortest(self.run.duration),
+                crate::math::shortest(self.model.dt)
             ),
         })
     }
@@ -272,16 +293,22 @@ impl Scene {
     /// The most records the scene's trace or its poses (the larger of the
     /// two, each held to [`MAX_RECORDS`]) keep over a run of `steps` steps.
     pub fn most_records(&self, steps: u64) -> u64 {
-        let trace = self.trace.as_ref().map_or(0, |t| most_records(t.pairs.len() as u64, steps, t.every));
-        let poses = self.poses.as_ref().map_or(0, |p| most_records(self.bodies.len() as u64, steps, p.every));
+        let trace = self.run.trace.as_ref().map_or(0, |t| most_records(t.pairs.len() as u64, steps, t.every));
+        let poses = self
+            .run
+            .poses
+            .as_ref()
+            .map_or(0, |p| most_records(self.model.bodies.len() as u64, steps, p.every));
         trace.max(poses)
     }
 
     /// The index of the body with this name.
     pub fn body_index(&self, name: &str) -> Option<usize> {
-        self.bodies.iter().position(|b| b.name == name)
+        self.model.bodies.iter().position(|b| b.name == name)
     }
+}
 
+impl Model {
     /// Every pair of bodies that can touch (not both fixed), `i < j`.
     pub fn movable_pairs(&self) -> Vec<(usize, usize)> {
         let n = self.bodies.len();

@@ -22,22 +22,22 @@ impl Stepper {
     pub(super) fn broad_phase(&mut self, world: &mut World) {
         let clock = Instant::now();
         if let Some(broad) = self.broad.as_mut() {
-            let scene = Arc::clone(&self.scene);
-            let scene = &*scene;
+            let model = Arc::clone(&self.model);
+            let model = &*model;
             let boxes = &mut self.scratch.boxes;
             boxes.clear();
-            for (body, motion) in scene.bodies.iter().zip(&world.motions) {
+            for (body, motion) in model.bodies.iter().zip(&world.motions) {
                 let radius = body.mesh.radius();
                 // Each box grows by at least its share of any pair's contact
                 // distance (the contract's box margin) and a rounding margin.
-                let reach = motion.center_at(0.0).coords.amax() + motion.travel(scene.dt) + radius;
-                let margin = box_margin(&scene.ccd, radius)
+                let reach = motion.center_at(0.0).coords.amax() + motion.travel(model.dt) + radius;
+                let margin = box_margin(&model.ccd, radius)
                     + self.extra_box_margin
                     + self.parameters.broad_phase_rounding_ulps * Real::EPSILON * reach;
-                boxes.push(swept_box(&body.mesh, motion, scene.dt, margin));
+                boxes.push(swept_box(&body.mesh, motion, model.dt, margin));
             }
             let candidates = broad.pairs(boxes);
-            let fixed = |i: usize| scene.bodies[i].motion == BodyMotion::Fixed;
+            let fixed = |i: usize| model.bodies[i].motion == BodyMotion::Fixed;
             // The new pairs go into the previous step's spare buffer.
             let mut old = std::mem::replace(&mut world.pairs, std::mem::take(&mut self.scratch.spare_pairs));
             world.pairs.clear();

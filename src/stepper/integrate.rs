@@ -35,7 +35,7 @@ impl Stepper {
         step: u64,
         t0: Real,
     ) -> Result<(), Termination> {
-        let (scene, parameters, counters) = (&*self.scene, &self.parameters, &mut self.counters);
+        let (model, parameters, counters) = (&*self.model, &self.parameters, &mut self.counters);
         // Bounces move energy between bodies: the check is per body, so a
         // response that exchanges momentum turns it off.
         let check_energy = !self.response.exchanges_momentum();
@@ -43,17 +43,17 @@ impl Stepper {
         // (each body's step is the same whatever the threads).
         let advance = |(body, state): (&Body, &Option<RigidState>)| match (&body.motion, state) {
             (BodyMotion::Integrated(dynamics), Some(state)) => {
-                Some(integrate(state, dynamics, scene.integrator, scene.gyroscopic, scene.dt))
+                Some(integrate(state, dynamics, model.integrator, model.gyroscopic, model.dt))
             }
             _ => None,
         };
-        if self.options.parallel && scene.bodies.len() >= parameters.parallel_integration_bodies {
-            scene.bodies.par_iter().zip(&world.states).map(advance).collect_into_vec(advanced);
+        if self.options.parallel && model.bodies.len() >= parameters.parallel_integration_bodies {
+            model.bodies.par_iter().zip(&world.states).map(advance).collect_into_vec(advanced);
         } else {
             advanced.clear();
-            advanced.extend(scene.bodies.iter().zip(&world.states).map(advance));
+            advanced.extend(model.bodies.iter().zip(&world.states).map(advance));
         }
-        for (i, body) in scene.bodies.iter().enumerate() {
+        for (i, body) in model.bodies.iter().enumerate() {
             world.motions[i] = match &body.motion {
                 BodyMotion::Fixed => StepMotion::fixed(body.pose),
                 BodyMotion::Free => match &world.states[i] {
@@ -71,8 +71,8 @@ impl Stepper {
                     if !next.is_finite() {
                         return Err(diverged(format!("the state of `{}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator", body.name)));
                     }
-                    let motion = StepMotion::between(&state.pose(), &next.pose(), scene.dt);
-                    let turn = motion.angular_velocity.norm() * scene.dt;
+                    let motion = StepMotion::between(&state.pose(), &next.pose(), model.dt);
+                    let turn = motion.angular_velocity.norm() * model.dt;
                     if turn >= MAX_TURN_PER_STEP {
                         return Err(diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", body.name)));
                     }
@@ -82,8 +82,8 @@ impl Stepper {
                         counters.work.max_energy_drift =
                             counters.work.max_energy_drift.max((energy - initial).abs() / scale);
                         if energy - initial > parameters.divergence_energy_growth * scale {
-                            let time = (step + 1) as Real * scene.dt;
-                            let advice = stability_advice(dynamics, scene.integrator, scene.dt);
+                            let time = (step + 1) as Real * model.dt;
+                            let advice = stability_advice(dynamics, model.integrator, model.dt);
                             return Err(diverged(format!(
                                 "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time:?}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
                                 body.name

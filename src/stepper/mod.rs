@@ -51,7 +51,7 @@ use crate::ccd::MeshCcdScratch;
 use crate::math::Real;
 use crate::poses::PoseObserver;
 use crate::response::{Response, StepContext};
-use crate::scene::Scene;
+use crate::scene::{Model, RunSpec, Scene};
 use crate::trace::TraceObserver;
 
 /// Runs a scene: the bodies move step by step, and every contact is found
@@ -109,7 +109,7 @@ pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64
     driver.start();
     let mut termination = Termination::Completed;
     let mut steps = 0;
-    for step in 0..scene.steps {
+    for step in 0..scene.run.steps {
         steps = step + 1;
         match driver.step(step) {
             Ok(StepEnd::Continue) => observer(steps),
@@ -142,6 +142,8 @@ pub(crate) trait Driver {
 struct Integrated {
     stepper: Stepper,
     world: World,
+    /// The scene's name.
+    name: String,
 }
 
 impl Driver for Integrated {
@@ -154,8 +156,8 @@ impl Driver for Integrated {
     }
 
     fn finish(self: Box<Self>, steps: u64, termination: Termination, start: Instant) -> RunResult {
-        let Integrated { stepper, world } = *self;
-        stepper.finish(world, steps, termination, start)
+        let Integrated { stepper, world, name } = *self;
+        stepper.finish(world, name, steps, termination, start)
     }
 }
 
@@ -163,19 +165,19 @@ impl Driver for Integrated {
 /// stepper's integration otherwise. `Err`: why it could not be set up.
 fn driver_for(scene: &Scene, options: RunOptions) -> Result<Box<dyn Driver>, String> {
     #[cfg(feature = "rapier")]
-    if let crate::scene::OnContact::Simulate { .. } = scene.on_contact {
+    if let crate::scene::OnContact::Simulate { .. } = scene.model.on_contact {
         return crate::guard::simulate::driver(scene, options)
             .map(|driver| Box::new(driver) as Box<dyn Driver>)
             .map_err(|error| format!("rapier could not be set up: {error}"));
     }
-    let Some(response) = crate::response::for_scene(scene) else {
+    let Some(response) = crate::response::for_model(&scene.model) else {
         return Err(
             "`Simulate` solves contacts with rapier3d: build nearmiss with the `rapier` feature".into()
         );
     };
-    let stepper = Stepper::with_response(Arc::new(scene.clone()), options, response);
+    let stepper = Stepper::with_response(Arc::new(scene.model.clone()), Some(&scene.run), options, response);
     let world = stepper.new_world(stepper.response.stops_kinematic_bodies());
-    Ok(Box::new(Integrated { stepper, world }))
+    Ok(Box::new(Integrated { stepper, world, name: scene.run.name.clone() }))
 }
 
 /// The result of a run whose driver could not be set up (the scene loader
@@ -183,8 +185,8 @@ fn driver_for(scene: &Scene, options: RunOptions) -> Result<Box<dyn Driver>, Str
 /// no step, and why.
 fn not_started(scene: &Scene, reason: String) -> RunResult {
     RunResult {
-        scene: scene.name.clone(),
-        bodies: scene.bodies.iter().map(|b| b.name.clone()).collect(),
+        scene: scene.run.name.clone(),
+        bodies: scene.model.bodies.iter().map(|b| b.name.clone()).collect(),
         steps: 0,
         end_time: 0.0,
         wall_time_s: 0.0,
@@ -207,7 +209,8 @@ pub(crate) enum StepEnd {
 
 /// A run's set-up and scratch buffers (the world state is passed in).
 pub(crate) struct Stepper {
-    scene: Arc<Scene>,
+    /// What is simulated.
+    model: Arc<Model>,
     parameters: StepParameters,
     options: RunOptions,
     /// What happens at contact.
@@ -249,24 +252,27 @@ struct Scratch {
 }
 
 impl Stepper {
-    /// A stepper whose contacts go to `response` (the scene's, or the
-    /// guard's clamp).
+    /// A stepper of `model` whose contacts go to `response` (the scene's,
+    /// or the guard's clamp), with the observers `run` asks for (none
+    /// without a run: a guard of rapier bodies).
     pub(crate) fn with_response(
-        scene: Arc<Scene>,
+        model: Arc<Model>,
+        run: Option<&RunSpec>,
         options: RunOptions,
         response: Box<dyn Response>,
     ) -> Stepper {
         Stepper {
-            parameters: scene.parameters,
+            parameters: model.parameters,
             options,
             response,
-            broad: (options.broad_phase && scene.bodies.len() > 2).then(BroadPhase::default),
-            trace: TraceObserver::of(&scene, options.parallel),
-            poses: scene.poses.as_ref().map(|spec| PoseObserver::new(spec.every, scene.steps)),
+            broad: (options.broad_phase && model.bodies.len() > 2).then(BroadPhase::default),
+            trace: run.and_then(|run| TraceObserver::of(&model, run, options.parallel)),
+            poses: run
+                .and_then(|run| run.poses.as_ref().map(|spec| PoseObserver::new(spec.every, run.steps))),
             scratch: Scratch::default(),
             counters: Counters::default(),
             extra_box_margin: 0.0,
-            scene,
+            model,
         }
     }
 
@@ -274,7 +280,7 @@ impl Stepper {
     /// stages in order. (Under a guard, rapier makes the motions and the
     /// guard calls [`Stepper::sweep`] and [`Stepper::observe_step_end`].)
     fn step(&mut self, world: &mut World, step: u64) -> Result<StepEnd, Termination> {
-        let t0 = step as Real * self.scene.dt;
+        let t0 = step as Real * self.model.dt;
         self.integrate(world, step, t0)?;
         let end = self.sweep(world, step)?;
         if let StepEnd::Continue = end {
@@ -286,7 +292,7 @@ impl Stepper {
     /// Stages 2 to 5 of step `step` (no observers): the guard sweeps a step
     /// in several parts when it rewinds, and observes its end once.
     pub(crate) fn sweep(&mut self, world: &mut World, step: u64) -> Result<StepEnd, Termination> {
-        let t0 = step as Real * self.scene.dt;
+        let t0 = step as Real * self.model.dt;
         world.separated.clear();
         world.held.clear();
         world.rewind = None;
@@ -317,7 +323,7 @@ impl Stepper {
 
     /// Stage 6 after step `step` (0-based).
     pub(crate) fn observe_step_end(&mut self, world: &World, step: u64) {
-        let dt = self.scene.dt;
+        let dt = self.model.dt;
         self.observe(world, step + 1, step as Real * dt + dt);
     }
 
@@ -326,7 +332,7 @@ impl Stepper {
     fn respond(&mut self, world: &mut World, t0: Real, found: &mut Vec<Found>) -> bool {
         let clock = Instant::now();
         let mut context = StepContext {
-            scene: &self.scene,
+            model: &self.model,
             world,
             scratch: &mut self.scratch.ccd,
             counters: &mut self.counters,
@@ -343,7 +349,7 @@ impl Stepper {
             trace.step_done(done, time, &world.motions);
         }
         if let Some(poses) = self.poses.as_mut() {
-            poses.step_done(done, time, self.scene.dt, &world.motions);
+            poses.step_done(done, time, self.model.dt, &world.motions);
         }
     }
 
@@ -362,9 +368,9 @@ impl Stepper {
     /// the broad phase sets them each step). `kinematic_states`: see
     /// [`World::new`].
     pub(crate) fn new_world(&self, kinematic_states: bool) -> World {
-        let mut world = World::new(&self.scene, kinematic_states);
+        let mut world = World::new(&self.model, kinematic_states);
         if self.broad.is_none() {
-            world.pairs = self.scene.movable_pairs().into_iter().map(|(a, b)| PairState::new(a, b)).collect();
+            world.pairs = self.model.movable_pairs().into_iter().map(|(a, b)| PairState::new(a, b)).collect();
         }
         world
     }
@@ -404,20 +410,21 @@ impl Stepper {
     pub(crate) fn finish(
         mut self,
         mut world: World,
+        name: String,
         steps: u64,
         termination: Termination,
         start: Instant,
     ) -> RunResult {
-        let scene = Arc::clone(&self.scene);
-        let scene = &*scene;
+        let model = Arc::clone(&self.model);
+        let model = &*model;
         let end_time = match (&termination, world.contacts.first()) {
             (Termination::FirstContact, Some(contact)) => contact.time,
             // Nothing after an undecided query is known.
             (Termination::Undecided { time, .. }, _) => *time,
-            _ => steps as Real * scene.dt,
+            _ => steps as Real * model.dt,
         };
         world.contacts.retain(|c| c.time <= end_time);
-        let last_step_start = steps.saturating_sub(1) as Real * scene.dt;
+        let last_step_start = steps.saturating_sub(1) as Real * model.dt;
         let trace = match self.trace.take() {
             Some(mut trace) => {
                 if termination == Termination::FirstContact {
@@ -440,13 +447,13 @@ impl Stepper {
             None => Vec::new(),
         };
         let final_states =
-            (0..scene.bodies.len()).map(|i| world.state_at(i, end_time - last_step_start)).collect();
+            (0..model.bodies.len()).map(|i| world.state_at(i, end_time - last_step_start)).collect();
         let mut contacts = world.contacts;
         contacts
             .sort_by(|a, b| a.time.total_cmp(&b.time).then((a.body_a, a.body_b).cmp(&(b.body_a, b.body_b))));
         RunResult {
-            scene: scene.name.clone(),
-            bodies: scene.bodies.iter().map(|b| b.name.clone()).collect(),
+            scene: name,
+            bodies: model.bodies.iter().map(|b| b.name.clone()).collect(),
             steps,
             end_time,
             wall_time_s: start.elapsed().as_secs_f64(),

@@ -20,7 +20,7 @@ use crate::ccd::{
 };
 use crate::math::Real;
 use crate::motion::StepMotion;
-use crate::scene::Scene;
+use crate::scene::Model;
 
 thread_local! {
     /// Each rayon thread's CCD scratch, kept between steps and runs.
@@ -100,19 +100,19 @@ impl From<MeshCcdResult> for PairOutcome {
 /// The mesh CCD query of `pair` over `duration`, its bodies moving by
 /// `motions`, under the scene's options and kernel and the rule `contact`.
 pub(crate) fn pair_query<'a>(
-    scene: &'a Scene,
+    model: &'a Model,
     pair: &PairState,
     motions: [&'a StepMotion; 2],
     duration: Real,
     contact: ContactRule,
 ) -> MeshCcdQuery<'a> {
     MeshCcdQuery {
-        a: MovingMesh { mesh: &scene.bodies[pair.a].mesh, motion: motions[0] },
-        b: MovingMesh { mesh: &scene.bodies[pair.b].mesh, motion: motions[1] },
+        a: MovingMesh { mesh: &model.bodies[pair.a].mesh, motion: motions[0] },
+        b: MovingMesh { mesh: &model.bodies[pair.b].mesh, motion: motions[1] },
         duration,
-        options: scene.ccd,
+        options: model.ccd,
         contact,
-        kernel: scene.kernel,
+        kernel: model.kernel,
     }
 }
 
@@ -121,8 +121,8 @@ impl Stepper {
     /// contacts found go to `found`, in pair order.
     pub(super) fn narrow_phase(&mut self, world: &mut World, t0: Real, found: &mut Vec<Found>) {
         let clock = Instant::now();
-        let scene = Arc::clone(&self.scene);
-        let scene = &*scene;
+        let model = Arc::clone(&self.model);
+        let model = &*model;
         let response = &*self.response;
         // Pairs already in contact are left alone unless the response asks
         // for them (`Bounce`: for coming closer again).
@@ -134,7 +134,7 @@ impl Stepper {
         let query = |k: usize, scratch: &mut MeshCcdScratch| {
             let pair = &pairs[k];
             let motions = [&motions[pair.a], &motions[pair.b]];
-            let query = pair_query(scene, pair, motions, scene.dt, response.contact_rule(pair));
+            let query = pair_query(model, pair, motions, model.dt, response.contact_rule(pair));
             let mut result = mesh_time_of_impact(&query, pair.warm_start(), scratch);
             if result.status == CcdStatus::InitiallyTouching && t0 > 0.0 {
                 // A pair new to the broad phase, touching at the step's start.

@@ -17,12 +17,12 @@ impl Stepper {
     /// Re-arms the touching pairs that separated by the step's end.
     pub(super) fn rearm(&mut self, world: &mut World) {
         let clock = Instant::now();
-        let scene = Arc::clone(&self.scene);
-        let scene = &*scene;
+        let model = Arc::clone(&self.model);
+        let model = &*model;
         for pair in &mut world.pairs {
             let Some(Touching { contact_distance, .. }) = pair.touching else { continue };
-            let pos_ab = StepMotion::relative_pose(&world.motions[pair.a], &world.motions[pair.b], scene.dt);
-            let (mesh_a, mesh_b) = (&scene.bodies[pair.a].mesh, &scene.bodies[pair.b].mesh);
+            let pos_ab = StepMotion::relative_pose(&world.motions[pair.a], &world.motions[pair.b], model.dt);
+            let (mesh_a, mesh_b) = (&model.bodies[pair.a].mesh, &model.bodies[pair.b].mesh);
             let rearm_distance =
                 self.response.rearm_distance(contact_distance, self.parameters.rearm_distance_factor);
             // The hulls' gap first (a few GJK iterations from the pair's
@@ -45,7 +45,7 @@ impl Stepper {
             }
             // Only "beyond the re-arm distance?" is asked: the search may
             // stop at the first pair within it.
-            let search = DistanceSearch { kernel: scene.kernel, hint: pair.hint, enough: rearm_distance };
+            let search = DistanceSearch { kernel: model.kernel, hint: pair.hint, enough: rearm_distance };
             let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, &mut self.scratch.ccd.distance);
             self.counters.work.distance_queries += 1;
             if d.distance > rearm_distance {

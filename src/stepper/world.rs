@@ -8,7 +8,7 @@ use crate::ccd::{MeshCcdResult, WarmSimplex, WarmStart};
 use crate::math::{Point, Real, Vector};
 use crate::motion::{RigidState, StepMotion};
 use crate::response::ImpactBody;
-use crate::scene::{BodyMotion, Scene};
+use crate::scene::{BodyMotion, Model};
 
 /// The world state of a run.
 pub(crate) struct World {
@@ -116,8 +116,8 @@ impl PairState {
 impl World {
     /// The world at the scene's start. `kinematic_states`: keep a state for
     /// kinematic bodies too (a response that can stop them needs it).
-    pub fn new(scene: &Scene, kinematic_states: bool) -> World {
-        let states: Vec<Option<RigidState>> = scene
+    pub fn new(model: &Model, kinematic_states: bool) -> World {
+        let states: Vec<Option<RigidState>> = model
             .bodies
             .iter()
             .map(|body| {
@@ -134,7 +134,7 @@ impl World {
                 })
             })
             .collect();
-        let energies = scene
+        let energies = model
             .bodies
             .iter()
             .zip(&states)
@@ -148,7 +148,7 @@ impl World {
         World {
             states,
             energies,
-            motions: scene.bodies.iter().map(|b| StepMotion::fixed(b.pose)).collect(),
+            motions: model.bodies.iter().map(|b| StepMotion::fixed(b.pose)).collect(),
             pairs: Vec::new(),
             contacts: Vec::new(),
             undecided: None,
@@ -176,8 +176,8 @@ impl World {
     }
 
     /// Body `i` of `scene` at time `s` into the step, for an impulse.
-    pub fn impact_body(&self, scene: &Scene, i: usize, s: Real) -> ImpactBody {
-        let body = &scene.bodies[i];
+    pub fn impact_body(&self, model: &Model, i: usize, s: Real) -> ImpactBody {
+        let body = &model.bodies[i];
         let state = self.state_at(i, s);
         let pushable = matches!(body.motion, BodyMotion::Integrated(_));
         let rotation = state.orientation.to_rotation_matrix().into_inner();

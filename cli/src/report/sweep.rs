@@ -135,14 +135,14 @@ pub fn parse_integrator(name: &str) -> Option<Integrator> {
 /// Runs the scene with a setting, with the kernel's reference along the trace.
 fn run_setting(scene: &Scene, setting: &SweepSetting) -> (RunResult, Real) {
     let mut scene = scene.with_settings(setting.dt, setting.kernel, setting.integrator);
-    scene.trace = Some(TraceSpec {
-        pairs: scene.trace.as_ref().map_or_else(|| scene.movable_pairs(), |t| t.pairs.clone()),
-        every: scene.trace.as_ref().map_or(1, |t| t.every),
+    scene.run.trace = Some(TraceSpec {
+        pairs: scene.run.trace.as_ref().map_or_else(|| scene.model.movable_pairs(), |t| t.pairs.clone()),
+        every: scene.run.trace.as_ref().map_or(1, |t| t.every),
         reference: true,
     });
     let traced = run(&scene);
     // Timed runs without the trace's reference (which is report overhead).
-    scene.trace = None;
+    scene.run.trace = None;
     let start = Instant::now();
     let mut fastest = Real::INFINITY;
     for _ in 0..SWEEP_MAX_REPEATS {
@@ -173,7 +173,7 @@ pub fn sweep_grid(dts: &[Real], kernels: &[DistanceKernel], integrators: &[Integ
 /// expectation, else the finest run of the grid (smallest `dt`, exact
 /// kernel, RK4 if the grid has it, else its first integrator).
 fn sweep_reference(scene: &Scene, grid: &[SweepSetting]) -> (Option<Real>, String) {
-    if let Some(Expectation::Contact { time, .. }) = &scene.expect {
+    if let Some(Expectation::Contact { time, .. }) = &scene.run.expect {
         return (Some(*time), "analytic (the scene's expectation)".to_string());
     }
     let Some(first) = grid.first() else {
@@ -236,7 +236,7 @@ pub fn sweep_share(
         rows.push((k, sweep_row(scene, &grid[k], reference)));
         progress(done + 2, total);
     }
-    SweepShard { shard, scene: scene.name.clone(), reference, reference_source, grid, rows }
+    SweepShard { shard, scene: scene.run.name.clone(), reference, reference_source, grid, rows }
 }
 
 /// Runs the whole grid `dts × kernels × integrators` on this machine,

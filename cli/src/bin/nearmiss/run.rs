@@ -62,12 +62,15 @@ pub fn main(args: Args) -> CommandResult {
     }
     let written = nearmiss_cli::output::write_outputs_with_peer(&args.out, &result, &scene, &peers).map_err(
         |error| {
-            CliError::BadInput(format!("cannot write to {}: {error}", args.out.join(&scene.name).display()))
+            CliError::BadInput(format!(
+                "cannot write to {}: {error}",
+                args.out.join(&scene.run.name).display()
+            ))
         },
     )?;
     println!(
         "scene {}: {} steps of dt = {:?} to t = {:.9}, {:.3} s",
-        scene.name, result.steps, scene.dt, result.end_time, result.wall_time_s
+        scene.run.name, result.steps, scene.model.dt, result.end_time, result.wall_time_s
     );
     match &result.first_contact {
         Some(c) => println!(
