@@ -288,7 +288,7 @@ fn two_equal_boxes_meeting_head_on_at_restitution_one_exchange_velocities() {
 }
 
 #[test]
-#[ignore = "not met (issue 27 §3): the boxes leave at −0.93 / +4.93 spinning at 1.2 rad/s. rapier's own solve of this contact does the same (two touching boxes at +5 / −1 stepped once by rapier alone, with or without skins, at dt 1/120 or 1/600: the same spin, an 8-point face manifold); rapier alone in the whole scene, its CCD clamping first, exchanges exactly (`--compare rapier`). Handing rapier the pair earlier (rewinding 1e-5 to 1e-3 s before the contact, the boxes up to 6e-3 apart) leaves the same spin to 1e-3 rad/s: it is rapier's solve of the face contact, not where the guard hands it over"]
+#[ignore = "the ideal exchange, which rapier's solver does not give (issue 27 §3 found it rapier's, not the guard's): the boxes leave at −0.93 / +4.93 spinning at 1.2 rad/s. rapier's own solve of this contact does the same (two touching boxes at +5 / −1 stepped once by rapier alone, with or without skins, at dt 1/120 or 1/600: the same spin, an 8-point face manifold); rapier alone in the whole scene, its CCD clamping first, exchanges exactly (`--compare rapier`). Handing rapier the pair earlier (rewinding 1e-5 to 1e-3 s before the contact, the boxes up to 6e-3 apart) leaves the same spin to 1e-3 rad/s: it is rapier's solve of the face contact, not where the guard hands it over"]
 fn two_equal_boxes_meeting_head_on_at_restitution_one_leave_without_spin() {
     // A head-on collision of equal boxes with parallel faces exchanges
     // their velocities (−1 and +5) and adds no spin.
