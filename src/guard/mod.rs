@@ -608,7 +608,6 @@ impl<B: RapierBodies> Guard<B> {
         let seconds = &mut self.stepper.counters_mut().seconds;
         seconds.engine += engine.elapsed().as_secs_f64();
         seconds.engine_sync += (engine - clock).as_secs_f64();
-        let mut rapier_step = |bodies: &mut B, dt: Real| rapier_step(bodies, dt);
         self.finish_step(bodies, Some(&mut rapier_step))
     }
 
@@ -641,8 +640,8 @@ impl<B: RapierBodies> Guard<B> {
         bodies: &mut B,
         engine: Option<&mut RapierStep<'_, B>>,
     ) -> Result<&[GuardEvent<B::Handle>], GuardError<B::Handle>> {
-        // The time outside rapier and the sweeps is the guard's own
-        // (`engine_sync`).
+        // The time outside rapier, the sweeps and the observers is the
+        // guard's own (`engine_sync`).
         let clock = Instant::now();
         let sweeps = self.stepper.counters().seconds.sweep();
         let mut engine_seconds = 0.0;
@@ -660,7 +659,10 @@ impl<B: RapierBodies> Guard<B> {
         let seconds = &mut self.stepper.counters_mut().seconds;
         seconds.engine += engine_seconds;
         seconds.engine_sync += clock.elapsed().as_secs_f64() - engine_seconds - (seconds.sweep() - sweeps);
-        outcome.map(|()| self.events.as_slice())
+        outcome?;
+        // After the accounting: the trace times itself (its stage).
+        self.stepper.observe_step_end(&self.world, self.step - 1);
+        Ok(&self.events)
     }
 
     /// [`finish_step`](Guard::finish_step)'s sweeps and rewinds; the events
@@ -741,7 +743,6 @@ impl<B: RapierBodies> Guard<B> {
             self.rewinds += 1;
             engine(bodies, self.dt - elapsed);
         }
-        self.stepper.observe_step_end(&self.world, self.step);
         self.step += 1;
         let handles = &self.handles;
         self.events.extend(self.world.contacts[contacts_before..].iter().map(|contact| {
