@@ -25,14 +25,16 @@ impl Stepper {
             let (mesh_a, mesh_b) = (&model.bodies[pair.a].mesh, &model.bodies[pair.b].mesh);
             let rearm_distance =
                 self.response.rearm_distance(contact_distance, self.parameters.rearm_distance_factor);
-            // The hulls' gap first (a few GJK iterations from the pair's
-            // last axis): a pair whose hulls are beyond the re-arm distance
-            // is separated without a search, its bound carried.
+            // The hulls' gap first (GJK from the pair's last simplex, or its
+            // last axis turned into a's frame at the step's end): a pair
+            // whose hulls are beyond the re-arm distance is separated
+            // without a search, its bound carried.
+            let rotation_a = world.motions[pair.a].rotation_at(model.dt);
             let gap = hull_gap_from(
                 mesh_a,
                 mesh_b,
                 &pos_ab,
-                pair.axis,
+                pair.axis.map(|axis| rotation_a.inverse_transform_vector(&axis)),
                 (rearm_distance, Real::INFINITY),
                 &mut pair.simplex,
             );
@@ -40,7 +42,6 @@ impl Stepper {
                 pair.touching = None;
                 world.separated.push((pair.a, pair.b));
                 pair.lower_bound = Some(gap.lower);
-                self.counters.work.hull_steps += gap.iterations;
                 continue;
             }
             // Only "beyond the re-arm distance?" is asked: the search may
