@@ -54,6 +54,8 @@ fn scene_defaults_are_the_documented_ones() {
     // bounced pair is a new contact "within half its distance at the bounce"; box
     // rounding 1e3 ulps; integration on the threads from 64 bodies; the narrow phase on
     // them when it costs more than handing it over, 1e-4 s (under the guard 3e-4 s).
+    // motion/step_motion.rs: a whole turn's axis is the spin's below 4 ulps.
+    assert_eq!(nearmiss::motion::TURN_ROUNDING_ULPS, 4.0);
     // broad_phase.rs: the tree re-optimised at every second refit.
     assert_eq!(nearmiss::broad_phase::OPTIMIZE_EVERY_REFITS, 2);
     let parameters = nearmiss::stepper::StepParameters::default();

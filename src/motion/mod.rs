@@ -22,4 +22,4 @@ mod step_motion;
 
 pub use gyroscopic::{implicit_gyroscopic_step, GyroscopicSolve, GYROSCOPIC_MAX_ITERATIONS};
 pub use integrator::{integrate, Dynamics, Gyroscopic, Integrator, RigidState, Spring};
-pub use step_motion::{StepMotion, MAX_TURN_PER_STEP};
+pub use step_motion::{StepMotion, MAX_TURN_PER_STEP, TURN_ROUNDING_ULPS};

@@ -10,6 +10,12 @@ use crate::math::{Point, Pose, Real, Vector};
 /// load and at every step.
 pub const MAX_TURN_PER_STEP: Real = std::f64::consts::FRAC_PI_2;
 
+/// [`StepMotion::between_near`]: a turn between two poses whose quaternion's
+/// vector part is at most this many ulps (of a unit quaternion) is a whole
+/// number of turns to rounding, its axis rounding noise: the engine's spin
+/// gives the axis. A turn of 4 ulps is about 2e-15 rad.
+pub const TURN_ROUNDING_ULPS: Real = 4.0;
+
 /// Constant linear velocity and constant angular velocity (world frame)
 /// about the centre of mass.
 ///
@@ -97,13 +103,14 @@ impl StepMotion {
         let want = spin * dt;
         // A short turn at the rounding of the quaternion (a whole turn in
         // the step, or none) has no axis of its own: the spin's is taken.
-        let (axis, angle) = if sine > 4.0 * Real::EPSILON || (sine > 0.0 && want == Vector::zeros()) {
-            (imag / sine, sine.atan2(w) * 2.0)
-        } else if want != Vector::zeros() {
-            (want.normalize(), 0.0)
-        } else {
-            return motion;
-        };
+        let (axis, angle) =
+            if sine > TURN_ROUNDING_ULPS * Real::EPSILON || (sine > 0.0 && want == Vector::zeros()) {
+                (imag / sine, sine.atan2(w) * 2.0)
+            } else if want != Vector::zeros() {
+                (want.normalize(), 0.0)
+            } else {
+                return motion;
+            };
         // The turns that take pose_t0 to pose_t1: axis × (angle + 2πk). They
         // differ from `want` by the same part across the axis, so the
         // nearest is the one whose part along it is nearest: `angle + 2πk`
