@@ -35,8 +35,7 @@ fn bunny_fall(c: &mut Criterion) {
         eprintln!("trace bench skipped: no scenes/meshes/bunny.obj (run scripts/fetch-bunny.sh)");
         return;
     };
-    let mut untraced = traced.clone();
-    untraced.run.trace = None;
+    let untraced = traced.with_trace(None).expect("no trace");
     let serial = RunOptions { parallel: false, ..RunOptions::default() };
     let mut group = c.benchmark_group("bunny falls 8 units onto a box floor, 256 steps");
     group.sample_size(20).measurement_time(Duration::from_secs(10));
@@ -49,7 +48,7 @@ fn bunny_fall(c: &mut Criterion) {
 
     // The poses of the fall: the bunny's relative to the floor at each step end.
     let result = run_with(&traced, serial, &mut |_| {});
-    let (floor, bunny) = (&traced.model.bodies[0], &traced.model.bodies[1]);
+    let (floor, bunny) = (&traced.model().bodies[0], &traced.model().bodies[1]);
     let heights: Vec<Real> = result.trace.iter().map(|r| r.distance).collect();
     // The bunny's lowest vertex, in its frame (it falls without turning).
     let lowest = bunny.mesh.vertices().iter().map(|v| v.y).fold(Real::INFINITY, Real::min);
@@ -119,11 +118,8 @@ fn bunny_fall(c: &mut Criterion) {
 const CONVEX: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/scenes/tumbling_convex.ron");
 
 fn tumbling_convex(c: &mut Criterion) {
-    let traced = Scene::load(CONVEX).expect("the shipped bench scene");
-    let mut traced = traced;
-    traced.run.poses = None;
-    let mut untraced = traced.clone();
-    untraced.run.trace = None;
+    let traced = Scene::load(CONVEX).expect("the shipped bench scene").with_poses(None).expect("no poses");
+    let untraced = traced.with_trace(None).expect("no trace");
     let serial = RunOptions { parallel: false, ..RunOptions::default() };
     let mut group = c.benchmark_group("50 tumbling convex bodies, every pair traced every 10 steps");
     group.sample_size(10).measurement_time(Duration::from_secs(15));
@@ -139,7 +135,7 @@ fn tumbling_convex(c: &mut Criterion) {
     let with_poses = Scene::load(CONVEX).expect("the shipped bench scene");
     let result = run_with(&with_poses, serial, &mut |_| {});
     let shapes: Vec<_> = with_poses
-        .model
+        .model()
         .bodies
         .iter()
         .map(|body| {
@@ -152,7 +148,7 @@ fn tumbling_convex(c: &mut Criterion) {
         .iter()
         .map(|r| pose_to_parry(&nalgebra::Isometry3::from_parts(r.position.coords.into(), r.orientation)))
         .collect();
-    let bodies = with_poses.model.bodies.len();
+    let bodies = with_poses.model().bodies.len();
     // Every traced pair at every sample: the records' pairs, and the index
     // of each body's pose at that sample.
     let samples: Vec<(usize, usize)> = result

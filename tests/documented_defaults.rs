@@ -23,15 +23,15 @@ fn scene_defaults_are_the_documented_ones() {
     // on_contact "Default: `Stop`", ccd kernel "Default: `Exact`", distance_tolerance
     // "Default: `1e-6`", minimum_separation "Default: `0`", max_iterations "Default: `10000`",
     // trace every "Default: 1", scale "Default: 1".
-    assert_eq!(scene.model.integrator, nearmiss::motion::Integrator::SymplecticEuler);
-    assert_eq!(scene.model.gyroscopic, nearmiss::motion::Gyroscopic::Implicit);
-    assert_eq!(scene.model.on_contact, OnContact::Stop);
-    assert_eq!(scene.model.kernel, nearmiss::mesh::DistanceKernel::Exact);
-    assert_eq!(scene.model.ccd.distance_tolerance, 1e-6);
-    assert_eq!(scene.model.ccd.minimum_separation, 0.0);
-    assert_eq!(scene.model.ccd.max_iterations, 10_000);
-    assert_eq!(scene.run.trace.as_ref().unwrap().every, 1);
-    assert_eq!(scene.model.bodies[0].mesh.radius(), 1.0);
+    assert_eq!(scene.model().integrator, nearmiss::motion::Integrator::SymplecticEuler);
+    assert_eq!(scene.model().gyroscopic, nearmiss::motion::Gyroscopic::Implicit);
+    assert_eq!(scene.model().on_contact, OnContact::Stop);
+    assert_eq!(scene.model().kernel, nearmiss::mesh::DistanceKernel::Exact);
+    assert_eq!(scene.model().ccd.distance_tolerance, 1e-6);
+    assert_eq!(scene.model().ccd.minimum_separation, 0.0);
+    assert_eq!(scene.model().ccd.max_iterations, 10_000);
+    assert_eq!(scene.run().trace.as_ref().unwrap().every, 1);
+    assert_eq!(scene.model().bodies[0].mesh.radius(), 1.0);
     // motion/classify.rs: a spin is steady within `64` ulps.
     assert_eq!(nearmiss::motion::classify::STEADY_SPIN_ULPS, 64.0);
     // motion/gyroscopic.rs: at most 20 Newton iterations.
@@ -67,7 +67,7 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(parameters.parallel_narrow_phase_seconds, 1e-4);
     #[cfg(feature = "rapier")]
     assert_eq!(nearmiss::guard::PARALLEL_NARROW_PHASE_SECONDS, 3e-4);
-    assert_eq!(scene.model.parameters, parameters);
+    assert_eq!(scene.model().parameters, parameters);
 }
 
 #[test]
@@ -76,7 +76,7 @@ fn the_format_example_in_scenes_readme_loads() {
     let start = readme.find("```ron\n").expect("a ron block") + "```ron\n".len();
     let end = start + readme[start..].find("```").unwrap();
     let scene = nearmiss::scene::Scene::from_ron_str(&readme[start..end]).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(scene.model.bodies.len(), 2);
+    assert_eq!(scene.model().bodies.len(), 2);
 }
 
 #[cfg(feature = "rapier")]

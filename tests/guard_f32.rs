@@ -9,7 +9,7 @@
 use nearmiss::guard::{Guard, GuardEvent, GuardOptions};
 use rapier3d::prelude::*;
 
-#[path = "rapier_app/mod.rs"]
+#[path = "support/rapier_app.rs"]
 mod rapier_app;
 rapier_app!(rapier3d);
 

@@ -98,7 +98,7 @@ pub fn glb(scene: &Scene, poses: &[PoseRecord]) -> Result<Vec<u8>, String> {
     let mut meshes = Vec::new();
     let mut materials = Vec::new();
     let mut nodes = Vec::new();
-    for (i, body) in scene.model.bodies.iter().enumerate() {
+    for (i, body) in scene.model().bodies.iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
         materials.push(json!({
             "name": body.name,
@@ -131,7 +131,7 @@ pub fn glb(scene: &Scene, poses: &[PoseRecord]) -> Result<Vec<u8>, String> {
     }
 
     // Each body's records, in time order, strictly increasing times.
-    let mut tracks: Vec<Vec<&PoseRecord>> = vec![Vec::new(); scene.model.bodies.len()];
+    let mut tracks: Vec<Vec<&PoseRecord>> = vec![Vec::new(); scene.model().bodies.len()];
     for record in poses {
         let track = &mut tracks[record.body];
         if track.last().is_none_or(|last| record.time > last.time) {
@@ -169,7 +169,7 @@ pub fn glb(scene: &Scene, poses: &[PoseRecord]) -> Result<Vec<u8>, String> {
     let mut document = json!({
         "asset": { "version": "2.0", "generator": concat!("nearmiss ", env!("CARGO_PKG_VERSION")) },
         "scene": 0,
-        "scenes": [{ "name": scene.run.name, "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
+        "scenes": [{ "name": scene.run().name, "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
         "nodes": nodes,
         "meshes": meshes,
         "materials": materials,
@@ -179,7 +179,7 @@ pub fn glb(scene: &Scene, poses: &[PoseRecord]) -> Result<Vec<u8>, String> {
     });
     if !channels.is_empty() {
         document["animations"] =
-            json!([{ "name": scene.run.name, "samplers": samplers, "channels": channels }]);
+            json!([{ "name": scene.run().name, "samplers": samplers, "channels": channels }]);
     }
     let mut text = serde_json::to_vec(&document).expect("JSON of plain values");
     while text.len() % 4 != 0 {

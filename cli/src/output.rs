@@ -253,13 +253,13 @@ fn write_run_files(
         Summary { rapier: peers.rapier.clone(), ..Summary::with_peer(result, peers.parry) }.to_json();
     write_synced(&folder.join("summary.json"), summary.as_bytes())?;
     written.push("summary.json".to_string());
-    if scene.run.trace.is_some() {
+    if scene.run().trace.is_some() {
         let mut csv = Vec::new();
         write_trace_csv(&result.trace, &result.bodies, &mut csv)?;
         write_synced(&folder.join("trace.csv"), &csv)?;
         written.push("trace.csv".to_string());
     }
-    if scene.run.poses.is_some() {
+    if scene.run().poses.is_some() {
         let mut csv = Vec::new();
         nearmiss::poses::write_poses_csv(&result.poses, &result.bodies, &mut csv)?;
         write_synced(&folder.join("poses.csv"), &csv)?;
@@ -269,14 +269,14 @@ fn write_run_files(
         written.push("animation.glb".to_string());
     }
     #[cfg(feature = "plot")]
-    if let Some(plot) = &scene.run.plot {
+    if let Some(plot) = &scene.run().plot {
         let path = folder.join("distance.png");
         crate::plot::render(&distance_chart(result, plot.log_y), &path).map_err(std::io::Error::other)?;
         written.push("distance.png".to_string());
         for n in crate::contact_picture::pictured(result.contacts.len(), &plot.contacts) {
             let contact = &result.contacts[n - 1];
             let meshes =
-                (&*scene.model.bodies[contact.body_a].mesh, &*scene.model.bodies[contact.body_b].mesh);
+                (&*scene.model().bodies[contact.body_a].mesh, &*scene.model().bodies[contact.body_b].mesh);
             let names = (result.bodies[contact.body_a].as_str(), result.bodies[contact.body_b].as_str());
             let name = format!("contact_{n}.png");
             crate::contact_picture::draw_contact(contact, n, meshes, names, &folder.join(&name))

@@ -22,8 +22,8 @@ pub struct Verdict {
 
 /// Checks a run against the scene's expectation (`None` without one).
 pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
-    let expectation = scene.run.expect.as_ref()?;
-    let name = |i: usize| scene.model.bodies[i].name.as_str();
+    let expectation = scene.run().expect.as_ref()?;
+    let name = |i: usize| scene.model().bodies[i].name.as_str();
     let obtained = match (&result.termination, &result.first_contact) {
         (Termination::Diverged { reason, .. }, _) => format!("diverged: {reason}"),
         (Termination::Undecided { .. }, None) => result.termination_text(),
@@ -102,7 +102,7 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
     let text = nearmiss::input::read_text(path, nearmiss::input::MAX_SCENE_BYTES, "scene file")
         .map_err(|e| format!("{}: {e}", path.display()))?;
     let scene = Scene::load_within(path, max_steps).map_err(|e| e.to_string())?;
-    let derived = match &scene.run.expect {
+    let derived = match &scene.run().expect {
         None => false,
         Some(Expectation::Contact { recorded, .. }) => !recorded,
         Some(Expectation::NoContact) => !text.contains(RECORDED_COMMENT),
@@ -110,13 +110,12 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
     if derived {
         return Err(format!("{}: keeps its derived expectation (not recorded over)", path.display()));
     }
-    let mut first_contact_only = scene.clone();
-    first_contact_only.model.on_contact = nearmiss::scene::OnContact::Stop;
+    let first_contact_only = scene.stopping_at_first_contact();
     let result = nearmiss::stepper::run(&first_contact_only);
     if !matches!(result.termination, Termination::Completed | Termination::FirstContact) {
         return Err(format!("{}: not recorded: {}", path.display(), result.termination_text()));
     }
-    let name = |i: usize| scene.model.bodies[i].name.as_str();
+    let name = |i: usize| scene.model().bodies[i].name.as_str();
     let (value, words, intended) = match &result.first_contact {
         None => (
             "NoContact".to_string(),
@@ -136,7 +135,7 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
             let tolerance = if closing > 0.0 {
                 RECORD_TOLERANCE_FACTOR * c.contact_distance / closing
             } else {
-                scene.model.dt
+                scene.model().dt
             };
             let value = format!(
                 "Contact(time: {:?}, tolerance: {:?}, bodies: ({:?}, {:?}), recorded: true)",
@@ -165,7 +164,7 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
     let name_of = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let staging = path.with_file_name(format!(".{name_of}.{}.record", std::process::id()));
     std::fs::write(&staging, &updated).map_err(|e| format!("{}: {e}", staging.display()))?;
-    match Scene::load(&staging).map(|s| s.run.expect) {
+    match Scene::load(&staging).map(|s| s.into_parts().1.expect) {
         Ok(Some(loaded)) if loaded == intended => {
             std::fs::rename(&staging, path).map_err(|e| format!("{}: {e}", path.display()))?;
             Ok(words)

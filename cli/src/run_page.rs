@@ -18,14 +18,14 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
     let mut page = String::new();
     let name = |i: usize| cell(&result.bodies[i]);
     let _ = writeln!(page, "# {}\n", result.scene);
-    let _ = writeln!(page, "Scene file: `{}`\n", scene.run.source);
+    let _ = writeln!(page, "Scene file: `{}`\n", scene.run().source);
     let _ = writeln!(page, "| | |\n|---|---|");
     let _ = writeln!(page, "| ended | {} |", cell(&result.termination_text()));
     let _ = writeln!(
         page,
         "| steps | {} of dt = {} (to t = {}) |",
         result.steps,
-        shortest(scene.model.dt),
+        shortest(scene.model().dt),
         shortest(result.end_time)
     );
     let _ = writeln!(page, "| contacts | {} |", result.contacts.len());
@@ -77,7 +77,7 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
         }
         page.push('\n');
         let missing: Vec<String> = scene
-            .run
+            .run()
             .plot
             .iter()
             .flat_map(|plot| {

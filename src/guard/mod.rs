@@ -464,6 +464,8 @@ impl<B: RapierBodies> Guard<B> {
             gyroscopic: Default::default(),
             ccd: options.ccd,
             kernel: options.kernel,
+            // Rapier solves (its colliders carry their own materials): the
+            // response is `Simulate`, and these values are not read.
             on_contact: OnContact::Simulate {
                 restitution: 0.0,
                 friction: crate::scene::file::DEFAULT_FRICTION,

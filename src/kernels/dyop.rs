@@ -23,7 +23,7 @@
 //! under-estimates: every candidate is a distance between points of the two
 //! triangles. It is therefore unsafe as the only proximity query of a CCD;
 //! nearmiss uses [`super::triangle_distance`] there by default. Measured
-//! errors are in `BENCHMARKS.md` and `tests/dyop_kernel.rs`.
+//! errors are in `BENCHMARKS.md` and `tests/kernels/dyop_kernel.rs`.
 
 use super::point_segment::{point_segment_distance, PointEdgeFormula};
 use super::scale::{

@@ -6,7 +6,7 @@
 //! [`dyop_distance`], and the linear-vertex CCD queries) normalise inputs
 //! whose largest coordinate lies beyond `2^±SAFE_EXPONENT` by an exact power
 //! of two, compute there and scale the answer back (`scale.rs`;
-//! `tests/scale_invariance.rs` checks 2^-900 to 2^1000 against the exact
+//! `tests/kernels/scale_invariance.rs` checks 2^-900 to 2^1000 against the exact
 //! reference). What no scaling fixes is a size *ratio*: the bounds hold
 //! while each triangle's (segment's) extent and the distance are at least
 //! [`MIN_RELATIVE_SIZE`] (2^-200, about 6e-61) of the largest coordinate

@@ -19,7 +19,7 @@
 //! and the least of the others, as [`Best`] does: the result is the
 //! sequential pass's bit for bit (the unit test below compares every field
 //! on every input class and on exact ties;
-//! `tests/batch_matches_scalar.rs` compares whole results at every level).
+//! `tests/kernels/batch_matches_scalar.rs` compares whole results at every level).
 //! On one pair it is about twice as fast as the sequential pass, whose
 //! scalar arithmetic leaves three of four lanes idle (`BENCHMARKS.md`).
 //!

@@ -25,7 +25,7 @@
 //!   (sides sorted `x ≥ y ≥ z`, parentheses kept). It removes the cancellation
 //!   *inside* the formula, but the side lengths were already rounded when
 //!   they were computed from coordinates, so needles are still inaccurate
-//!   (bounded in the tests; see `tests/point_segment_vs_exact.rs`).
+//!   (bounded in the tests; see `tests/kernels/point_segment_vs_exact.rs`).
 //!
 //! No formula returns NaN on finite input (see the kernels' domain in
 //! [`super`]).

@@ -23,8 +23,8 @@
 //!         expect: Contact(time: 1.0, tolerance: 1e-6, bodies: ("a", "b")),
 //!     )
 //! "#).unwrap();
-//! assert_eq!(scene.run.steps, 100);
-//! assert_eq!(scene.model.bodies.len(), 2);
+//! assert_eq!(scene.run().steps, 100);
+//! assert_eq!(scene.model().bodies.len(), 2);
 //! ```
 
 mod build;
@@ -51,16 +51,14 @@ use crate::motion::{Dynamics, Gyroscopic, Integrator};
 /// A validated scene, ready to run.
 #[derive(Clone, Debug)]
 pub struct Scene {
-    /// What is simulated: the bodies, the step, the engine's settings.
-    pub model: Model,
-    /// What a run of it covers and writes: its name, length, trace, plot,
-    /// poses and expectation.
-    pub run: RunSpec,
+    pub(crate) model: Model,
+    pub(crate) run: RunSpec,
 }
 
 /// What a run writes and how long it runs (a [`Scene`]'s half that the
 /// simulation does not need).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct RunSpec {
     /// The scene's name (its output folder).
     pub name: String,
@@ -83,6 +81,7 @@ pub struct RunSpec {
 /// What is simulated: the bodies and how they move and meet (a [`Scene`]'s
 /// half that the stepper and the guard need).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Model {
     /// The fixed step.
     pub dt: Real,
@@ -105,6 +104,7 @@ pub struct Model {
 
 /// A body, resolved.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Body {
     /// Its unique name.
     pub name: String,
@@ -226,6 +226,25 @@ pub(crate) fn steps_for(duration: Real, dt: Real) -> u64 {
 }
 
 impl Scene {
+    /// What is simulated: the bodies, the step, the engine's settings
+    /// (read-only: a scene is validated as a whole; [`Scene::with_settings`]
+    /// and [`Scene::with_trace`] make changed copies).
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// What a run of it covers and writes: its name, length, trace, plot,
+    /// poses and expectation.
+    pub fn run(&self) -> &RunSpec {
+        &self.run
+    }
+
+    /// The scene's two halves, for callers that drive a
+    /// [`Stepper`](crate::stepper::Stepper) themselves.
+    pub fn into_parts(self) -> (Model, RunSpec) {
+        (self.model, self.run)
+    }
+
     /// Parses and validates a scene; OBJ paths are relative to the current
     /// directory.
     pub fn from_ron_str(text: &str) -> Result<Scene, SceneError> {
@@ -262,6 +281,59 @@ impl Scene {
         scene.model.kernel = kernel;
         scene.model.integrator = integrator;
         scene
+    }
+
+    /// The same scene stopping at its first contact (`on_contact: Stop`),
+    /// as `nearmiss test --record` runs it.
+    pub fn stopping_at_first_contact(&self) -> Scene {
+        let mut scene = self.clone();
+        scene.model.on_contact = OnContact::Stop;
+        scene
+    }
+
+    /// The same scene with another distance trace (or none). The pairs are
+    /// body indices `i < j` of this scene; a pair out of range or repeated
+    /// is refused with the field named.
+    pub fn with_trace(&self, trace: Option<TraceSpec>) -> Result<Scene, SceneError> {
+        if let Some(spec) = &trace {
+            let n = self.model.bodies.len();
+            let mut seen = std::collections::HashSet::new();
+            for &(i, j) in &spec.pairs {
+                if !(i < j && j < n && seen.insert((i, j))) {
+                    return Err(SceneError::Invalid {
+                        path: self.run.source.clone(),
+                        field: "trace.pairs".into(),
+                        message: format!(
+                            "({i}, {j}) is not a pair of distinct bodies i < j of the {n} bodies, each once"
+                        ),
+                    });
+                }
+            }
+            if spec.every == 0 {
+                return Err(SceneError::Invalid {
+                    path: self.run.source.clone(),
+                    field: "trace.every".into(),
+                    message: "must be at least 1".into(),
+                });
+            }
+        }
+        let mut scene = self.clone();
+        scene.run.trace = trace;
+        Ok(scene)
+    }
+
+    /// The same scene with another pose record (or none); `every` at least 1.
+    pub fn with_poses(&self, poses: Option<PosesSpec>) -> Result<Scene, SceneError> {
+        if poses.as_ref().is_some_and(|p| p.every == 0) {
+            return Err(SceneError::Invalid {
+                path: self.run.source.clone(),
+                field: "poses.every".into(),
+                message: "must be at least 1".into(),
+            });
+        }
+        let mut scene = self.clone();
+        scene.run.poses = poses;
+        Ok(scene)
     }
 
     /// [`Scene::load`], refused if the run would take more than `max_steps`
@@ -317,5 +389,45 @@ impl Model {
             .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
             .filter(|&(i, j)| !(fixed(i) && fixed(j)))
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn two_boxes() -> Scene {
+        Scene::from_ron_str(
+            r#"Scene(name: "s", dt: 0.01, duration: 1.0, bodies: [
+                (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), velocity: (1.0, 0.0, 0.0)),
+                (name: "b", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (2.0, 0.0, 0.0), fixed: true),
+            ])"#,
+        )
+        .unwrap()
+    }
+
+    /// A changed copy is validated as the file would be: pairs of distinct
+    /// bodies in range, each once, and a positive sampling interval.
+    #[test]
+    fn changed_copies_are_validated() {
+        let scene = two_boxes();
+        let trace = |pairs: Vec<(usize, usize)>, every| Some(TraceSpec { pairs, every, reference: false });
+        assert_eq!(scene.with_trace(trace(vec![(0, 1)], 5)).unwrap().run().trace.as_ref().unwrap().every, 5);
+        for (pairs, every, field) in [
+            (vec![(0, 2)], 1, "trace.pairs"),
+            (vec![(1, 0)], 1, "trace.pairs"),
+            (vec![(0, 0)], 1, "trace.pairs"),
+            (vec![(0, 1), (0, 1)], 1, "trace.pairs"),
+            (vec![(0, 1)], 0, "trace.every"),
+        ] {
+            match scene.with_trace(trace(pairs.clone(), every)) {
+                Err(SceneError::Invalid { field: f, .. }) => assert_eq!(f, field, "{pairs:?} every {every}"),
+                other => panic!("{pairs:?} every {every}: {other:?}"),
+            }
+        }
+        assert!(scene.with_poses(Some(PosesSpec { every: 0 })).is_err());
+        assert!(scene.with_trace(None).unwrap().run().trace.is_none());
+        let stopping = scene.stopping_at_first_contact();
+        assert_eq!(stopping.model().on_contact, OnContact::Stop);
     }
 }

@@ -55,14 +55,14 @@ pub fn peer_markdown(peer: &[PeerComparison]) -> String {
 
 /// Compares the run's contacts with parry's answers.
 pub fn compare_with_parry(scene: &Scene, result: &RunResult) -> Vec<PeerComparison> {
-    let mut pairs: Vec<(usize, usize)> = if scene.model.bodies.len() == 2 {
-        scene.model.movable_pairs()
+    let mut pairs: Vec<(usize, usize)> = if scene.model().bodies.len() == 2 {
+        scene.model().movable_pairs()
     } else {
         result.contacts.iter().map(|c| (c.body_a, c.body_b)).collect()
     };
     pairs.sort_unstable();
     pairs.dedup();
-    let horizon = result.end_time.max(scene.run.duration);
+    let horizon = result.end_time.max(scene.run().duration);
     pairs
         .into_iter()
         .map(|(a, b)| {
@@ -72,7 +72,7 @@ pub fn compare_with_parry(scene: &Scene, result: &RunResult) -> Vec<PeerComparis
                 .filter(|c| (c.body_a, c.body_b) == (a, b))
                 .map(|c| c.time)
                 .reduce(Real::min);
-            let (body_a, body_b) = (&scene.model.bodies[a], &scene.model.bodies[b]);
+            let (body_a, body_b) = (&scene.model().bodies[a], &scene.model().bodies[b]);
             let mut row = PeerComparison {
                 body_a: body_a.name.clone(),
                 body_b: body_b.name.clone(),

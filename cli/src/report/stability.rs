@@ -60,7 +60,7 @@ pub struct SpringRow {
 
 /// The first integrated body of a scene and its dynamics.
 fn integrated_body(scene: &Scene) -> Option<(usize, &Dynamics)> {
-    scene.model.bodies.iter().enumerate().find_map(|(i, b)| match &b.motion {
+    scene.model().bodies.iter().enumerate().find_map(|(i, b)| match &b.motion {
         BodyMotion::Integrated(dynamics) => Some((i, dynamics)),
         _ => None,
     })
@@ -81,7 +81,7 @@ pub fn spring_sweep(scene: &Scene, omega_dts: &[Real], integrators: &[Integrator
     for &integrator in integrators {
         for &omega_dt in omega_dts {
             let dt = omega_dt / omega;
-            let result = run(&scene.with_settings(dt, scene.model.kernel, integrator));
+            let result = run(&scene.with_settings(dt, scene.model().kernel, integrator));
             let (diverged, message) = match &result.termination {
                 Termination::Diverged { reason, .. } => (true, reason.clone()),
                 _ => (false, String::new()),
@@ -120,7 +120,7 @@ pub struct SpinDrift {
 /// semi-implicit Euler with the explicit one, and RK4.
 pub fn spin_drift(scene: &Scene, steps: u64, sample_every: u64) -> Vec<SpinDrift> {
     let Some((index, dynamics)) = integrated_body(scene) else { return Vec::new() };
-    let body = &scene.model.bodies[index];
+    let body = &scene.model().bodies[index];
     let Some(inertia) = dynamics.inertia else { return Vec::new() };
     let start = RigidState {
         position: nearmiss::math::Point::from(body.pose.translation.vector),
@@ -151,7 +151,7 @@ pub fn spin_drift(scene: &Scene, steps: u64, sample_every: u64) -> Vec<SpinDrift
             };
             let mut sign = spin0.signum();
             for step in 1..=steps {
-                state = integrate(&state, dynamics, integrator, gyroscopic, scene.model.dt).0;
+                state = integrate(&state, dynamics, integrator, gyroscopic, scene.model().dt).0;
                 let energy = (dynamics.energy(&state) - e0).abs() / e0.abs().max(Real::MIN_POSITIVE);
                 let momentum = (momentum(&state) - l0).norm() / l0.norm().max(Real::MIN_POSITIVE);
                 drift.max_energy_drift = drift.max_energy_drift.max(energy);
@@ -162,7 +162,7 @@ pub fn spin_drift(scene: &Scene, steps: u64, sample_every: u64) -> Vec<SpinDrift
                     sign = -sign;
                 }
                 if step % sample_every == 0 {
-                    drift.samples.push((step as Real * scene.model.dt, energy, momentum));
+                    drift.samples.push((step as Real * scene.model().dt, energy, momentum));
                 }
             }
             drift

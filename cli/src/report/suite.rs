@@ -70,9 +70,9 @@ pub fn run_case(path: &Path, max_steps: u64) -> SuiteCase {
             return case;
         }
     };
-    case.scene = Some(scene.run.name.clone());
+    case.scene = Some(scene.run().name.clone());
     case.status = CaseStatus::Skipped;
-    if scene.run.expect.is_some() {
+    if scene.run().expect.is_some() {
         let result = nearmiss::stepper::run(&scene);
         if let Some(v) = verdict(&scene, &result) {
             case.status = if v.passed { CaseStatus::Passed } else { CaseStatus::Failed };

@@ -134,15 +134,16 @@ pub fn parse_integrator(name: &str) -> Option<Integrator> {
 
 /// Runs the scene with a setting, with the kernel's reference along the trace.
 fn run_setting(scene: &Scene, setting: &SweepSetting) -> (RunResult, Real) {
-    let mut scene = scene.with_settings(setting.dt, setting.kernel, setting.integrator);
-    scene.run.trace = Some(TraceSpec {
-        pairs: scene.run.trace.as_ref().map_or_else(|| scene.model.movable_pairs(), |t| t.pairs.clone()),
-        every: scene.run.trace.as_ref().map_or(1, |t| t.every),
+    let scene = scene.with_settings(setting.dt, setting.kernel, setting.integrator);
+    let trace = TraceSpec {
+        pairs: scene.run().trace.as_ref().map_or_else(|| scene.model().movable_pairs(), |t| t.pairs.clone()),
+        every: scene.run().trace.as_ref().map_or(1, |t| t.every),
         reference: true,
-    });
-    let traced = run(&scene);
+    };
+    let traced_scene = scene.with_trace(Some(trace)).expect("the scene's own pairs and step");
+    let traced = run(&traced_scene);
     // Timed runs without the trace's reference (which is report overhead).
-    scene.run.trace = None;
+    let scene = scene.with_trace(None).expect("no trace is always valid");
     let start = Instant::now();
     let mut fastest = Real::INFINITY;
     for _ in 0..SWEEP_MAX_REPEATS {
@@ -173,7 +174,7 @@ pub fn sweep_grid(dts: &[Real], kernels: &[DistanceKernel], integrators: &[Integ
 /// expectation, else the finest run of the grid (smallest `dt`, exact
 /// kernel, RK4 if the grid has it, else its first integrator).
 fn sweep_reference(scene: &Scene, grid: &[SweepSetting]) -> (Option<Real>, String) {
-    if let Some(Expectation::Contact { time, .. }) = &scene.run.expect {
+    if let Some(Expectation::Contact { time, .. }) = &scene.run().expect {
         return (Some(*time), "analytic (the scene's expectation)".to_string());
     }
     let Some(first) = grid.first() else {
@@ -236,7 +237,7 @@ pub fn sweep_share(
         rows.push((k, sweep_row(scene, &grid[k], reference)));
         progress(done + 2, total);
     }
-    SweepShard { shard, scene: scene.run.name.clone(), reference, reference_source, grid, rows }
+    SweepShard { shard, scene: scene.run().name.clone(), reference, reference_source, grid, rows }
 }
 
 /// Runs the whole grid `dts × kernels × integrators` on this machine,

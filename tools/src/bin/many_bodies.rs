@@ -152,11 +152,11 @@ fn main() {
         // The mesh assets (shared between bodies) with their BVHs and
         // tables, in bytes.
         let mut assets: Vec<*const nearmiss::mesh::TriMesh> =
-            scene.model.bodies.iter().map(|b| std::sync::Arc::as_ptr(&b.mesh)).collect();
+            scene.model().bodies.iter().map(|b| std::sync::Arc::as_ptr(&b.mesh)).collect();
         assets.sort();
         assets.dedup();
         let mesh_bytes: usize = scene
-            .model
+            .model()
             .bodies
             .iter()
             .filter(|b| {

@@ -21,10 +21,10 @@ pub fn main(args: Args) -> CommandResult {
             Ok(scene) => println!(
                 "ok {}: scene `{}`, {} bodies, {} steps of dt = {:?}",
                 path.display(),
-                scene.run.name,
-                scene.model.bodies.len(),
-                scene.run.steps,
-                scene.model.dt
+                scene.run().name,
+                scene.model().bodies.len(),
+                scene.run().steps,
+                scene.model().dt
             ),
             Err(CliError::BadInput(message) | CliError::Failed(message) | CliError::Undecided(message)) => {
                 eprintln!("error: {message}");

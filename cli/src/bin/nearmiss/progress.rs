@@ -23,11 +23,11 @@ pub fn run_with_progress(scene: &Scene) -> RunResult {
         return run_with_lines(scene);
     }
     let bar = indicatif::ProgressBar::with_draw_target(
-        Some(scene.run.steps),
+        Some(scene.run().steps),
         indicatif::ProgressDrawTarget::hidden(),
     );
     bar.set_style(bar_style("{msg} [{bar:40}] {pos}/{len} steps, {eta} left"));
-    bar.set_message(scene.run.name.clone());
+    bar.set_message(scene.run().name.clone());
     let start = Instant::now();
     let mut shown = false;
     let result = nearmiss::stepper::run_observed(scene, &mut |done| {
@@ -56,12 +56,12 @@ fn run_with_lines(scene: &Scene) -> RunResult {
             return;
         }
         next = elapsed + LINE_EVERY;
-        let fraction = done as f64 / scene.run.steps.max(1) as f64;
+        let fraction = done as f64 / scene.run().steps.max(1) as f64;
         let left = elapsed.as_secs_f64() * (1.0 - fraction) / fraction.max(f64::MIN_POSITIVE);
         eprintln!(
             "{}: {done}/{} steps ({:.1}%), {:.0} s so far, about {:.0} s left",
-            scene.run.name,
-            scene.run.steps,
+            scene.run().name,
+            scene.run().steps,
             100.0 * fraction,
             elapsed.as_secs_f64(),
             left

@@ -64,13 +64,17 @@ pub fn main(args: Args) -> CommandResult {
         |error| {
             CliError::BadInput(format!(
                 "cannot write to {}: {error}",
-                args.out.join(&scene.run.name).display()
+                args.out.join(&scene.run().name).display()
             ))
         },
     )?;
     println!(
         "scene {}: {} steps of dt = {:?} to t = {:.9}, {:.3} s",
-        scene.run.name, result.steps, scene.model.dt, result.end_time, result.wall_time_s
+        scene.run().name,
+        result.steps,
+        scene.model().dt,
+        result.end_time,
+        result.wall_time_s
     );
     match &result.first_contact {
         Some(c) => println!(

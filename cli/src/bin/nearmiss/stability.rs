@@ -23,7 +23,7 @@ pub fn main(args: Args) -> CommandResult {
     let spring = load_scene(&folder.join(suite.spring_scene), DEFAULT_MAX_STEPS)?;
     let spin = load_scene(&folder.join(suite.spin_scene), DEFAULT_MAX_STEPS)?;
     let springs = spring_sweep(&spring, &suite.spring_omega_dts, &suite.integrators);
-    let drifts = spin_drift(&spin, spin.run.steps, suite.spin_sample_every);
+    let drifts = spin_drift(&spin, spin.run().steps, suite.spin_sample_every);
     let files = nearmiss_cli::regression::scene_files(folder)
         .map_err(|error| CliError::BadInput(format!("{}: {error}", folder.display())))?;
     let mut verdicts = Vec::new();
@@ -40,7 +40,7 @@ pub fn main(args: Args) -> CommandResult {
         &springs,
         spring_omega(&spring).unwrap_or(Real::NAN),
         &drifts,
-        spin.run.steps,
+        spin.run().steps,
         &verdicts,
     );
     print!("{text}");

@@ -65,11 +65,11 @@ pub fn main(args: Args) -> CommandResult {
         return Err(CliError::BadInput(format!("--dt: every step must be a positive number, found {bad:?}")));
     }
     for &dt in &args.dt {
-        let steps = (scene.run.duration / dt).ceil();
+        let steps = (scene.run().duration / dt).ceil();
         if steps > args.max_steps as f64 {
             return Err(CliError::BadInput(format!(
                 "--dt: {dt:?} gives {steps:e} steps over the scene's duration {:?}, more than the limit of {} (raise it with --max-steps)",
-                scene.run.duration, args.max_steps
+                scene.run().duration, args.max_steps
             )));
         }
         // The scene's trace and poses were checked at load for its own dt.
@@ -94,7 +94,7 @@ pub fn main(args: Args) -> CommandResult {
         "symplectic-euler, explicit-euler, rk4",
     )?;
     if integrators.is_empty() {
-        integrators.push(scene.model.integrator);
+        integrators.push(scene.model().integrator);
     }
     if args.shard.is_some() != args.json.is_some() {
         return Err(CliError::BadInput(

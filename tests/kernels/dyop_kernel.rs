@@ -1,9 +1,7 @@
 //! The seed paper's DyOP kernel: exact on its own setting, an upper bound
 //! everywhere, and an over-estimate outside its setting.
 
-mod common;
-
-use common::formula_bound;
+use crate::bounds::formula_bound;
 use nearmiss::exact;
 use nearmiss::kernels::{dyop_distance, PointEdgeFormula};
 use nearmiss::math::Point;

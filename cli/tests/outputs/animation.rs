@@ -24,7 +24,7 @@ fn a_spinning_blade_replays() {
 }
 
 fn check(scene: &Scene, moving: &str) {
-    assert!(scene.run.poses.is_some());
+    assert!(scene.run().poses.is_some());
     let result = nearmiss::stepper::run(scene);
     let out = std::env::temp_dir().join(format!("nearmiss-animation-{moving}-{}", std::process::id()));
     let written = nearmiss_cli::output::write_outputs(&out, &result, scene).unwrap();
@@ -34,8 +34,8 @@ fn check(scene: &Scene, moving: &str) {
     let blob = gltf.blob.clone().expect("a GLB buffer");
 
     let nodes: Vec<_> = gltf.nodes().collect();
-    assert_eq!(nodes.len(), scene.model.bodies.len());
-    for (node, body) in nodes.iter().zip(scene.model.bodies.iter()) {
+    assert_eq!(nodes.len(), scene.model().bodies.len());
+    for (node, body) in nodes.iter().zip(scene.model().bodies.iter()) {
         assert_eq!(node.name(), Some(body.name.as_str()));
         let primitive = node.mesh().expect("a mesh").primitives().next().expect("a primitive");
         let reader = primitive.reader(|_| Some(&blob));
@@ -48,7 +48,7 @@ fn check(scene: &Scene, moving: &str) {
 
     // One body moves (the other is fixed): its two channels.
     let animation = gltf.animations().next().expect("an animation");
-    let ball = scene.model.bodies.iter().position(|b| b.name == moving).unwrap();
+    let ball = scene.model().bodies.iter().position(|b| b.name == moving).unwrap();
     let records: Vec<_> = result.poses.iter().filter(|r| r.body == ball).collect();
     let mut channels = 0;
     for channel in animation.channels() {

@@ -48,8 +48,8 @@ fn stiff_spring_divergence_is_detected_at_the_analytic_limits() {
 #[test]
 fn implicit_gyroscopic_step_keeps_the_dzhanibekov_energy() {
     let spin = scene("dzhanibekov_long.ron");
-    assert_eq!(spin.run.steps, 100_000);
-    let drifts = spin_drift(&spin, spin.run.steps, 1000);
+    assert_eq!(spin.run().steps, 100_000);
+    let drifts = spin_drift(&spin, spin.run().steps, 1000);
     let (implicit, explicit, rk4) = (&drifts[0], &drifts[1], &drifts[2]);
     assert!(implicit.max_energy_drift <= 1e-8, "{}", implicit.max_energy_drift);
     assert!(implicit.max_momentum_drift <= 1e-3, "{}", implicit.max_momentum_drift);
@@ -72,7 +72,7 @@ fn extreme_cases_meet_their_expectations_and_are_never_late() {
     let mut checked = 0;
     for file in files {
         let scene = Scene::load(&file).unwrap();
-        let Some(expectation) = scene.run.expect.clone() else { continue };
+        let Some(expectation) = scene.run().expect.clone() else { continue };
         let result = nearmiss::stepper::run(&scene);
         let verdict = nearmiss_cli::regression::verdict(&scene, &result).unwrap();
         assert!(verdict.passed, "{}: {verdict:?}", file.display());

@@ -227,7 +227,7 @@ fn an_axis_or_quaternion_of_any_finite_size_is_normalised() {
             1,
         )))
         .unwrap()
-        .model
+        .model()
         .bodies[0]
             .pose
             .rotation

@@ -1,8 +1,7 @@
 //! `on_contact: Bounce`: analytic outcomes of simple collisions, momentum
 //! conservation in a crowd, and no body ever inside another.
 
-mod ball_rest;
-
+use crate::ball_rest;
 use nearmiss::math::{Real, Vector};
 use nearmiss::samples::Rng;
 use nearmiss::scene::Scene;
@@ -32,7 +31,7 @@ fn equal_spheres_head_on_exchange_velocities() {
     let gap_expected = 2.0 * (1.0 - 0.5);
     // a stopped at the contact for the rest of its step (at most dt lost).
     assert!(
-        (last.distance - gap_expected).abs() <= 2.0 * scene.model.dt + 1e-6,
+        (last.distance - gap_expected).abs() <= 2.0 * scene.model().dt + 1e-6,
         "gap {} at the end, expected about {gap_expected}",
         last.distance
     );
@@ -41,7 +40,7 @@ fn equal_spheres_head_on_exchange_velocities() {
     // The gap never shrinks after the contact (a is at rest).
     let after: Vec<Real> = result.trace.iter().filter(|r| r.time > 0.51).map(|r| r.distance).collect();
     assert!(after.windows(2).all(|w| w[1] >= w[0]));
-    assert!((after[1] - after[0] - 2.0 * scene.model.dt).abs() <= 1e-9);
+    assert!((after[1] - after[0] - 2.0 * scene.model().dt).abs() <= 1e-9);
 }
 
 #[test]
@@ -67,7 +66,7 @@ fn a_ball_between_two_walls_keeps_bouncing() {
     // contact distance (1e-6 of the pair size, about 3.4e-6) over the speed.
     let expected = [1.5, 4.5, 7.5];
     for (k, (&t, &e)) in times.iter().zip(&expected).enumerate() {
-        let lost = k as Real * scene.model.dt;
+        let lost = k as Real * scene.model().dt;
         assert!(t <= e + lost + 1e-9 && t >= e - 1e-5, "bounce {k} at {t}, expected {e} (+ up to {lost})");
     }
 }
@@ -98,7 +97,7 @@ fn a_crowd_conserves_momentum_and_never_interpenetrates() {
     }
     text.push_str("])");
     let scene = Scene::from_ron_str(&text).unwrap();
-    for body in scene.model.bodies.iter() {
+    for body in scene.model().bodies.iter() {
         momentum += body.velocity * body.mass.unwrap();
     }
     let result = run(&scene);
@@ -109,7 +108,7 @@ fn a_crowd_conserves_momentum_and_never_interpenetrates() {
     let end: Vector = result
         .final_states
         .iter()
-        .zip(scene.model.bodies.iter())
+        .zip(scene.model().bodies.iter())
         .map(|(state, body)| state.velocity * body.mass.unwrap())
         .sum();
     assert!((end - momentum).norm() <= 1e-9 * (1.0 + momentum.norm()), "momentum {momentum} -> {end}");
@@ -141,7 +140,7 @@ fn a_ball_pressed_on_the_floor_keeps_its_redetection_distance() {
     );
     let first = result.contacts[0].contact_distance;
     let least = result.contacts.iter().map(|c| c.contact_distance).fold(Real::INFINITY, Real::min);
-    let floor = scene.model.parameters.bounce_redetect_fraction * nearmiss::ccd::TARGET_FRACTION * first;
+    let floor = scene.model().parameters.bounce_redetect_fraction * nearmiss::ccd::TARGET_FRACTION * first;
     assert!(least >= floor, "a contact distance of {least:e} against {first:e} at the first contact");
     // The ball never goes through the floor: every contact is at a positive distance.
     assert!(result.contacts.iter().all(|c| c.closest.distance > 0.0));

@@ -1,5 +1,5 @@
 //! Error bounds shared by the integration tests (derivations in
-//! `point_segment_vs_exact.rs`).
+//! `kernels/point_segment_vs_exact.rs`).
 
 use nearmiss::kernels::PointEdgeFormula;
 

@@ -44,7 +44,7 @@ fn samples_equal_a_cold_search(every: u64) {
     for record in &result.trace {
         let (a, b) = record.pair;
         let pos_ab = pose(record.step, a).inverse() * pose(record.step, b);
-        let (mesh_a, mesh_b) = (&scene.model.bodies[a].mesh, &scene.model.bodies[b].mesh);
+        let (mesh_a, mesh_b) = (&scene.model().bodies[a].mesh, &scene.model().bodies[b].mesh);
         let cold = mesh_distance_relative(
             mesh_a,
             mesh_b,

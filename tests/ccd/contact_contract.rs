@@ -83,13 +83,13 @@ fn broad_phase_margin_keeps_every_pair_the_ccd_reports() {
         y = 1.0 + gap
     );
     let scene = Scene::from_ron_str(&text).unwrap();
-    let (ra, rb) = (scene.model.bodies[0].mesh.radius(), scene.model.bodies[1].mesh.radius());
-    let contract = ContactContract::of(&scene.model.ccd, ContactRule::ScaleRelative, ra.min(rb), 0.0);
+    let (ra, rb) = (scene.model().bodies[0].mesh.radius(), scene.model().bodies[1].mesh.radius());
+    let contract = ContactContract::of(&scene.model().ccd, ContactRule::ScaleRelative, ra.min(rb), 0.0);
     assert!(gap < contract.target, "the pass must be one the contract reports");
     // Without the margin the swept boxes would miss each other along y.
     assert!(
         ra + rb < 1.0 + gap
-            && ra + rb + box_margin(&scene.model.ccd, ra) + box_margin(&scene.model.ccd, rb) >= 1.0 + gap
+            && ra + rb + box_margin(&scene.model().ccd, ra) + box_margin(&scene.model().ccd, rb) >= 1.0 + gap
     );
     let with_tree = run_with(&scene, RunOptions::default(), &mut |_| {});
     let all_pairs = run_with(&scene, RunOptions { broad_phase: false, ..RunOptions::default() }, &mut |_| {});

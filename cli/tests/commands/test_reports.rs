@@ -156,7 +156,7 @@ fn record_pins_the_current_answer_and_leaves_derived_expectations_alone() {
         text.starts_with("// my scene\n") && text.contains("recorded by `nearmiss test --record`"),
         "{text}"
     );
-    match nearmiss::scene::Scene::load(&fresh).unwrap().run.expect {
+    match nearmiss::scene::Scene::load(&fresh).unwrap().into_parts().1.expect {
         Some(nearmiss::scene::Expectation::Contact { time, tolerance, bodies: (0, 1), recorded: true }) => {
             assert!(time <= 1.0 && 1.0 - time <= tolerance && tolerance < 1e-4, "{time} ± {tolerance}");
         }

@@ -16,9 +16,7 @@ use nearmiss::scene::Scene;
 use nearmiss::stepper::{run, RunResult, Termination};
 use parry3d_f64::shape::ConvexPolyhedron;
 
-#[path = "rapier_app/mod.rs"]
-mod rapier_app;
-rapier_app!(rapier3d_f64);
+crate::rapier_app!(rapier3d_f64);
 
 fn simulate(text: &str) -> (Scene, RunResult) {
     let scene = Scene::from_ron_str(text).unwrap_or_else(|e| panic!("{e}\n{text}"));
@@ -36,7 +34,7 @@ fn pose_of(record: &PoseRecord) -> Pose {
 /// overlap).
 fn deepest_overlap(scene: &Scene, result: &RunResult, a: usize, b: usize) -> (Real, Real) {
     let hull = |i: usize| {
-        let points: Vec<_> = scene.model.bodies[i].mesh.vertices().iter().map(to_parry).collect();
+        let points: Vec<_> = scene.model().bodies[i].mesh.vertices().iter().map(to_parry).collect();
         ConvexPolyhedron::from_convex_hull(&points).expect("convex hull")
     };
     let (hull_a, hull_b) = (hull(a), hull(b));
@@ -64,7 +62,7 @@ fn deepest_overlap(scene: &Scene, result: &RunResult, a: usize, b: usize) -> (Re
 
 /// The lowest world z of `body`'s vertices over the recorded poses.
 fn lowest_vertex(scene: &Scene, result: &RunResult, body: usize) -> Real {
-    let mesh = &scene.model.bodies[body].mesh;
+    let mesh = &scene.model().bodies[body].mesh;
     result
         .poses
         .iter()
@@ -198,9 +196,9 @@ fn a_heavy_blade_keeps_its_motion_when_it_hits_a_light_ball() {
     let lost = (free - turned).to_degrees();
     assert!(lost.abs() < 1.0, "the blade lost {lost}° of its turn at t = {}", after.time);
     let blade_inertia = 125.0 * (4.0 + 0.0016) / 12.0;
-    let ball_mass = scene.model.bodies[1].mass.expect("density gives a mass");
+    let ball_mass = scene.model().bodies[1].mass.expect("density gives a mass");
     let [blade, ball] = [result.final_states[0], result.final_states[1]];
-    let ball_inertia = scene.model.bodies[1].inertia.expect("density gives an inertia")[(2, 2)];
+    let ball_inertia = scene.model().bodies[1].inertia.expect("density gives an inertia")[(2, 2)];
     let momentum = blade_inertia * blade.angular_velocity.z
         + ball_mass * ball.position.coords.cross(&ball.velocity).z
         + ball_inertia * ball.angular_velocity.z;
@@ -278,7 +276,7 @@ fn two_equal_boxes_meeting_head_on_at_restitution_one_exchange_velocities() {
     let (scene, result) = head_on_boxes();
     assert!(result.first_contact.is_some(), "the boxes meet");
     let [a, b] = [result.final_states[0], result.final_states[1]];
-    let mass = scene.model.bodies[0].mass.expect("density gives a mass");
+    let mass = scene.model().bodies[0].mass.expect("density gives a mass");
     let momentum = mass * (a.velocity + b.velocity);
     let initial = mass * Vector::new(4.0, 0.0, 0.0);
     assert!((momentum - initial).norm() < 0.01 * initial.norm(), "momentum {momentum:?}");

@@ -16,9 +16,7 @@
 //!   ordering removes the cancellation inside the formula but not this
 //!   input rounding. The failure is real and asserted below.
 
-mod common;
-
-use common::formula_bound as bound;
+use crate::bounds::formula_bound as bound;
 use nearmiss::exact;
 use nearmiss::kernels::{point_segment_distance, PointEdgeFormula};
 use nearmiss::samples::query_extent;

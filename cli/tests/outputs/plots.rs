@@ -2,8 +2,7 @@
 //! without a trace is refused.
 #![cfg(feature = "plot")]
 
-#[path = "../../tests/ball_rest/mod.rs"]
-mod ball_rest;
+use crate::ball_rest;
 
 use nearmiss::scene::Scene;
 
@@ -17,7 +16,7 @@ fn png_size(bytes: &[u8]) -> (u32, u32) {
 #[test]
 fn scene_with_a_plot_writes_distance_png() {
     let scene = Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/spinning_blade.ron")).unwrap();
-    assert!(scene.run.plot.is_some());
+    assert!(scene.run().plot.is_some());
     let result = nearmiss::stepper::run(&scene);
     let out = std::env::temp_dir().join(format!("nearmiss-plots-{}", std::process::id()));
     let written = nearmiss_cli::output::write_outputs(&out, &result, &scene).unwrap();
@@ -53,7 +52,7 @@ fn hundreds_of_contacts_stay_legible() {
     let scene = Scene::from_ron_str(&text).unwrap();
     let result = nearmiss::stepper::run(&scene);
     assert!(result.contacts.len() > 100, "{} contacts", result.contacts.len());
-    let chart = nearmiss_cli::output::distance_chart(&result, scene.run.plot.as_ref().unwrap().log_y);
+    let chart = nearmiss_cli::output::distance_chart(&result, scene.run().plot.as_ref().unwrap().log_y);
     assert_eq!(chart.marks.len(), nearmiss_cli::output::LABELLED_CONTACTS);
     assert_eq!(chart.ticks.len(), result.contacts.len());
     assert!(chart.x_label.contains(&format!("{} contacts", result.contacts.len())), "{}", chart.x_label);

@@ -52,7 +52,7 @@ fn poses_by_step(result: &RunResult, bodies: usize) -> Vec<Vec<PoseRecord>> {
 /// parry's contact query at each recorded step: the independent gap check.
 fn deepest_penetration(scene: &Scene, result: &RunResult) -> Real {
     let hulls: Vec<ConvexPolyhedron> = scene
-        .model
+        .model()
         .bodies
         .iter()
         .map(|b| {
@@ -61,7 +61,7 @@ fn deepest_penetration(scene: &Scene, result: &RunResult) -> Real {
         })
         .collect();
     let mut deepest: Real = 0.0;
-    for step in poses_by_step(result, scene.model.bodies.len()) {
+    for step in poses_by_step(result, scene.model().bodies.len()) {
         let pose = |r: &PoseRecord| {
             pose_to_parry(&Pose::from_parts(nalgebra::Translation3::from(r.position.coords), r.orientation))
         };
@@ -99,11 +99,11 @@ fn a_ball_bouncing_with_restitution_half_comes_to_rest_with_a_handful_of_contact
             ],
         )"#,
     );
-    let lowest = scene.model.bodies[1].mesh.vertices().iter().map(|v| v.z).fold(Real::INFINITY, Real::min);
+    let lowest = scene.model().bodies[1].mesh.vertices().iter().map(|v| v.z).fold(Real::INFINITY, Real::min);
     let fall = 8.5 + lowest - skins();
     let analytic = (2.0 * fall / 9.81).sqrt();
     let first = result.first_contact.as_ref().expect("the ball reaches the floor");
-    assert!((first.time - analytic).abs() <= scene.model.dt, "first contact {} vs {analytic}", first.time);
+    assert!((first.time - analytic).abs() <= scene.model().dt, "first contact {} vs {analytic}", first.time);
     assert!(
         (2..=10).contains(&result.contacts.len()),
         "{} contacts: a ball coming to rest bounces a few times, not a contact per step",
@@ -144,9 +144,9 @@ fn a_stack_of_five_boxes_stands_for_ten_seconds() {
     // Drift: every box within the skins below it of where it started (each
     // contact rests within its skins), and never touching its neighbour, at
     // every step.
-    for step in poses_by_step(&result, scene.model.bodies.len()) {
+    for step in poses_by_step(&result, scene.model().bodies.len()) {
         for record in &step[1..] {
-            let start = scene.model.bodies[record.body].pose.translation.vector;
+            let start = scene.model().bodies[record.body].pose.translation.vector;
             let drift = (record.position.coords - start).norm();
             let allowed = record.body as Real * skins();
             assert!(drift <= allowed, "box {} drifted {drift} by t = {}", record.body, record.time);
@@ -190,7 +190,7 @@ fn a_box_sliding_with_friction_stops_where_v_squared_over_2_mu_g_says() {
     // (it lost its first step's travel so before): after the first step it
     // has slid v0 dt, less the friction's µ g dt² (0.5%) and rounding.
     let first = result.poses.iter().find(|r| r.body == 1 && r.step == 1).expect("poses every step");
-    let dt = scene.model.dt;
+    let dt = scene.model().dt;
     assert!(first.position.x >= 0.99 * 4.0 * dt, "after one step: {}", first.position.x);
     assert!(deepest_penetration(&scene, &result) <= ALLOWED_PENETRATION);
 }

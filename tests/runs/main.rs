@@ -1,0 +1,11 @@
+//! Whole runs through the stepper: first contacts of scenes against analytic
+//! times, `Bounce`'s analytic outcomes, the broad phase and threads changing
+//! nothing, and the distance trace's certificates.
+
+#[path = "../support/ball_rest.rs"]
+mod ball_rest;
+
+mod bounce;
+mod parallel_and_broad_phase;
+mod scene_analytic;
+mod trace_certificate;
