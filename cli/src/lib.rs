@@ -15,3 +15,4 @@ pub mod query_file;
 pub mod regression;
 pub mod report;
 pub mod run_page;
+pub mod text;

@@ -30,6 +30,9 @@ use nearmiss::trace::write_trace_csv;
 pub struct Summary<'a> {
     /// The scene's name.
     pub scene: &'a str,
+    /// The scene file, as it was given (absent for a scene built in code).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub source: Option<&'a str>,
     /// Steps taken.
     pub steps: u64,
     /// The time reached.
@@ -151,6 +154,7 @@ impl<'a> Summary<'a> {
         };
         Summary {
             scene: &result.scene,
+            source: None,
             steps: result.steps,
             end_time: result.end_time,
             wall_time_s: result.wall_time_s,
@@ -210,6 +214,19 @@ pub fn is_run_file(name: &str) -> bool {
             .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
 }
 
+/// The scene file whose outputs `folder` holds, if that is another file
+/// than `source` (two scenes of one name write to one folder): read from
+/// its `summary.json`. `None` when the folder is new, holds `source`'s
+/// outputs, or its `source` no longer resolves to a file (nothing to warn
+/// of with certainty).
+pub fn previous_source(folder: &Path, source: &Path) -> Option<String> {
+    let text = fs::read_to_string(folder.join("summary.json")).ok()?;
+    let summary: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let previous = summary.get("source")?.as_str()?;
+    let (old, new) = (fs::canonicalize(previous).ok()?, fs::canonicalize(source).ok()?);
+    (old != new).then(|| previous.to_string())
+}
+
 /// [`write_outputs`], with the peers' answers in `summary.json`.
 pub fn write_outputs_with_peer(
     out: &Path,
@@ -249,8 +266,12 @@ fn write_run_files(
         )));
     }
     let mut written = Vec::new();
-    let summary =
-        Summary { rapier: peers.rapier.clone(), ..Summary::with_peer(result, peers.parry) }.to_json();
+    let summary = Summary {
+        rapier: peers.rapier.clone(),
+        source: Some(scene.run().source.as_str()).filter(|s| *s != nearmiss::scene::FROM_STRING),
+        ..Summary::with_peer(result, peers.parry)
+    }
+    .to_json();
     write_synced(&folder.join("summary.json"), summary.as_bytes())?;
     written.push("summary.json".to_string());
     if scene.run().trace.is_some() {

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::text;
 use nearmiss::math::Real;
 use nearmiss::scene::{Expectation, Scene};
 use nearmiss::stepper::{RunResult, Termination};
@@ -27,8 +28,10 @@ pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
     let obtained = match (&result.termination, &result.first_contact) {
         (Termination::Diverged { reason, .. }, _) => format!("diverged: {reason}"),
         (Termination::Undecided { .. }, None) => result.termination_text(),
-        (_, Some(c)) => format!("contact {} / {} at t = {:.12e}", name(c.body_a), name(c.body_b), c.time),
-        (_, None) => format!("no contact up to t = {:.6e}", result.end_time),
+        (_, Some(c)) => {
+            format!("contact {} / {} at t = {}", name(c.body_a), name(c.body_b), text::time(c.time))
+        }
+        (_, None) => format!("no contact up to t = {}", text::time(result.end_time)),
     };
     let diverged = matches!(result.termination, Termination::Diverged { .. });
     let undecided = matches!(result.termination, Termination::Undecided { .. });
@@ -46,11 +49,11 @@ pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
             Verdict {
                 passed: same_bodies && error.is_some_and(|e| e.abs() <= *tolerance),
                 expected: format!(
-                    "contact {} / {} at t = {:.12e} ± {:.1e}{}",
+                    "contact {} / {} at t = {} ± {}{}",
                     name(bodies.0),
                     name(bodies.1),
-                    time,
-                    tolerance,
+                    text::time(*time),
+                    text::approx(*tolerance, 2),
                     if *recorded { " (recorded)" } else { "" }
                 ),
                 obtained,
@@ -83,6 +86,15 @@ pub fn scene_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
     Ok(found)
 }
 
+/// What `nearmiss test --record` did to a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Recorded {
+    /// The run's answer was written as the expectation (in words).
+    Pinned(String),
+    /// The scene's expectation was derived by analysis: left as it is.
+    KeptDerived,
+}
+
 /// A recorded expectation's tolerance is this many times the time the
 /// contact's bodies take to close its contact distance at their closing
 /// speed (the most a change within the CCD's contract can move the time).
@@ -96,8 +108,8 @@ pub const RECORD_TOLERANCE_FACTOR: Real = 2.0;
 /// [`RECORD_TOLERANCE_FACTOR`] × contact distance / closing speed (one step
 /// `dt` if the bodies do not close). A scene whose expectation was derived
 /// (not recorded) is left alone, as is a run that diverged or could not
-/// decide. Returns what was recorded, in words.
-pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
+/// decide (an error). Returns what was recorded, in words.
+pub fn record(path: &Path, max_steps: u64) -> Result<Recorded, String> {
     use nearmiss::scene::record::{set_expectation, RECORDED_COMMENT};
     let text = nearmiss::input::read_text(path, nearmiss::input::MAX_SCENE_BYTES, "scene file")
         .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -108,7 +120,7 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
         Some(Expectation::NoContact) => !text.contains(RECORDED_COMMENT),
     };
     if derived {
-        return Err(format!("{}: keeps its derived expectation (not recorded over)", path.display()));
+        return Ok(Recorded::KeptDerived);
     }
     let first_contact_only = scene.stopping_at_first_contact();
     let result = nearmiss::stepper::run(&first_contact_only);
@@ -119,7 +131,7 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
     let (value, words, intended) = match &result.first_contact {
         None => (
             "NoContact".to_string(),
-            format!("no contact up to t = {:?}", result.end_time),
+            format!("no contact up to t = {}", text::time(result.end_time)),
             Expectation::NoContact,
         ),
         Some(c) => {
@@ -145,10 +157,11 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
                 name(c.body_b)
             );
             let words = format!(
-                "contact {} / {} at t = {:?} ± {tolerance:.1e}",
+                "contact {} / {} at t = {} ± {}",
                 name(c.body_a),
                 name(c.body_b),
-                c.time
+                text::time(c.time),
+                text::approx(tolerance, 2)
             );
             let intended = Expectation::Contact {
                 time: c.time,
@@ -167,14 +180,15 @@ pub fn record(path: &Path, max_steps: u64) -> Result<String, String> {
     match Scene::load(&staging).map(|s| s.into_parts().1.expect) {
         Ok(Some(loaded)) if loaded == intended => {
             std::fs::rename(&staging, path).map_err(|e| format!("{}: {e}", path.display()))?;
-            Ok(words)
+            Ok(Recorded::Pinned(words))
         }
         other => {
             let _ = std::fs::remove_file(&staging);
-            Err(format!(
-                "{}: the rewritten file did not load back as recorded ({other:?}); left unchanged",
-                path.display()
-            ))
+            let why = match other {
+                Err(error) => error.to_string(),
+                Ok(loaded) => format!("its expectation read back as {loaded:?}"),
+            };
+            Err(format!("{}: not recorded, the file is left unchanged: the rewritten text did not load back as recorded: {why}", path.display()))
         }
     }
 }

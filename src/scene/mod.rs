@@ -200,7 +200,9 @@ pub enum Expectation {
     NoContact,
 }
 
-/// The steps of `dt` that cover `duration` (at least one).
+/// The `source` of a scene read by [`Scene::from_ron_str`] (no file).
+pub const FROM_STRING: &str = "<string>";
+
 /// The most steps a run may take unless the caller allows more
 /// (`nearmiss run --max-steps`): 100 million. A scene asking for more is
 /// most likely a typo in `dt` or `duration`; at the 1,000-body box's rate it
@@ -221,6 +223,7 @@ pub(crate) fn most_records(count: u64, steps: u64, every: u64) -> u64 {
     count.saturating_mul(steps / every + 2)
 }
 
+/// The steps of `dt` that cover `duration` (at least one).
 pub(crate) fn steps_for(duration: Real, dt: Real) -> u64 {
     ((duration / dt) * (1.0 - 4.0 * Real::EPSILON)).ceil().max(1.0) as u64
 }
@@ -248,7 +251,7 @@ impl Scene {
     /// Parses and validates a scene; OBJ paths are relative to the current
     /// directory.
     pub fn from_ron_str(text: &str) -> Result<Scene, SceneError> {
-        build::build(text, "<string>", Path::new("."))
+        build::build(text, FROM_STRING, Path::new("."))
     }
 
     /// Reads, parses and validates a scene file; OBJ paths are relative to

@@ -1,80 +1,137 @@
 //! Rewriting a scene file's `expect` field in place (`nearmiss test
 //! --record`), keeping everything else of the text, comments included.
 //!
-//! A small scanner walks the RON text, skipping strings and comments and
-//! tracking bracket depth, to find the scene's top-level `expect:` value;
-//! it is replaced, or a new field is added before the scene's closing
-//! parenthesis.
+//! A span-aware edit: a small scanner walks the RON text token by token
+//! (strings, raw strings and characters read whole, comments skipped,
+//! bracket depth tracked) and notes where each top-level field's value
+//! begins and where its last token ends. The scene's `expect:` value is
+//! replaced by exactly that span, or a new field is added after the last
+//! field's last token (a comma there if there is none, never inside a
+//! comment that follows it).
 
 /// The comment put above a recorded expectation.
 pub const RECORDED_COMMENT: &str =
     "// expect: recorded by `nearmiss test --record` from a run, not derived by analysis";
 
-/// `text` with its top-level `expect` field set to `value` (RON), marked
-/// by [`RECORDED_COMMENT`]; an error if the text's structure is not a
-/// `Scene(...)` the scanner can follow.
-pub fn set_expectation(text: &str, value: &str) -> Result<String, String> {
+/// Where the scanner found the scene's parts.
+struct Spans {
+    /// The `expect` value: from after its colon to the end of its last token.
+    expect: Option<(usize, usize)>,
+    /// The scene's closing parenthesis.
+    close: usize,
+    /// The end of the last token before the closing parenthesis.
+    last_token_end: usize,
+}
+
+/// The end of the string, raw string or character literal starting at
+/// `i`, or `None` if none starts there.
+fn literal_end(text: &str, i: usize) -> Option<usize> {
+    let bytes = text.as_bytes();
+    match bytes[i] {
+        b'"' => {
+            let mut k = i + 1;
+            while k < bytes.len() && bytes[k] != b'"' {
+                k += if bytes[k] == b'\\' { 2 } else { 1 };
+            }
+            Some((k + 1).min(bytes.len()))
+        }
+        b'\'' => {
+            let mut k = i + 1;
+            while k < bytes.len() && bytes[k] != b'\'' {
+                k += if bytes[k] == b'\\' { 2 } else { 1 };
+            }
+            Some((k + 1).min(bytes.len()))
+        }
+        // r"...", r#"..."#: the quote closes with as many hashes.
+        b'r' if !i.checked_sub(1).is_some_and(|k| bytes[k].is_ascii_alphanumeric() || bytes[k] == b'_') => {
+            let hashes = bytes[i + 1..].iter().take_while(|&&b| b == b'#').count();
+            if bytes.get(i + 1 + hashes) != Some(&b'"') {
+                return None;
+            }
+            let closing = format!("\"{}", "#".repeat(hashes));
+            let body = i + 2 + hashes;
+            Some(text[body..].find(&closing).map_or(bytes.len(), |k| body + k + closing.len()))
+        }
+        _ => None,
+    }
+}
+
+fn scan(text: &str) -> Result<Spans, String> {
     let bytes = text.as_bytes();
     let mut depth = 0usize;
     let mut i = 0;
-    let (mut expect, mut close) = (None::<(usize, usize)>, None::<usize>);
+    let mut last_token_end = 0;
+    let mut expect = None;
     // The start of the `expect` value, while it is being scanned.
     let mut value_start = None::<usize>;
     while i < bytes.len() {
-        match bytes[i] {
-            b'"' => {
-                i += 1;
-                while i < bytes.len() && bytes[i] != b'"' {
-                    i += if bytes[i] == b'\\' { 2 } else { 1 };
-                }
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'/') => {
-                while i < bytes.len() && bytes[i] != b'\n' {
-                    i += 1;
-                }
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'*') => {
-                i += 2;
-                while i + 1 < bytes.len() && !(bytes[i] == b'*' && bytes[i + 1] == b'/') {
-                    i += 1;
-                }
-                i += 1;
-            }
+        let byte = bytes[i];
+        if byte.is_ascii_whitespace() {
+            i += 1;
+            continue;
+        }
+        if byte == b'/' && bytes.get(i + 1) == Some(&b'/') {
+            i = text[i..].find('\n').map_or(bytes.len(), |k| i + k);
+            continue;
+        }
+        if byte == b'/' && bytes.get(i + 1) == Some(&b'*') {
+            i = text[i + 2..].find("*/").map_or(bytes.len(), |k| i + 2 + k + 2);
+            continue;
+        }
+        if let Some(end) = literal_end(text, i) {
+            i = end;
+            last_token_end = end;
+            continue;
+        }
+        match byte {
             b'(' | b'[' | b'{' => depth += 1,
             b')' | b']' | b'}' => {
                 if depth == 1 {
                     if let Some(start) = value_start.take() {
-                        expect = Some((start, i));
+                        expect = Some((start, last_token_end));
                     }
-                    close = Some(i);
-                    break;
+                    return Ok(Spans { expect, close: i, last_token_end });
                 }
                 depth = depth.saturating_sub(1);
             }
             b',' if depth == 1 => {
                 if let Some(start) = value_start.take() {
-                    expect = Some((start, i));
+                    expect = Some((start, last_token_end));
                 }
             }
             b'e' if depth == 1
                 && value_start.is_none()
                 && expect.is_none()
-                && text[i..].starts_with("expect") =>
+                && text[i..].starts_with("expect")
+                && !i
+                    .checked_sub(1)
+                    .is_some_and(|k| bytes[k].is_ascii_alphanumeric() || bytes[k] == b'_') =>
             {
-                let before = i.checked_sub(1).map(|k| bytes[k]);
                 let after = text[i + "expect".len()..].trim_start();
-                if !before.is_some_and(|b| b.is_ascii_alphanumeric() || b == b'_') && after.starts_with(':') {
+                if after.starts_with(':') {
                     let colon = text.len() - after.len();
                     value_start = Some(colon + 1);
-                    i = colon;
+                    i = colon + 1;
+                    last_token_end = i;
+                    continue;
                 }
             }
             _ => {}
         }
+        // Identifiers and numbers advance a byte at a time; their end is
+        // the last byte seen.
         i += 1;
+        last_token_end = i;
     }
-    let close = close.ok_or("no closing parenthesis of `Scene(...)` found")?;
-    match expect {
+    Err("no closing parenthesis of `Scene(...)` found".into())
+}
+
+/// `text` with its top-level `expect` field set to `value` (RON), marked
+/// by [`RECORDED_COMMENT`]; an error if the text's structure is not a
+/// `Scene(...)` the scanner can follow.
+pub fn set_expectation(text: &str, value: &str) -> Result<String, String> {
+    let spans = scan(text)?;
+    match spans.expect {
         Some((start, end)) => {
             // Mark it, unless the line above already carries the mark.
             let field = text[..start].rfind("expect").unwrap_or(start);
@@ -89,9 +146,15 @@ pub fn set_expectation(text: &str, value: &str) -> Result<String, String> {
             Ok(format!("{}{mark}{} {value}{}", &text[..line_start], &text[line_start..start], &text[end..]))
         }
         None => {
-            let head = text[..close].trim_end();
-            let comma = if head.ends_with(',') || head.ends_with('(') { "" } else { "," };
-            Ok(format!("{head}{comma}\n    {RECORDED_COMMENT}\n    expect: {value},\n{}", &text[close..]))
+            let last = spans.last_token_end;
+            let comma = if matches!(text[..last].bytes().last(), Some(b',' | b'(')) { "" } else { "," };
+            // Whatever follows the last token (a comment) stays where it is.
+            let between = text[last..spans.close].trim_end();
+            Ok(format!(
+                "{}{comma}{between}\n    {RECORDED_COMMENT}\n    expect: {value},\n{}",
+                &text[..last],
+                &text[spans.close..]
+            ))
         }
     }
 }
@@ -136,5 +199,40 @@ mod tests {
             "bodies: [(name: \"a\")],\n    {RECORDED_COMMENT}\n    expect: NoContact,\n)"
         )));
         assert!(set_expectation("Scene(name: \"s\"", "NoContact").is_err());
+    }
+
+    /// The symptoms of issue 29: a trailing comment after the last field
+    /// got the comma (`< 3e-9.,`), and a last field without a comma before
+    /// a comment made a file that did not load.
+    #[test]
+    fn comments_after_the_last_field_keep_their_text_and_the_comma_goes_after_the_value() {
+        let text = "Scene(\n    name: \"s\",\n    dt: 0.1 // the gap is < 3e-9.\n)\n";
+        let out = set_expectation(text, "NoContact").unwrap();
+        assert_eq!(
+            out,
+            format!("Scene(\n    name: \"s\",\n    dt: 0.1, // the gap is < 3e-9.\n    {RECORDED_COMMENT}\n    expect: NoContact,\n)\n")
+        );
+        // The same with a block comment, and with a comma already there.
+        let text = "Scene(name: \"s\", dt: 0.1 /* note, (not a field) */)";
+        let out = set_expectation(text, "NoContact").unwrap();
+        assert!(out.starts_with("Scene(name: \"s\", dt: 0.1, /* note, (not a field) */\n"), "{out}");
+        let text = "Scene(name: \"s\", dt: 0.1, // last\n)";
+        let out = set_expectation(text, "NoContact").unwrap();
+        assert!(out.starts_with("Scene(name: \"s\", dt: 0.1, // last\n    //"), "{out}");
+        // An `expect` value followed by a comment and no comma: only the
+        // value is replaced.
+        let text = "Scene(name: \"s\", expect: NoContact // was derived\n)";
+        let out = set_expectation(text, "Contact(time: 1.0)").unwrap();
+        assert!(out.ends_with("expect: Contact(time: 1.0) // was derived\n)"), "{out}");
+    }
+
+    #[test]
+    fn strings_raw_strings_and_characters_are_read_whole() {
+        let text = "Scene(name: r#\"a \"expect: x\" )\"#, tag: ')', path: \"b\\\"c)\")";
+        let out = set_expectation(text, "NoContact").unwrap();
+        assert!(
+            out.starts_with("Scene(name: r#\"a \"expect: x\" )\"#, tag: ')', path: \"b\\\"c)\",\n"),
+            "{out}"
+        );
     }
 }

@@ -96,20 +96,21 @@ pub fn count_line(cases: &[SuiteCase]) -> String {
     format!("{passed} passed, {} failed, {skipped} skipped", failed + bad)
 }
 
-/// One human-readable line per case that ran or was bad.
-pub fn case_line(case: &SuiteCase) -> Option<String> {
+/// One human-readable line per case: `pass`, `FAIL`, `bad` or `skip`.
+pub fn case_line(case: &SuiteCase) -> String {
     match case.status {
-        CaseStatus::Skipped => None,
-        CaseStatus::Bad => Some(format!("bad {}: {}", case.file, case.message.as_deref().unwrap_or(""))),
+        CaseStatus::Skipped => format!("skip {}: states no expectation", case.file),
+        CaseStatus::Bad => format!("bad {}: {}", case.file, case.message.as_deref().unwrap_or("")),
         CaseStatus::Passed | CaseStatus::Failed => {
-            let error = case.error.map_or(String::new(), |e| format!(", error {e:+.3e}"));
-            Some(format!(
+            let error =
+                case.error.map_or(String::new(), |e| format!(", error {}", crate::text::signed(e, 3)));
+            format!(
                 "{} {}: expected {}; obtained {}{error}",
                 if case.status == CaseStatus::Passed { "pass" } else { "FAIL" },
                 case.file,
                 case.expected.as_deref().unwrap_or(""),
                 case.obtained.as_deref().unwrap_or("")
-            ))
+            )
         }
     }
 }

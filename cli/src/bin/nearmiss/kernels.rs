@@ -12,7 +12,7 @@ pub struct Args {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Output folder: the charts go to `<out>/kernels/`.
-    #[arg(long, default_value = "output")]
+    #[arg(short, long, default_value = "output")]
     out: PathBuf,
 }
 

@@ -21,8 +21,25 @@ use nearmiss::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// The exit codes, as every command's help ends.
+const EXIT_STATUS: &str = "\
+Exit status:
+  0  success: the runs completed and met their expectations
+  1  a check failed: an expectation not met, an integration diverged, a CCD
+     query late or missed
+  2  bad input (a scene, a query file, an argument) or an output that could
+     not be written; nothing is run or written then
+  3  undecided: the CCD could not decide whether a pair touches (the run
+     stops there; not a contact)";
+
 #[derive(Parser)]
-#[command(name = "nearmiss", version, about = "Continuous collision detection for triangle meshes")]
+#[command(
+    name = "nearmiss",
+    version,
+    about = "Continuous collision detection for triangle meshes: runs scenes, finds first contacts",
+    after_help = EXIT_STATUS,
+    after_long_help = EXIT_STATUS
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -30,45 +47,64 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Print each distance kernel's error against the exact rational
-    /// reference, per input class, beside its rough time per query.
-    Kernels(kernels::Args),
-    /// Run CCD benchmark query files (files or folders): per file the
-    /// queries, positives, false negatives, false positives, time per query,
-    /// and, where exact times are known, whether any reported time was late.
-    /// Exits 1 if any query was a false negative or late.
-    Queries(queries::Args),
-    /// Run a scene: writes `<out>/<scene name>/summary.json`, and
-    /// `trace.csv` when the scene asks for a trace. Exits 2 on a bad scene,
-    /// 1 if the integration diverged.
+    /// Run scenes and write their outputs
+    ///
+    /// Runs each scene file and writes `<out>/<scene name>/`: `summary.json`,
+    /// and what the scene asks for (`trace.csv`, `poses.csv`, plots, contact
+    /// pictures, `animation.glb`, `report.md`). Prints the first contact and,
+    /// where the scene states one, whether its expectation was met.
+    #[command(after_help = EXIT_STATUS)]
     Run(run::Args),
-    /// Run a scene over time steps, kernels and integrators: per setting the
-    /// time of first contact, its error against the reference (analytic, or
-    /// the finest exact run), the kernel's error against the exact distance
-    /// along the trace, and the wall time. Writes `<out>/<scene>/sweep.csv`
-    /// and `error_vs_runtime.png`.
-    Sweep(sweep::Args),
-    /// The seed paper's experiments: six calibration placements, ten
-    /// rotated ones, 90 type-against-type tests timed per formula, and the
-    /// verdict on its claim that Heron is about 5% faster. Prints Markdown
-    /// and writes `<out>/paper/paper.md`.
-    Paper(paper::Args),
-    /// The stability suite: the stiff spring at ω·dt from 0.1 to 3 per
-    /// integrator, the Dzhanibekov spin over 100,000 steps, and every scene
-    /// of the folder against its expectation. Writes
-    /// `<out>/stability/stability.md` and PNG charts.
-    Stability(stability::Args),
-    /// Validate a scene without running it. Exits 2 on a bad scene.
+    /// Check scenes without running them
+    ///
+    /// Loads and validates scene files (or every `.ron` under folders): the
+    /// errors name the file and the line and column or the field.
+    #[command(after_help = EXIT_STATUS)]
     Check(check::Args),
-    /// Run every scene (files, or folders searched for `.ron`) that states
-    /// an expectation; one line per scene. Exits 1 if any fails, 2 if a
-    /// scene is bad.
+    /// Test scenes against their expectations
+    ///
+    /// Runs every scene (files, or folders searched for `.ron`) that states
+    /// an expectation, in parallel; one line per scene in file order, as
+    /// each is known, and a closing `N passed, M failed, K skipped` line.
+    #[command(after_help = EXIT_STATUS)]
     Test(test::Args),
-    /// Put the shards of `nearmiss test`, `queries` or `sweep` with `--shard
-    /// I/N --json FILE` back together: what one machine would have printed
-    /// and written (wall times apart: `test`'s lines, count line and
-    /// `--json`/`--junit` reports, `queries`' table, `sweep`'s table and
-    /// `--out` folder). Exits like the command, and 2 if the shards do not
+    /// Sweep a scene over time steps, kernels and integrators
+    ///
+    /// Per setting: the time of first contact, its error against the
+    /// reference (analytic, or the finest exact run), the kernel's error
+    /// against the exact distance along the trace, and the wall time.
+    /// Writes `<out>/<scene>/sweep.csv` and `error_vs_runtime.png`.
+    Sweep(sweep::Args),
+    /// Run the stability suite
+    ///
+    /// The stiff spring at ω·dt from 0.1 to 3 per integrator, the
+    /// Dzhanibekov spin over 100,000 steps, and every scene of the folder
+    /// against its expectation. Writes `<out>/stability/stability.md` and
+    /// PNG charts.
+    Stability(stability::Args),
+    /// Run CCD benchmark query files
+    ///
+    /// Files or folders of queries: per file the queries, positives, false
+    /// negatives, false positives, time per query and, where exact times
+    /// are known, whether any reported time was late. Exits 1 if any query
+    /// was a false negative or late.
+    Queries(queries::Args),
+    /// Measure the distance kernels against the exact reference
+    ///
+    /// Each kernel's error against the exact rational reference, per input
+    /// class, beside its rough time per query.
+    Kernels(kernels::Args),
+    /// Reproduce the seed paper's experiments
+    ///
+    /// Six calibration placements, ten rotated ones, 90 type-against-type
+    /// tests timed per formula, and the verdict on its claim that Heron is
+    /// about 5% faster. Prints Markdown and writes `<out>/paper/paper.md`.
+    Paper(paper::Args),
+    /// Merge the shards of `test`, `queries` or `sweep`
+    ///
+    /// Puts the shards written with `--shard I/N --json FILE` back
+    /// together: what one machine would have printed and written (wall
+    /// times apart). Exits like the command, and 2 if the shards do not
     /// make one whole run.
     Merge(merge::Args),
 }

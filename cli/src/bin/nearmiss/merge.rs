@@ -80,7 +80,7 @@ pub fn main(args: Args) -> CommandResult {
         return crate::queries::verdict(&reports);
     }
     let cases = merge_suite(&suites).map_err(CliError::BadInput)?;
-    for line in cases.iter().filter_map(case_line) {
+    for line in cases.iter().map(case_line) {
         println!("{line}");
     }
     for (report, text) in [(&args.junit, junit_xml(&cases)), (&args.json, suite_json(&cases))] {

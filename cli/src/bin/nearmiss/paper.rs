@@ -15,7 +15,7 @@ pub struct Args {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// The output folder.
-    #[arg(long, default_value = "output")]
+    #[arg(short, long, default_value = "output")]
     out: PathBuf,
 }
 

@@ -1,16 +1,20 @@
-//! `nearmiss run`: one scene, its outputs, optionally beside parry.
+//! `nearmiss run`: scenes, their outputs and verdicts, optionally beside a
+//! peer.
 
 use crate::progress::run_with_progress;
 use crate::{load_scene, CliError, CommandResult};
-use nearmiss::stepper::Termination;
+use nearmiss::scene::Scene;
+use nearmiss::stepper::{RunResult, Termination};
+use nearmiss_cli::text;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The scene file (RON).
-    scene: PathBuf,
-    /// The output folder.
-    #[arg(long, default_value = "output")]
+    /// Scene files (RON), run one after another.
+    #[arg(required = true, value_name = "SCENE")]
+    scenes: Vec<PathBuf>,
+    /// The output folder: each scene's files go to OUT/<scene name>/.
+    #[arg(short, long, default_value = "output")]
     out: PathBuf,
     /// Also run the scene with a peer library and show both answers:
     /// `parry` (each first contact by parry's casts) or `rapier` (the scene
@@ -34,14 +38,54 @@ enum Peer {
 }
 
 pub fn main(args: Args) -> CommandResult {
-    let scene = load_scene(&args.scene, args.max_steps)?;
-    // Before the run, not after it: a run is not wasted on an unusable folder.
+    // Every scene is loaded before any runs: a bad one runs nothing.
+    let mut scenes: Vec<(PathBuf, Scene)> = Vec::with_capacity(args.scenes.len());
+    for path in &args.scenes {
+        let scene = load_scene(path, args.max_steps)?;
+        if let Some((other, _)) = scenes.iter().find(|(_, s)| s.run().name == scene.run().name) {
+            return Err(CliError::BadInput(format!(
+                "{} and {} are both named `{}`: their outputs would overwrite each other in {}; rename one (its `name` field)",
+                other.display(),
+                path.display(),
+                scene.run().name,
+                args.out.join(&scene.run().name).display()
+            )));
+        }
+        scenes.push((path.clone(), scene));
+    }
+    // Before the runs, not after them: a run is not wasted on an unusable folder.
     nearmiss_cli::output::check_writable(&args.out).map_err(|error| {
         CliError::BadInput(format!("--out {}: cannot write there: {error}", args.out.display()))
     })?;
-    let result = run_with_progress(&scene);
+    // The worst outcome decides the exit: undecided (3) over failed (1).
+    let mut outcome: CommandResult = Ok(());
+    for (k, (path, scene)) in scenes.iter().enumerate() {
+        if k > 0 {
+            println!();
+        }
+        match run_one(&args, path, scene) {
+            Ok(()) => {}
+            Err(CliError::Failed(message)) => {
+                eprintln!("error: {message}");
+                if outcome.is_ok() {
+                    outcome = Err(CliError::Failed(String::new()));
+                }
+            }
+            Err(CliError::Undecided(message)) => {
+                eprintln!("error: {message}");
+                outcome = Err(CliError::Undecided(String::new()));
+            }
+            Err(bad) => return Err(bad),
+        }
+    }
+    outcome
+}
+
+/// Runs one scene, writes its outputs and prints what a user checks.
+fn run_one(args: &Args, path: &std::path::Path, scene: &Scene) -> CommandResult {
+    let result = run_with_progress(scene);
     let parry = match args.compare {
-        Some(Peer::Parry) => nearmiss_cli::report::compare_with_parry(&scene, &result),
+        Some(Peer::Parry) => nearmiss_cli::report::compare_with_parry(scene, &result),
         _ => Vec::new(),
     };
     // Without the `rapier` feature nothing below changes them.
@@ -55,48 +99,67 @@ pub fn main(args: Args) -> CommandResult {
         for c in &result.contacts {
             first.entry((c.body_a.min(c.body_b), c.body_a.max(c.body_b))).or_insert(c.time);
         }
-        let rows = nearmiss::guard::compare_with_rapier(&scene, &first, &result.final_states)
+        let rows = nearmiss::guard::compare_with_rapier(scene, &first, &result.final_states)
             .map_err(|error| CliError::Failed(format!("rapier could not run the scene: {error}")))?;
         table = Some(nearmiss::guard::rapier_markdown(&rows));
         peers.rapier = serde_json::to_value(&rows).ok();
     }
-    let written = nearmiss_cli::output::write_outputs_with_peer(&args.out, &result, &scene, &peers).map_err(
-        |error| {
-            CliError::BadInput(format!(
-                "cannot write to {}: {error}",
-                args.out.join(&scene.run().name).display()
-            ))
-        },
-    )?;
-    println!(
-        "scene {}: {} steps of dt = {:?} to t = {:.9}, {:.3} s",
-        scene.run().name,
-        result.steps,
-        scene.model().dt,
-        result.end_time,
-        result.wall_time_s
-    );
-    match &result.first_contact {
-        Some(c) => println!(
-            "first contact: {} / {} at t = {:.15e}, distance {:.3e} ({}); {} contact(s)",
-            result.bodies[c.body_a],
-            result.bodies[c.body_b],
-            c.time,
-            c.closest.distance,
-            c.status.name(),
-            result.contacts.len()
-        ),
-        None => println!("no contact"),
+    let folder = args.out.join(&scene.run().name);
+    if let Some(previous) = nearmiss_cli::output::previous_source(&folder, path) {
+        eprintln!(
+            "warning: {} held the outputs of {previous}, another scene of the same name: replaced",
+            folder.display()
+        );
     }
+    let written = nearmiss_cli::output::write_outputs_with_peer(&args.out, &result, scene, &peers)
+        .map_err(|error| CliError::BadInput(format!("cannot write to {}: {error}", folder.display())))?;
+    print_result(scene, &result);
     if let Some(table) = table {
         print!("{table}");
     }
-    for file in &written {
-        println!("wrote {}", file.display());
+    let names: Vec<String> =
+        written.iter().filter_map(|f| f.file_name()).map(|n| n.to_string_lossy().into_owned()).collect();
+    println!("wrote {}/: {}", folder.display(), names.join(", "));
+    let verdict = nearmiss_cli::regression::verdict(scene, &result);
+    if let Some(v) = &verdict {
+        let error = v.error.map_or(String::new(), |e| format!(", error {}", text::signed(e, 3)));
+        match v.passed {
+            true => println!("expectation met: {}{error}", v.expected),
+            false => println!("expectation NOT met: expected {}; obtained {}{error}", v.expected, v.obtained),
+        }
     }
     match result.termination {
         Termination::Diverged { .. } => Err(CliError::Failed(result.termination_text())),
         Termination::Undecided { .. } => Err(CliError::Undecided(result.termination_text())),
+        _ if verdict.is_some_and(|v| !v.passed) => {
+            Err(CliError::Failed(format!("{}: the run did not meet the scene's expectation", path.display())))
+        }
         _ => Ok(()),
+    }
+}
+
+/// The run in two lines: how far it went, and its first contact.
+fn print_result(scene: &Scene, result: &RunResult) {
+    println!(
+        "{}: {} of dt = {} to t = {} in {}",
+        scene.run().name,
+        text::count(result.steps, "step"),
+        text::time(scene.model().dt),
+        text::time(result.end_time),
+        text::wall(result.wall_time_s)
+    );
+    match (&result.first_contact, &result.termination) {
+        (Some(c), _) => println!(
+            "first contact: {} / {} at t = {}, distance {} ({}); {} in all",
+            result.bodies[c.body_a],
+            result.bodies[c.body_b],
+            text::time(c.time),
+            text::approx(c.closest.distance, 3),
+            c.status.name(),
+            text::count(result.contacts.len() as u64, "contact")
+        ),
+        // Said by the error that follows: not "no contact".
+        (None, Termination::Undecided { .. } | Termination::Diverged { .. }) => {}
+        (None, _) => println!("no contact up to t = {}", text::time(result.end_time)),
     }
 }

@@ -13,7 +13,7 @@ pub struct Args {
     #[arg(long, default_value = "scenes/stability")]
     scenes: PathBuf,
     /// The output folder.
-    #[arg(long, default_value = "output")]
+    #[arg(short, long, default_value = "output")]
     out: PathBuf,
 }
 

@@ -23,7 +23,7 @@ pub struct Args {
     #[arg(long, value_delimiter = ',')]
     integrator: Vec<String>,
     /// The output folder.
-    #[arg(long, default_value = "output")]
+    #[arg(short, long, default_value = "output")]
     out: PathBuf,
     /// The most steps a run may take per setting (a longer one is refused
     /// before the sweep starts).

@@ -3,10 +3,10 @@
 //! and JSON reports for CI systems.
 
 use crate::{CliError, CommandResult};
+use nearmiss_cli::regression::Recorded;
 use nearmiss_cli::report::{
-    case_line, count_line, junit_xml, run_case, suite_counts, suite_json, ShardFile, SuiteShard,
+    case_line, count_line, junit_xml, run_case, suite_counts, suite_json, ShardFile, SuiteCase, SuiteShard,
 };
-use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -26,7 +26,7 @@ pub struct Args {
     #[arg(long)]
     json: Option<PathBuf>,
     /// Scenes run at once (default: one per core).
-    #[arg(long)]
+    #[arg(short, long)]
     jobs: Option<usize>,
     /// First pin each scene's current answer as its expectation, marked as
     /// recorded (scenes whose expectation was derived are left alone), then
@@ -67,20 +67,27 @@ pub fn main(args: Args) -> CommandResult {
         .build()
         .map_err(|error| CliError::BadInput(format!("--jobs: {error}")))?;
     if args.record {
+        let mut not_recorded = 0;
         for file in &files {
             match nearmiss_cli::regression::record(file, args.max_steps) {
-                Ok(words) => println!("recorded {}: {words}", file.display()),
-                Err(message) => eprintln!("not recorded: {message}"),
+                Ok(Recorded::Pinned(words)) => println!("recorded {}: {words}", file.display()),
+                Ok(Recorded::KeptDerived) => {
+                    println!("kept {}: its expectation is derived, not recorded over", file.display())
+                }
+                Err(message) => {
+                    eprintln!("error: {message}");
+                    not_recorded += 1;
+                }
             }
         }
+        if not_recorded > 0 {
+            return Err(CliError::Failed(format!(
+                "{} not recorded (above); nothing was tested",
+                nearmiss_cli::text::count(not_recorded as u64, "scene")
+            )));
+        }
     }
-    // Each scene's result is the same whatever runs beside it (runs are
-    // deterministic); the lines come in file order.
-    let cases: Vec<_> =
-        pool.install(|| files.par_iter().map(|file| run_case(file, args.max_steps)).collect());
-    for line in cases.iter().filter_map(case_line) {
-        println!("{line}");
-    }
+    let cases = run_in_order(&pool, &files, args.max_steps);
     let json = match args.shard {
         Some(shard) => ShardFile::Suite(SuiteShard {
             shard,
@@ -98,6 +105,39 @@ pub fn main(args: Args) -> CommandResult {
     }
     println!("{}", count_line(&cases));
     verdict(&cases)
+}
+
+/// Runs the scenes on `pool` and prints each one's line as soon as it and
+/// every scene before it are done, so the lines come in file order (each
+/// scene's result is the same whatever runs beside it: runs are
+/// deterministic) and a long suite shows its progress.
+fn run_in_order(pool: &rayon::ThreadPool, files: &[PathBuf], max_steps: u64) -> Vec<SuiteCase> {
+    eprintln!(
+        "running {} on {}",
+        nearmiss_cli::text::count(files.len() as u64, "scene"),
+        nearmiss_cli::text::count(pool.current_num_threads() as u64, "thread")
+    );
+    let mut slots: Vec<Option<SuiteCase>> = vec![None; files.len()];
+    let (sender, receiver) = std::sync::mpsc::channel();
+    pool.in_place_scope(|scope| {
+        for (k, file) in files.iter().enumerate() {
+            let sender = sender.clone();
+            scope.spawn(move |_| {
+                // The receiver lives until every scene has reported.
+                let _ = sender.send((k, run_case(file, max_steps)));
+            });
+        }
+        drop(sender);
+        let mut next = 0;
+        for (k, case) in receiver {
+            slots[k] = Some(case);
+            while let Some(Some(case)) = slots.get(next) {
+                println!("{}", case_line(case));
+                next += 1;
+            }
+        }
+    });
+    slots.into_iter().map(|case| case.expect("every scene reported")).collect()
 }
 
 /// The exit of a suite: 2 if a scene was bad, 1 if one failed.

@@ -1,0 +1,156 @@
+//! Issue 29's symptoms as a user met them: `nearmiss run` printed nothing
+//! and exited 0 when the scene's expectation failed; an undecided run said
+//! "no contact" before its error; `run --help` left out exit code 3; two
+//! scene files of one name overwrote each other's outputs; `test --record`
+//! put the comma into a trailing comment, and when the rewrite failed it
+//! said so in a debug dump, skipped the scene and exited 0.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn workspace(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("nearmiss-exit-codes-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn nearmiss(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_nearmiss")).args(args).current_dir(dir).output().unwrap()
+}
+
+/// A box falling at speed 1 onto a fixed one 1 below: contact at t = 1
+/// (the CCD reports it at most its contact distance early).
+fn falling(name: &str, tail: &str) -> String {
+    format!(
+        r#"Scene(
+    name: "{name}",
+    dt: 0.01,
+    duration: 2.0,
+    bodies: [
+        (name: "floor", mesh: Box(half_extents: (1.0, 1.0, 0.5)), position: (0.0, 0.0, -0.5), fixed: true),
+        (name: "box", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (0.0, 0.0, 1.5), velocity: (0.0, 0.0, -1.0)),
+    ]{tail}
+)
+"#
+    )
+}
+
+#[test]
+fn a_missed_expectation_is_printed_and_exits_1() {
+    let dir = workspace("missed");
+    let met = r#", expect: Contact(time: 1.0, tolerance: 1e-6, bodies: ("floor", "box"))"#;
+    let missed = r#", expect: Contact(time: 0.5, tolerance: 1e-6, bodies: ("floor", "box"))"#;
+    std::fs::write(dir.join("met.ron"), falling("met", met)).unwrap();
+    std::fs::write(dir.join("missed.ron"), falling("missed", missed)).unwrap();
+
+    let output = nearmiss(&["run", "met.ron", "-o", "out"], &dir);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{stdout}");
+    assert!(stdout.contains("expectation met: contact floor / box at t = 1 ± 1e-6"), "{stdout}");
+
+    let output = nearmiss(&["run", "missed.ron", "-o", "out"], &dir);
+    let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    assert_eq!(output.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(
+        stdout.contains("expectation NOT met: expected contact floor / box at t = 0.5 ± 1e-6; obtained contact floor / box at t = "),
+        "{stdout}"
+    );
+    assert!(stderr.contains("missed.ron: the run did not meet the scene's expectation"), "{stderr}");
+    // The outputs are written all the same: they show what happened.
+    assert!(dir.join("out/missed/summary.json").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_undecided_run_says_so_and_not_no_contact() {
+    let dir = workspace("undecided");
+    // A plate spinning at 1e6 rad/s beside a wall, with too few iterations
+    // for the CCD to decide (as `undecided_is_not_contact.rs`).
+    std::fs::write(
+        dir.join("spin.ron"),
+        r#"Scene(name: "spin", dt: 0.01, duration: 0.1, ccd: (max_iterations: 5), bodies: [
+            (name: "wall", mesh: Box(half_extents: (0.1, 2.0, 2.0)), position: (1.55, 0.0, 0.0), fixed: true),
+            (name: "plate", mesh: Box(half_extents: (1.0, 1.0, 0.01)), angular_velocity: (0.0, 0.0, 1e6), kinematic: true),
+        ])"#,
+    )
+    .unwrap();
+    let output = nearmiss(&["run", "spin.ron", "-o", "out"], &dir);
+    let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    assert_eq!(output.status.code(), Some(3), "{stdout}{stderr}");
+    assert!(!stdout.contains("no contact"), "{stdout}");
+    assert!(stderr.contains("error: undecided at step 0: the CCD of `wall` / `plate`"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn every_command_help_gives_every_exit_code() {
+    for command in [&["--help"][..], &["run", "--help"], &["test", "--help"], &["check", "--help"]] {
+        let output = Command::new(env!("CARGO_BIN_EXE_nearmiss")).args(command).output().unwrap();
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert_eq!(output.status.code(), Some(0));
+        for code in ["  0  success", "  1  a check failed", "  2  bad input", "  3  undecided"] {
+            assert!(stdout.contains(code), "{command:?} lacks `{code}`:\n{stdout}");
+        }
+    }
+}
+
+#[test]
+fn two_scenes_of_one_name_are_refused_before_anything_runs() {
+    let dir = workspace("same-name");
+    std::fs::write(dir.join("a.ron"), falling("same", "")).unwrap();
+    std::fs::write(dir.join("b.ron"), falling("same", "")).unwrap();
+    let output = nearmiss(&["run", "a.ron", "b.ron", "-o", "out"], &dir);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("a.ron and b.ron are both named `same`"), "{stderr}");
+    assert!(!dir.join("out").exists(), "nothing is written");
+    // Run one after the other, the second says whose outputs it replaced.
+    assert_eq!(nearmiss(&["run", "a.ron", "-o", "out"], &dir).status.code(), Some(0));
+    let output = nearmiss(&["run", "b.ron", "-o", "out"], &dir);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("held the outputs of a.ron, another scene of the same name: replaced"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn record_puts_the_comma_after_the_value_and_the_file_loads_back() {
+    let dir = workspace("record");
+    // The last field has no trailing comma, and a comment follows it.
+    let text = falling("record", "").replace("    ]\n)", "    ] // the gap is < 3e-9.\n)");
+    std::fs::write(dir.join("r.ron"), &text).unwrap();
+    let output = nearmiss(&["test", "--record", "r.ron"], &dir);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{stdout}{}", String::from_utf8_lossy(&output.stderr));
+    assert!(stdout.contains("recorded r.ron: contact floor / box at t = "), "{stdout}");
+    assert!(stdout.contains("1 passed, 0 failed, 0 skipped"), "{stdout}");
+    let recorded = std::fs::read_to_string(dir.join("r.ron")).unwrap();
+    assert!(recorded.contains("    ], // the gap is < 3e-9.\n    // expect: recorded"), "{recorded}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_scene_that_cannot_be_recorded_fails_the_command() {
+    let dir = workspace("record-fails");
+    // Too few iterations: the run is undecided, and there is no answer to pin.
+    std::fs::write(
+        dir.join("spin.ron"),
+        r#"Scene(name: "spin", dt: 0.01, duration: 0.1, ccd: (max_iterations: 5), bodies: [
+            (name: "wall", mesh: Box(half_extents: (0.1, 2.0, 2.0)), position: (1.55, 0.0, 0.0), fixed: true),
+            (name: "plate", mesh: Box(half_extents: (1.0, 1.0, 0.01)), angular_velocity: (0.0, 0.0, 1e6), kinematic: true),
+        ])"#,
+    )
+    .unwrap();
+    let before = std::fs::read_to_string(dir.join("spin.ron")).unwrap();
+    let output = nearmiss(&["test", "--record", "spin.ron"], &dir);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("spin.ron: not recorded: undecided"), "{stderr}");
+    assert!(stderr.contains("1 scene not recorded"), "{stderr}");
+    assert!(!stderr.contains("Err("), "{stderr}");
+    assert_eq!(std::fs::read_to_string(dir.join("spin.ron")).unwrap(), before);
+    let _ = std::fs::remove_dir_all(&dir);
+}
