@@ -2,9 +2,15 @@
 //! can be replayed with no code in Blender, any glTF viewer or a browser
 //! (written with `poses.csv`, from the same pose records).
 //!
-//! Each body is a node with its mesh (bodies that share a mesh share it in
-//! the file too) and a colour; each moving body has a translation and a
-//! rotation channel, sampled at the pose records' times and interpolated
+//! glTF is +Y up and the scene states its own up axis (`up`, by default
+//! against gravity, else Z): one root node turns the scene's up axis onto
+//! +Y, and under it the bodies keep the scene's coordinates, so a ball that
+//! falls along −z in the scene falls down in Blender or three.js.
+//!
+//! Each body is a node with its own material (a colour of its own; bodies
+//! that share a mesh share its vertices and triangles in the file, each
+//! with its own glTF mesh naming its material); each moving body has a
+//! translation and a rotation channel, sampled at the pose records' times and interpolated
 //! linearly (rotations: spherical-linear, glTF's rule for quaternions).
 //! glTF stores 32-bit floats: coordinates keep about 7 significant digits,
 //! plenty to look at and not an exact record (`poses.csv` is).
@@ -13,7 +19,7 @@ use serde_json::json;
 
 use nearmiss::math::Real;
 use nearmiss::poses::PoseRecord;
-use nearmiss::scene::Scene;
+use nearmiss::scene::{Axis, Scene};
 
 /// Body colours (RGBA, linear), in body order.
 const COLOURS: [[f32; 4]; 6] = [
@@ -24,6 +30,32 @@ const COLOURS: [[f32; 4]; 6] = [
     [0.58, 0.4, 0.74, 1.0],
     [0.55, 0.34, 0.29, 1.0],
 ];
+
+/// Body `i`'s colour: the palette, then hues a golden angle apart, so that
+/// neighbours in body order differ.
+fn colour(i: usize) -> [f32; 4] {
+    if let Some(c) = COLOURS.get(i) {
+        return *c;
+    }
+    let hue = (i as f32 * 0.618_034).fract() * 6.0;
+    let x = 1.0 - (hue % 2.0 - 1.0).abs();
+    let [r, g, b] = match hue as u32 {
+        0 => [1.0, x, 0.0],
+        1 => [x, 1.0, 0.0],
+        2 => [0.0, 1.0, x],
+        3 => [0.0, x, 1.0],
+        4 => [x, 0.0, 1.0],
+        _ => [1.0, 0.0, x],
+    };
+    // Saturation 0.65, value 0.8.
+    [r, g, b]
+        .map(|c| 0.8 * (1.0 - 0.65 * (1.0 - c)))
+        .into_iter()
+        .chain([1.0])
+        .collect::<Vec<f32>>()
+        .try_into()
+        .unwrap_or([0.5, 0.5, 0.5, 1.0])
+}
 
 /// glTF's component types and buffer view targets.
 const FLOAT: u32 = 5126;
@@ -93,38 +125,38 @@ impl Buffer {
 /// when the file would pass glTF's 4 GiB limit.
 pub fn glb(scene: &Scene, poses: &[PoseRecord]) -> Result<Vec<u8>, String> {
     let mut buffer = Buffer::default();
-    // One glTF mesh per mesh asset.
-    let mut assets: Vec<*const nearmiss::mesh::TriMesh> = Vec::new();
+    // The accessors (positions, indices) of each mesh asset, written once.
+    let mut assets: Vec<(*const nearmiss::mesh::TriMesh, usize, usize)> = Vec::new();
     let mut meshes = Vec::new();
     let mut materials = Vec::new();
     let mut nodes = Vec::new();
     for (i, body) in scene.model().bodies.iter().enumerate() {
-        let colour = COLOURS[i % COLOURS.len()];
+        let colour = colour(i);
         materials.push(json!({
             "name": body.name,
             "pbrMetallicRoughness": { "baseColorFactor": colour, "metallicFactor": 0.0, "roughnessFactor": 0.8 },
             "doubleSided": true,
         }));
         let asset = std::sync::Arc::as_ptr(&body.mesh);
-        let mesh_index = match assets.iter().position(|&a| a == asset) {
-            Some(k) => k,
+        let (positions, indices) = match assets.iter().find(|a| a.0 == asset) {
+            Some(&(_, positions, indices)) => (positions, indices),
             None => {
                 let positions: Vec<f32> =
                     body.mesh.vertices().iter().flat_map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect();
                 let positions = buffer.floats(&positions, 3, Some(ARRAY_BUFFER));
                 let indices = buffer.indices(body.mesh.triangles());
-                assets.push(asset);
-                meshes.push(json!({
-                    "name": body.name,
-                    "primitives": [{ "attributes": { "POSITION": positions }, "indices": indices, "material": i }],
-                }));
-                meshes.len() - 1
+                assets.push((asset, positions, indices));
+                (positions, indices)
             }
         };
+        meshes.push(json!({
+            "name": body.name,
+            "primitives": [{ "attributes": { "POSITION": positions }, "indices": indices, "material": i }],
+        }));
         let (t, q) = (body.pose.translation.vector, body.pose.rotation);
         nodes.push(json!({
             "name": body.name,
-            "mesh": mesh_index,
+            "mesh": i,
             "translation": [t.x, t.y, t.z],
             "rotation": [q.i, q.j, q.k, q.w],
         }));
@@ -166,10 +198,26 @@ pub fn glb(scene: &Scene, poses: &[PoseRecord]) -> Result<Vec<u8>, String> {
         }
     }
 
+    // The root, last: the bodies' nodes keep their indices (the channels'
+    // targets), and it turns the scene's up axis onto glTF's +Y.
+    let half = std::f64::consts::FRAC_1_SQRT_2;
+    let turn_up = match scene.run().up {
+        Axis::Y => [0.0, 0.0, 0.0, 1.0],
+        // −90° about x: +z → +y, +y → −z.
+        Axis::Z => [-half, 0.0, 0.0, half],
+        // +90° about z: +x → +y, +y → −x.
+        Axis::X => [0.0, 0.0, half, half],
+    };
+    let bodies: Vec<usize> = (0..nodes.len()).collect();
+    nodes.push(json!({
+        "name": format!("{} ({:?} up)", scene.run().name, scene.run().up),
+        "rotation": turn_up,
+        "children": bodies,
+    }));
     let mut document = json!({
         "asset": { "version": "2.0", "generator": concat!("nearmiss ", env!("CARGO_PKG_VERSION")) },
         "scene": 0,
-        "scenes": [{ "name": scene.run().name, "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
+        "scenes": [{ "name": scene.run().name, "nodes": [nodes.len() - 1] }],
         "nodes": nodes,
         "meshes": meshes,
         "materials": materials,

@@ -191,6 +191,9 @@ impl Builder<'_> {
             Some(_) if trace.is_none() => {
                 return self.invalid("plot", "the plot draws the distance trace: add `trace: (pairs: All)`")
             }
+            Some(_) if bodies.len() < 2 => {
+                return self.invalid("plot", "the scene has one body: there is no pair to trace or plot")
+            }
             Some(_) if trace.as_ref().is_some_and(|t| t.pairs.is_empty()) => {
                 return self.invalid(
                     "plot",
@@ -223,6 +226,7 @@ impl Builder<'_> {
                 plot,
                 expect,
                 poses,
+                up: file.up.unwrap_or_else(|| super::Axis::against(&gravity)),
             },
         })
     }

@@ -57,6 +57,11 @@ pub struct SceneFile {
     /// The bodies' poses over time (`poses.csv`); none by default.
     #[serde(default)]
     pub poses: Option<PosesSettings>,
+    /// The scene's up axis, `X`, `Y` or `Z`: how viewers stand it up
+    /// (`animation.glb` is written +Y up, as glTF requires). Default: the
+    /// axis gravity pulls down along, else `Z`.
+    #[serde(default)]
+    pub up: Option<super::Axis>,
 }
 
 /// The pose record of a run (`poses.csv`: step, time, body, position,

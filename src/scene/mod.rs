@@ -76,6 +76,8 @@ pub struct RunSpec {
     pub expect: Option<Expectation>,
     /// The pose record (`poses.csv`), if asked for.
     pub poses: Option<PosesSpec>,
+    /// The scene's up axis (for viewers; the simulation has none).
+    pub up: Axis,
 }
 
 /// What is simulated: the bodies and how they move and meet (a [`Scene`]'s
@@ -139,6 +141,28 @@ pub struct Material {
     pub restitution: Real,
     /// Give rapier the triangle mesh even where the mesh is convex.
     pub triangle_mesh: bool,
+}
+
+/// A world axis: the scene's up direction (`up`).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, serde::Deserialize)]
+pub enum Axis {
+    /// +x.
+    X,
+    /// +y.
+    Y,
+    /// +z.
+    Z,
+}
+
+impl Axis {
+    /// The axis gravity pulls down along (`g` along −axis), else `Z`.
+    pub fn against(gravity: &Vector) -> Axis {
+        match [gravity.x, gravity.y, gravity.z] {
+            [x, 0.0, 0.0] if x < 0.0 => Axis::X,
+            [0.0, y, 0.0] if y < 0.0 => Axis::Y,
+            _ => Axis::Z,
+        }
+    }
 }
 
 /// The pose record of a run.
@@ -430,7 +454,28 @@ mod tests {
         }
         assert!(scene.with_poses(Some(PosesSpec { every: 0 })).is_err());
         assert!(scene.with_trace(None).unwrap().run().trace.is_none());
+        assert_eq!(scene.run().up, Axis::Z, "no gravity: Z");
         let stopping = scene.stopping_at_first_contact();
         assert_eq!(stopping.model().on_contact, OnContact::Stop);
+    }
+
+    /// The up axis is the scene's word, or against gravity along an axis,
+    /// or Z.
+    #[test]
+    fn the_up_axis_is_stated_or_against_gravity() {
+        let text = |extra: &str| {
+            format!(
+                r#"Scene(name: "s", dt: 0.01, steps: 1, {extra} bodies: [(name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)))])"#
+            )
+        };
+        let up = |extra: &str| Scene::from_ron_str(&text(extra)).map(|s| s.run().up);
+        assert_eq!(up("gravity: (0.0, -9.81, 0.0),").unwrap(), Axis::Y);
+        assert_eq!(up("gravity: (-1.0, 0.0, 0.0),").unwrap(), Axis::X);
+        assert_eq!(up("gravity: (0.0, 0.0, -9.81),").unwrap(), Axis::Z);
+        assert_eq!(up("gravity: (0.0, 1.0, -9.81),").unwrap(), Axis::Z, "not along an axis");
+        assert_eq!(up("gravity: (0.0, 9.81, 0.0),").unwrap(), Axis::Z, "pulling up: no up axis to infer");
+        assert_eq!(up("gravity: (0.0, -9.81, 0.0), up: X,").unwrap(), Axis::X);
+        let error = up("up: W,").unwrap_err().to_string();
+        assert!(error.contains("W") && error.contains("1:"), "{error}");
     }
 }

@@ -6,6 +6,25 @@
 
 use nearmiss::scene::Scene;
 
+/// Five boxes share one mesh: each keeps a colour of its own (they were all
+/// one colour), and the mesh's vertices are written once.
+#[test]
+fn bodies_sharing_a_mesh_keep_their_colours() {
+    let scene = Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/box_stack.ron")).unwrap();
+    let result = nearmiss::stepper::run(&scene);
+    let bytes = nearmiss_cli::animation::glb(&scene, &result.poses).unwrap();
+    let gltf = gltf::Gltf::from_slice(&bytes).expect("valid glTF");
+    let colours: std::collections::HashSet<_> =
+        gltf.materials().map(|m| m.pbr_metallic_roughness().base_color_factor().map(f32::to_bits)).collect();
+    assert_eq!(gltf.materials().count(), scene.model().bodies.len());
+    assert_eq!(colours.len(), scene.model().bodies.len(), "every body a colour of its own");
+    let positions: std::collections::HashSet<_> = gltf
+        .meshes()
+        .map(|m| m.primitives().next().unwrap().get(&gltf::Semantic::Positions).unwrap().index())
+        .collect();
+    assert!(positions.len() < scene.model().bodies.len(), "shared meshes' vertices are written once");
+}
+
 #[test]
 fn a_bouncing_ball_replays() {
     let scene = Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/ball_rest.ron")).unwrap();
@@ -33,11 +52,26 @@ fn check(scene: &Scene, moving: &str) {
     let gltf = gltf::Gltf::from_slice(&bytes).expect("valid glTF");
     let blob = gltf.blob.clone().expect("a GLB buffer");
 
-    let nodes: Vec<_> = gltf.nodes().collect();
+    // One root, turning the scene's up axis (+z: gravity pulls along −z)
+    // onto glTF's +Y, with every body under it.
+    let roots: Vec<_> = gltf.default_scene().expect("a scene").nodes().collect();
+    assert_eq!(roots.len(), 1);
+    let (_, rotation, _) = roots[0].transform().decomposed();
+    let up = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+        rotation[3] as f64,
+        rotation[0] as f64,
+        rotation[1] as f64,
+        rotation[2] as f64,
+    )) * nalgebra::Vector3::z();
+    assert!((up - nalgebra::Vector3::y()).norm() < 1e-6, "scene up becomes {up:?}");
+    let nodes: Vec<_> = roots[0].children().collect();
     assert_eq!(nodes.len(), scene.model().bodies.len());
-    for (node, body) in nodes.iter().zip(scene.model().bodies.iter()) {
+    let mut materials = std::collections::HashSet::new();
+    for (k, (node, body)) in nodes.iter().zip(scene.model().bodies.iter()).enumerate() {
+        assert_eq!(node.index(), k, "body nodes keep the body order");
         assert_eq!(node.name(), Some(body.name.as_str()));
         let primitive = node.mesh().expect("a mesh").primitives().next().expect("a primitive");
+        assert!(materials.insert(primitive.material().index()), "{}: a material of its own", body.name);
         let reader = primitive.reader(|_| Some(&blob));
         assert_eq!(reader.read_positions().expect("positions").count(), body.mesh.vertices().len());
         assert_eq!(
