@@ -505,7 +505,9 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
     }
     let x_label = match contacts {
         0 => "time (scene time units)".to_string(),
-        n if n <= LABELLED_CONTACTS => format!("time (scene time units); {n} contact(s), red"),
+        n if n <= LABELLED_CONTACTS => {
+            format!("time (scene time units); {}, red", crate::text::count(n as u64, "contact"))
+        }
         n => format!(
             "time (scene time units); {n} contacts: red ticks, the first {LABELLED_CONTACTS} labelled"
         ),

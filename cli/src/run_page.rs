@@ -5,7 +5,7 @@
 
 use std::fmt::Write;
 
-use nearmiss::math::shortest;
+use crate::text;
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{Contact, RunResult};
 
@@ -18,21 +18,23 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
     let mut page = String::new();
     let name = |i: usize| cell(&result.bodies[i]);
     let _ = writeln!(page, "# {}\n", result.scene);
-    let _ = writeln!(page, "Scene file: `{}`\n", scene.run().source);
+    if scene.run().source != nearmiss::scene::FROM_STRING {
+        let _ = writeln!(page, "Scene file: `{}`\n", scene.run().source);
+    }
     let _ = writeln!(page, "| | |\n|---|---|");
     let _ = writeln!(page, "| ended | {} |", cell(&result.termination_text()));
     let _ = writeln!(
         page,
         "| steps | {} of dt = {} (to t = {}) |",
         result.steps,
-        shortest(scene.model().dt),
-        shortest(result.end_time)
+        text::time(scene.model().dt),
+        text::time(result.end_time)
     );
     let _ = writeln!(page, "| contacts | {} |", result.contacts.len());
     if let Some(solver) = &result.solver {
         let _ = writeln!(page, "| response solved by | {} |", solver.engine);
     }
-    let _ = writeln!(page, "| wall time | {:.3} s |", result.wall_time_s);
+    let _ = writeln!(page, "| wall time | {} |", text::wall(result.wall_time_s));
     let c = &result.counters.work;
     let _ = writeln!(
         page,
@@ -65,36 +67,23 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
         for (n, contact) in result.contacts.iter().take(LISTED_CONTACTS).enumerate() {
             let _ = writeln!(
                 page,
-                "| {} | {} | {} / {} | {} | {:.3e} | {:.3e} |",
+                "| {} | {} | {} / {} | {} | {} | {} |",
                 n + 1,
-                shortest(contact.time),
+                text::time(contact.time),
                 name(contact.body_a),
                 name(contact.body_b),
                 features(contact),
-                contact.closest.distance,
-                contact.contact_distance
+                text::approx(contact.closest.distance, 3),
+                text::approx(contact.contact_distance, 3)
             );
         }
         page.push('\n');
-        let missing: Vec<String> = scene
-            .run()
-            .plot
-            .iter()
-            .flat_map(|plot| {
-                plot.contacts.iter().filter(|&&n| n > result.contacts.len()).map(|n| n.to_string())
-            })
-            .collect();
-        if !missing.is_empty() {
-            let _ = writeln!(
-                page,
-                "Pictures were asked for contact(s) {}; the run had {} contact(s).\n",
-                missing.join(", "),
-                result.contacts.len()
-            );
-        }
         for picture in files.iter().filter(|f| f.starts_with("contact_")) {
             let _ = writeln!(page, "![{}]({picture})\n", picture.trim_end_matches(".png").replace('_', " "));
         }
+    }
+    if let Some(note) = missing_pictures(scene, result) {
+        let _ = writeln!(page, "{note}.\n");
     }
     if files.contains(&"distance.png") {
         let _ = writeln!(page, "## Distance over time\n\n![distance between traced pairs](distance.png)\n");
@@ -130,4 +119,24 @@ fn features(contact: &Contact) -> String {
         contact.closest.triangle_b,
         contact.closest.feature_b
     )
+}
+
+/// The contacts `plot: (contacts: [...])` asked pictures of that the run
+/// did not have, as a sentence (`None` if every one was there).
+pub fn missing_pictures(scene: &Scene, result: &RunResult) -> Option<String> {
+    let missing: Vec<String> = scene
+        .run()
+        .plot
+        .iter()
+        .flat_map(|plot| plot.contacts.iter().filter(|&&n| n > result.contacts.len()).map(|n| n.to_string()))
+        .collect();
+    let asked = if missing.len() == 1 { "contact" } else { "contacts" };
+    (!missing.is_empty()).then(|| {
+        format!(
+            "`plot.contacts` asked for pictures of {asked} {}, but the run had {}: no picture of {}",
+            missing.join(", "),
+            text::count(result.contacts.len() as u64, "contact"),
+            if missing.len() == 1 { "it" } else { "those" }
+        )
+    })
 }

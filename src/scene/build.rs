@@ -226,6 +226,7 @@ impl Builder<'_> {
                 plot,
                 expect,
                 poses,
+                steps_given: file.steps.is_some(),
                 up: file.up.unwrap_or_else(|| super::Axis::against(&gravity)),
             },
         })
@@ -263,7 +264,12 @@ impl Builder<'_> {
                 if duration / dt > 1e12 {
                     return self.invalid(
                         "duration",
-                        format!("{:e} steps of dt = {}: too many", duration / dt, shortest(dt)),
+                        format!(
+                            "{} / dt {} is {:.1e} steps: too many (check `dt` and `duration`)",
+                            shortest(duration),
+                            shortest(dt),
+                            duration / dt
+                        ),
                     );
                 }
                 Ok(super::steps_for(duration, dt))

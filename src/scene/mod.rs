@@ -78,6 +78,8 @@ pub struct RunSpec {
     pub poses: Option<PosesSpec>,
     /// The scene's up axis (for viewers; the simulation has none).
     pub up: Axis,
+    /// The file gave `steps` (not `duration`): messages name what it wrote.
+    pub(crate) steps_given: bool,
 }
 
 /// What is simulated: the bodies and how they move and meet (a [`Scene`]'s
@@ -305,6 +307,7 @@ impl Scene {
         let mut scene = self.clone();
         scene.model.dt = dt;
         scene.run.steps = steps_for(self.run.duration, dt);
+        scene.run.steps_given = false;
         scene.model.kernel = kernel;
         scene.model.integrator = integrator;
         scene
@@ -379,13 +382,19 @@ impl Scene {
         }
         Err(SceneError::Invalid {
             path: self.run.source.clone(),
-            field: "steps".into(),
-            message: format!(
-                "the run would take {} steps (duration {} / dt {}), more than the limit of {max_steps}: check `dt` and `duration`, or allow more with --max-steps",
-                self.run.steps,
-                crate::math::shortest(self.run.duration),
-                crate::math::shortest(self.model.dt)
-            ),
+            field: if self.run.steps_given { "steps" } else { "duration" }.into(),
+            message: match self.run.steps_given {
+                true => format!(
+                    "{} steps are more than the limit of {max_steps}: check `steps`, or allow more with --max-steps",
+                    self.run.steps
+                ),
+                false => format!(
+                    "the run would take {} steps (duration {} / dt {}), more than the limit of {max_steps}: check `dt` and `duration`, or allow more with --max-steps",
+                    self.run.steps,
+                    crate::math::shortest(self.run.duration),
+                    crate::math::shortest(self.model.dt)
+                ),
+            },
         })
     }
 

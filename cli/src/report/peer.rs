@@ -36,7 +36,7 @@ pub struct PeerComparison {
 
 /// The comparison as a Markdown table.
 pub fn peer_markdown(peer: &[PeerComparison]) -> String {
-    let time = |t: Option<Real>| t.map_or("no contact".to_string(), |t| format!("{t:.12e}"));
+    let time = |t: Option<Real>| t.map_or("no contact".to_string(), crate::text::time);
     let mut out =
         String::from("| pair | nearmiss | parry | parry query | parry s |\n|---|---|---|---|---|\n");
     for p in peer {

@@ -346,7 +346,7 @@ pub fn sweep_markdown(report: &SweepReport) -> String {
     let mut out = format!(
         "sweep of {}: reference {} ({})\n",
         report.scene,
-        report.reference.map_or("none".into(), |r| format!("{r:.15e}")),
+        report.reference.map_or("none".into(), crate::text::time),
         report.reference_source
     );
     out.push_str("| dt | kernel | integrator | steps | time of contact | error | kernel max rel. error | wall time (s) | ended |\n");
@@ -358,8 +358,8 @@ pub fn sweep_markdown(report: &SweepReport) -> String {
             kernel_name(r.setting.kernel),
             integrator_name(r.setting.integrator),
             r.steps,
-            r.time.map_or("none".into(), |t| format!("{t:.12e}")),
-            r.error.map_or("-".into(), |e| format!("{e:+.3e}")),
+            r.time.map_or("none".into(), crate::text::time),
+            r.error.map_or("-".into(), |e| crate::text::signed(e, 3)),
             r.kernel_error,
             r.wall_time_s,
             r.termination

@@ -154,3 +154,40 @@ fn a_scene_that_cannot_be_recorded_fails_the_command() {
     assert_eq!(std::fs::read_to_string(dir.join("spin.ron")).unwrap(), before);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn pictures_of_contacts_the_run_did_not_have_are_named() {
+    let dir = workspace("pictures");
+    let text = falling("pictures", "")
+        .replace("    bodies:", "    trace: (pairs: All),\n    plot: (contacts: [1, 5, 9]),\n    bodies:");
+    std::fs::write(dir.join("p.ron"), text).unwrap();
+    let output = nearmiss(&["run", "p.ron", "-o", "out"], &dir);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    let note =
+        "`plot.contacts` asked for pictures of contacts 5, 9, but the run had 1 contact: no picture of those";
+    assert!(stderr.contains(&format!("warning: {note}")), "{stderr}");
+    let page = std::fs::read_to_string(dir.join("out/pictures/report.md")).unwrap();
+    assert!(page.contains(note), "{page}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn meshes_intersecting_at_the_start_are_said_to() {
+    let dir = workspace("overlap");
+    // The box starts 0.25 deep in the floor.
+    std::fs::write(dir.join("o.ron"), falling("overlap", "").replace("(0.0, 0.0, 1.5)", "(0.0, 0.0, 0.25)"))
+        .unwrap();
+    let output = nearmiss(&["run", "o.ron", "-o", "out"], &dir);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr
+            .contains("warning: at t = 0 these meshes already touch or intersect (distance 0): floor / box."),
+        "{stderr}"
+    );
+    // Apart at the start: no such word.
+    std::fs::write(dir.join("a.ron"), falling("apart", "")).unwrap();
+    let output = nearmiss(&["run", "a.ron", "-o", "out"], &dir);
+    assert!(!String::from_utf8_lossy(&output.stderr).contains("already touch"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -300,7 +300,34 @@ fn invalid_utf8_names_line_and_column() {
 fn too_many_steps_are_refused_before_the_run() {
     // `steps` had no upper bound (1e12 passed `check`).
     let text = format!("Scene(name: \"bad\", dt: 1e-9, duration: 10.0, {GOOD_BODIES})");
-    assert_rejected("steps-limit", &text, &["`steps`", "10000000000 steps", "--max-steps"]);
+    assert_rejected("steps-limit", &text, &["`duration`", "10000000000 steps", "--max-steps"]);
+    // A scene that gives `steps` is told of `steps`, not of a `duration`
+    // it never wrote.
+    let text = format!("Scene(name: \"bad\", dt: 0.01, steps: 200000000, {GOOD_BODIES})");
+    assert_rejected(
+        "steps-given",
+        &text,
+        &["`steps`", "200000000 steps are more than the limit", "--max-steps"],
+    );
+    let text = format!("Scene(name: \"bad\", dt: 0.01, steps: 200000000, {GOOD_BODIES})");
+    let error = nearmiss::scene::Scene::load_within(
+        {
+            let dir = workspace("steps-given-words");
+            let path = dir.join("s.ron");
+            std::fs::write(&path, &text).unwrap();
+            path
+        },
+        nearmiss::scene::DEFAULT_MAX_STEPS,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(!error.contains("duration"), "{error}");
+}
+
+#[test]
+fn a_plot_of_one_body_says_there_is_no_pair() {
+    let text = "Scene(name: \"s\", dt: 0.01, duration: 1.0, trace: (pairs: All), plot: (), bodies: [(name: \"a\", mesh: Box(half_extents: (0.5, 0.5, 0.5)))])";
+    assert_rejected("one-body-plot", text, &["plot", "the scene has one body: there is no pair"]);
 }
 
 #[test]

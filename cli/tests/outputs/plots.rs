@@ -99,7 +99,7 @@ fn the_first_contacts_and_the_named_ones_are_pictured() {
         page.contains("![contact 1](contact_1.png)") && page.contains("![contact 7](contact_7.png)"),
         "{page}"
     );
-    assert!(page.contains("asked for contact(s) 100000"), "{page}");
+    assert!(page.contains("asked for pictures of contact 100000, but the run had"), "{page}");
     // The same scene without the named contact: contact_7.png goes.
     let plain = Scene::from_ron_str(&text).unwrap();
     nearmiss_cli::output::write_outputs(&out, &nearmiss::stepper::run(&plain), &plain).unwrap();

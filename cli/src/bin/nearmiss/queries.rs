@@ -110,7 +110,10 @@ pub fn main(args: Args) -> CommandResult {
 pub fn verdict(reports: &[nearmiss_cli::report::FileReport]) -> CommandResult {
     let failed = reports.iter().filter(|r| r.false_negatives > 0 || r.late > 0).count();
     if failed > 0 {
-        return Err(CliError::Failed(format!("{failed} file(s) with a false negative or a late time")));
+        return Err(CliError::Failed(format!(
+            "{} with a false negative or a late time",
+            nearmiss_cli::text::count(failed as u64, "file")
+        )));
     }
     Ok(())
 }

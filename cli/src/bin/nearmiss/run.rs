@@ -120,6 +120,9 @@ fn run_one(args: &Args, path: &std::path::Path, scene: &Scene) -> CommandResult 
     let names: Vec<String> =
         written.iter().filter_map(|f| f.file_name()).map(|n| n.to_string_lossy().into_owned()).collect();
     println!("wrote {}/: {}", folder.display(), names.join(", "));
+    if let Some(note) = nearmiss_cli::run_page::missing_pictures(scene, &result) {
+        eprintln!("warning: {note}");
+    }
     let verdict = nearmiss_cli::regression::verdict(scene, &result);
     if let Some(v) = &verdict {
         let error = v.error.map_or(String::new(), |e| format!(", error {}", text::signed(e, 3)));
@@ -161,5 +164,18 @@ fn print_result(scene: &Scene, result: &RunResult) {
         // Said by the error that follows: not "no contact".
         (None, Termination::Undecided { .. } | Termination::Diverged { .. }) => {}
         (None, _) => println!("no contact up to t = {}", text::time(result.end_time)),
+    }
+    // Meshes in contact from the start: said, not only written as a status.
+    let at_start: Vec<String> = result
+        .contacts
+        .iter()
+        .filter(|c| c.time == 0.0 && c.closest.distance == 0.0)
+        .map(|c| format!("{} / {}", result.bodies[c.body_a], result.bodies[c.body_b]))
+        .collect();
+    if !at_start.is_empty() {
+        eprintln!(
+            "warning: at t = 0 these meshes already touch or intersect (distance 0): {}. The run starts in contact; check the bodies' positions",
+            at_start.join(", ")
+        );
     }
 }

@@ -56,7 +56,11 @@ pub fn main(args: Args) -> CommandResult {
         );
     }
     if failed > 0 {
-        return Err(CliError::Failed(format!("{failed} scene(s) of the suite missed their expectation")));
+        return Err(CliError::Failed(format!(
+            "{} of the suite missed {} expectation",
+            nearmiss_cli::text::count(failed as u64, "scene"),
+            if failed == 1 { "its" } else { "their" }
+        )));
     }
     Ok(())
 }

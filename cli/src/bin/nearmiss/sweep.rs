@@ -65,18 +65,18 @@ pub fn main(args: Args) -> CommandResult {
         return Err(CliError::BadInput(format!("--dt: every step must be a positive number, found {bad:?}")));
     }
     for &dt in &args.dt {
-        let steps = (scene.run().duration / dt).ceil();
-        if steps > args.max_steps as f64 {
+        let steps = (scene.run().duration / dt).ceil() as u64;
+        if steps > args.max_steps {
             return Err(CliError::BadInput(format!(
-                "--dt: {dt:?} gives {steps:e} steps over the scene's duration {:?}, more than the limit of {} (raise it with --max-steps)",
+                "--dt: {dt:?} gives {steps} steps over the scene's duration {:?}, more than the limit of {} (raise it with --max-steps)",
                 scene.run().duration, args.max_steps
             )));
         }
         // The scene's trace and poses were checked at load for its own dt.
-        let records = scene.most_records(steps as u64);
+        let records = scene.most_records(steps);
         if records > nearmiss::scene::MAX_RECORDS {
             return Err(CliError::BadInput(format!(
-                "--dt: {dt:?} gives {steps:e} steps, at which the scene's trace or poses would keep {records} records, more than the limit of {}: trace fewer pairs or sample less often (`every`)",
+                "--dt: {dt:?} gives {steps} steps, at which the scene's trace or poses would keep {records} records, more than the limit of {}: trace fewer pairs or sample less often (`every`)",
                 nearmiss::scene::MAX_RECORDS
             )));
         }

@@ -144,7 +144,10 @@ fn run_in_order(pool: &rayon::ThreadPool, files: &[PathBuf], max_steps: u64) -> 
 pub fn verdict(cases: &[nearmiss_cli::report::SuiteCase]) -> CommandResult {
     let (_, failed, bad, _) = suite_counts(cases);
     if bad > 0 {
-        Err(CliError::BadInput(format!("{bad} scene(s) could not be loaded")))
+        Err(CliError::BadInput(format!(
+            "{} could not be loaded",
+            nearmiss_cli::text::count(bad as u64, "scene")
+        )))
     } else if failed > 0 {
         Err(CliError::Failed(String::new()))
     } else {
