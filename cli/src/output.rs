@@ -405,7 +405,7 @@ pub fn check_writable(out: &Path) -> std::io::Result<()> {
 }
 
 /// Contacts labelled on the distance chart (the first ones); every contact
-/// gets a tick on the time axis.
+/// gets a red line across the chart at its time.
 pub const LABELLED_CONTACTS: usize = 3;
 
 /// Traced pairs named in the distance chart's legend (the first ones; the
@@ -424,7 +424,7 @@ pub const LOG_AXIS_DECADES: i32 = 8;
 
 /// The distance-over-time chart of a run's trace: one line per traced
 /// pair, each running down to the distance at its contacts (the CCD's
-/// distance at the time of impact, inside the step), every contact a tick
+/// distance at the time of impact, inside the step), every contact a red line
 /// on the time axis and the first [`LABELLED_CONTACTS`] labelled. `log_y`:
 /// the axis asked for, or `None` to choose it by [`LOG_AXIS_SPAN`].
 #[cfg(feature = "plot")]
@@ -509,7 +509,7 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
             format!("time (scene time units); {}, red", crate::text::count(n as u64, "contact"))
         }
         n => format!(
-            "time (scene time units); {n} contacts: red ticks, the first {LABELLED_CONTACTS} labelled"
+            "time (scene time units); {n} contacts: red lines, the first {LABELLED_CONTACTS} labelled"
         ),
     };
     let how = if chosen { "chosen: " } else { "" };

@@ -99,6 +99,38 @@ pub fn query_table_header() -> &'static str {
     "| file | kind | queries | positives | false neg. | false pos. | out of iter. | mean µs | median µs | max µs | exact times checked | late |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n"
 }
 
+/// The closing Markdown row: every file's counts summed (positives and
+/// false results over the files whose truth is known), the mean time per
+/// query over all queries, the largest time; no median across files.
+pub fn query_totals_row(reports: &[FileReport]) -> String {
+    let sum = |f: fn(&FileReport) -> usize| reports.iter().map(f).sum::<usize>();
+    let known: Vec<&FileReport> = reports.iter().filter(|r| r.unknown_truth < r.queries).collect();
+    let known_sum = |f: fn(&FileReport) -> usize| {
+        if known.is_empty() {
+            "?".to_string()
+        } else {
+            known.iter().map(|r| f(r)).sum::<usize>().to_string()
+        }
+    };
+    let queries = sum(|r| r.queries);
+    let mean = reports.iter().map(|r| r.mean_microseconds * r.queries as Real).sum::<Real>()
+        / queries.max(1) as Real;
+    let max = reports.iter().map(|r| r.max_microseconds).fold(0.0, Real::max);
+    format!(
+        "| **all {}** | | {} | {} | {} | {} | {} | {:.2} | | {:.1} | {} | {} |\n",
+        crate::text::count(reports.len() as u64, "file"),
+        queries,
+        known_sum(|r| r.positives),
+        known_sum(|r| r.false_negatives),
+        known_sum(|r| r.false_positives),
+        sum(|r| r.out_of_iterations),
+        mean,
+        max,
+        sum(|r| r.times_checked),
+        sum(|r| r.late)
+    )
+}
+
 /// One Markdown row: the report of the file at `path`.
 pub fn query_row(path: &std::path::Path, r: &FileReport) -> String {
     let truth = |n: usize| if r.unknown_truth == r.queries { "?".to_string() } else { n.to_string() };
@@ -117,4 +149,35 @@ pub fn query_row(path: &std::path::Path, r: &FileReport) -> String {
         r.times_checked,
         r.late
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn report(queries: usize, positives: usize, false_positives: usize, unknown: usize, mean: Real) -> FileReport {
+        FileReport {
+            kind: QueryKind::EdgeEdge,
+            queries,
+            positives,
+            false_negatives: 0,
+            false_positives,
+            unknown_truth: unknown,
+            out_of_iterations: 1,
+            mean_microseconds: mean,
+            median_microseconds: mean,
+            max_microseconds: 2.0 * mean,
+            times_checked: positives,
+            late: 0,
+        }
+    }
+
+    /// Counts summed, truths only over files that know them, the mean
+    /// weighted by each file's queries.
+    #[test]
+    fn the_totals_row_sums_what_adds_up() {
+        let rows = [report(100, 10, 3, 0, 1.0), report(300, 20, 5, 0, 3.0), report(50, 0, 0, 50, 9.0)];
+        assert_eq!(query_totals_row(&rows), "| **all 3 files** | | 450 | 30 | 0 | 8 | 3 | 3.22 | | 18.0 | 30 | 0 |\n");
+        assert!(query_totals_row(&rows[2..]).starts_with("| **all 1 file** | | 50 | ? | ? | ? |"));
+    }
 }

@@ -6,7 +6,7 @@ use crate::test::{verdict, write_beside};
 use crate::{CliError, CommandResult};
 use nearmiss_cli::report::{
     case_line, count_line, junit_xml, merge_queries, merge_suite, merge_sweep, query_row, query_table_header,
-    suite_json, ShardFile,
+    query_totals_row, suite_json, ShardFile,
 };
 use std::path::PathBuf;
 
@@ -77,6 +77,7 @@ pub fn main(args: Args) -> CommandResult {
             print!("{}", query_row(std::path::Path::new(path), report));
         }
         let reports: Vec<_> = files.into_iter().map(|(_, report)| report).collect();
+        print!("{}", query_totals_row(&reports));
         return crate::queries::verdict(&reports);
     }
     let cases = merge_suite(&suites).map_err(CliError::BadInput)?;

@@ -103,6 +103,7 @@ pub fn main(args: Args) -> CommandResult {
         eprintln!("wrote {}", json.display());
     }
     let reports: Vec<_> = rows.into_iter().map(|(_, (_, report))| report).collect();
+    print!("{}", nearmiss_cli::report::query_totals_row(&reports));
     verdict(&reports)
 }
 
