@@ -6,8 +6,8 @@
 //! closest points), with `n` the contact normal (from body a's closest
 //! point towards body b's; where they coincide, triangle a's normal):
 //! 1. from the side (n up), both bodies whole;
-//! 2. the same, zoomed on the contact (a few times the two contact
-//!    triangles' size);
+//! 2. the same, zoomed on the contact (the smaller contact triangle whole,
+//!    at least a tenth of the whole view);
 //! 3. looking down the normal onto the contact, zoomed alike.
 //!
 //! Body a is drawn in blue, body b in orange; the two triangles in contact
@@ -20,7 +20,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use crate::plot::{draw_png, PlotError, FAMILY};
-use nearmiss::math::shortest;
+use crate::text;
 use nearmiss::math::{Point, Pose, Real, Vector};
 use nearmiss::mesh::TriMesh;
 use nearmiss::stepper::Contact;
@@ -50,13 +50,17 @@ const ORANGE_BODY: RGBColor = RGBColor(230, 120, 20);
 const NORMAL: RGBColor = RGBColor(200, 30, 30);
 
 /// One orthographic view: the plane spanned by `right` and `up` (unit,
-/// orthogonal) through `center`, showing `half_width` either side.
+/// orthogonal) through `center` (the contact), showing `half_width`
+/// either side of `offset` (the view's middle, in the plane's coordinates).
 struct View {
     title: String,
     center: Point,
     right: Vector,
     up: Vector,
     half_width: Real,
+    offset: (Real, Real),
+    /// What the vertical axis is, in words.
+    up_name: &'static str,
 }
 
 impl View {
@@ -93,24 +97,67 @@ pub fn draw_contact(
     let first = normal.cross(&if normal.x.abs() < 0.9 { Vector::x() } else { Vector::y() }).normalize();
     let second = normal.cross(&first);
     let (right, depth) = if spread(&first) >= spread(&second) { (first, second) } else { (second, first) };
-    let whole = spread(&right).max(spread(&normal)).max(Real::MIN_POSITIVE) * 1.05;
-    let zoom = (whole / ZOOM).max(4.0 * contact.contact_distance);
+    // The whole view is centred on both bodies' extent in its plane (not
+    // on the contact, which would leave half the panel empty), and holds it.
+    let extent = |axis: &Vector| {
+        vertices
+            .iter()
+            .map(|p| (p - center).dot(axis))
+            .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
+    };
+    let ((x0, x1), (y0, y1)) = (extent(&right), extent(&normal));
+    let whole_offset = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+    let whole = ((x1 - x0) / 2.0).max((y1 - y0) / 2.0 * PANEL_ASPECT).max(Real::MIN_POSITIVE) * 1.08;
+    // Zoomed: the smaller contact triangle whole (the larger may be a whole
+    // floor), and at least 1/ZOOM of the whole view and a few contact
+    // distances around the contact.
+    let triangle_b = mesh_b.triangle(contact.closest.triangle_b).map(|p| contact.pose_b * p);
+    let reach = |t: &[Point; 3]| t.iter().map(|p| (p - center).norm()).fold(0.0, Real::max);
+    let small_triangle = reach(&triangle_a).min(reach(&triangle_b)) * 1.25;
+    let zoom = (spread(&right).max(spread(&normal)) / ZOOM)
+        .max(small_triangle)
+        .min(whole)
+        .max(4.0 * contact.contact_distance);
     let views = [
-        View { title: "side view (normal up)".into(), center, right, up: normal, half_width: whole },
-        View { title: "side view, zoomed".into(), center, right, up: normal, half_width: zoom },
-        View { title: "down the normal, zoomed".into(), center, right, up: depth, half_width: zoom },
+        View {
+            title: "side view (normal up)".into(),
+            center,
+            right,
+            up: normal,
+            half_width: whole,
+            offset: whole_offset,
+            up_name: "along the normal",
+        },
+        View {
+            title: "side view, zoomed".into(),
+            center,
+            right,
+            up: normal,
+            half_width: zoom,
+            offset: (0.0, 0.0),
+            up_name: "along the normal",
+        },
+        View {
+            title: "down the normal, zoomed".into(),
+            center,
+            right,
+            up: depth,
+            half_width: zoom,
+            offset: (0.0, 0.0),
+            up_name: "across the normal",
+        },
     ];
     let caption = format!(
-        "contact {n}: t = {}   {} (triangle {} {})  /  {} (triangle {} {})   distance {:.3e} (contact distance {:.3e})",
-        shortest(contact.time),
+        "contact {n}: t = {}   {} (triangle {} {})  /  {} (triangle {} {})   distance {} (contact distance {})",
+        text::time(contact.time),
         names.0,
         contact.closest.triangle_a,
         contact.closest.feature_a,
         names.1,
         contact.closest.triangle_b,
         contact.closest.feature_b,
-        contact.closest.distance,
-        contact.contact_distance
+        text::approx(contact.closest.distance, 3),
+        text::approx(contact.contact_distance, 3)
     );
 
     draw_png(path, |root| {
@@ -118,7 +165,7 @@ pub fn draw_contact(
         let (top, rest) = root.split_vertically(70);
         top.draw(&Text::new(caption, (20, 12), (FAMILY, 18).into_font())).map_err(|e| error(&e))?;
         let legend = format!(
-            "blue: {}   orange: {}   red: the contact normal, from {} towards {}",
+            "blue: {}   orange: {}   red: the contact normal, from {} towards {}   grey: the world's axes   lengths in scene units, from the contact",
             names.0, names.1, names.0, names.1
         );
         top.draw(&Text::new(legend, (20, 42), (FAMILY, 16).into_font())).map_err(|e| error(&e))?;
@@ -127,23 +174,31 @@ pub fn draw_contact(
             // Equal scales on both axes: the plotting area's aspect ratio.
             let (width, height) = panel.dim_in_pixel();
             let w = view.half_width;
-            let h =
-                w * (height.saturating_sub(75).max(1) as Real) / (width.saturating_sub(80).max(1) as Real);
+            let h = w * (height.saturating_sub(PANEL_MARGINS.1).max(1) as Real)
+                / (width.saturating_sub(PANEL_MARGINS.0).max(1) as Real);
+            let (cx, cy) = view.offset;
             let mut chart = ChartBuilder::on(panel)
                 .caption(&view.title, (FAMILY, 18).into_font())
                 .margin(10)
-                .x_label_area_size(30)
-                .y_label_area_size(60)
-                .build_cartesian_2d(-w..w, -h..h)
+                .margin_right(22)
+                .x_label_area_size(45)
+                .y_label_area_size(70)
+                .build_cartesian_2d(cx - w..cx + w, cy - h..cy + h)
                 .map_err(|e| error(&e))?;
+            // Tick values with a few digits, rounding noise next to zero
+            // (-5.55e-17) written as 0.
+            let tick = |v: &Real| text::approx(if v.abs() < 1e-9 * w { 0.0 } else { *v }, 3);
             chart
                 .configure_mesh()
                 .disable_mesh()
-                .label_style((FAMILY, 12).into_font())
+                .label_style((FAMILY, 13).into_font())
+                .axis_desc_style((FAMILY, 14).into_font())
                 .x_labels(3)
                 .y_labels(5)
-                .x_label_formatter(&|v| format!("{v:.2e}"))
-                .y_label_formatter(&|v| format!("{v:.2e}"))
+                .x_label_formatter(&tick)
+                .y_label_formatter(&tick)
+                .x_desc(format!("along {}", direction_name(&view.right)))
+                .y_desc(format!("{} {}", view.up_name, direction_name(&view.up)))
                 .draw()
                 .map_err(|e| error(&e))?;
             for (mesh, pose, color, contact_triangle) in [
@@ -165,9 +220,76 @@ pub fn draw_contact(
             chart
                 .draw_series([PathElement::new(vec![base, tip], NORMAL.stroke_width(3))])
                 .map_err(|e| error(&e))?;
+            draw_triad(&mut chart, view, (cx + 0.72 * w, cy + h - 0.28 * w), 0.2 * w)
+                .map_err(|e| error(&e))?;
         }
         Ok(())
     })
+}
+
+/// The plotting area's width over its height in a panel (1200 × 800 less
+/// the caption, in thirds, less the axes' label areas): the whole view
+/// fits its bodies' height times this into its half-width.
+const PANEL_ASPECT: Real = 330.0 / 620.0;
+
+/// A panel's width and height less its plotting area (label areas,
+/// margins and the title), in pixels.
+const PANEL_MARGINS: (u32, u32) = (112, 110);
+
+/// A direction in words: `+x`, `−z`, or its components when it is not
+/// along a world axis.
+fn direction_name(v: &Vector) -> String {
+    for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+        if v[k].abs() > 1.0 - 1e-9 {
+            return format!("{}{axis}", if v[k] > 0.0 { "+" } else { "−" });
+        }
+    }
+    let c = |x: Real| text::approx(if x.abs() < 5e-3 { 0.0 } else { x }, 2);
+    format!("({}, {}, {})", c(v.x), c(v.y), c(v.z))
+}
+
+/// The world's axes as seen in `view`: a grey arrow for each of x, y and
+/// z from `at`, `length` long when it lies in the view's plane (shorter as
+/// it points out of it; a dot when it points straight out).
+fn draw_triad<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        '_,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    view: &View,
+    at: (Real, Real),
+    length: Real,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let grey = RGBColor(90, 90, 90);
+    let axes = [("x", Vector::x()), ("y", Vector::y()), ("z", Vector::z())];
+    let in_plane = |axis: &Vector| (axis.dot(&view.right), axis.dot(&view.up));
+    // An axis along the line of sight is labelled on the side no arrow takes.
+    let (sx, sy) =
+        axes.iter().map(|(_, a)| in_plane(a)).fold((0.0, 0.0), |(x, y), (dx, dy)| (x - dx, y - dy));
+    let free = if sx.hypot(sy) > 1e-6 { (sx / sx.hypot(sy), sy / sx.hypot(sy)) } else { (-1.0, 0.0) };
+    for (name, axis) in axes {
+        let (dx, dy) = in_plane(&axis);
+        let tip = (at.0 + dx * length, at.1 + dy * length);
+        if dx.hypot(dy) < 0.1 {
+            // Along the line of sight: towards the viewer or away.
+            let towards = axis.dot(&view.right.cross(&view.up)) > 0.0;
+            chart.draw_series([Circle::new(at, 3, grey.filled())])?;
+            let label = format!("{name} {}", if towards { "out" } else { "in" });
+            // Text hangs right and down from its anchor: about 1.3 lengths
+            // wide and half a length high.
+            let anchor = (
+                at.0 + free.0 * 0.5 * length - if free.0 < 0.0 { 1.3 * length } else { 0.0 },
+                at.1 + free.1 * 0.5 * length + if free.1 > 0.0 { 0.5 * length } else { 0.0 },
+            );
+            chart.draw_series([Text::new(label, anchor, (FAMILY, 13).into_font().color(&grey))])?;
+            continue;
+        }
+        chart.draw_series([PathElement::new(vec![at, tip], grey.stroke_width(2))])?;
+        let label = (tip.0 + 0.12 * length * dx.signum(), tip.1 + 0.12 * length * dy.signum());
+        chart.draw_series([Text::new(name.to_string(), label, (FAMILY, 13).into_font().color(&grey))])?;
+    }
+    Ok(())
 }
 
 /// Every edge of `mesh` at `pose`, projected into `view` (edges wholly

@@ -489,11 +489,11 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
             (
                 c.time,
                 format!(
-                    "contact {}: {} / {}, t = {:.6}",
+                    "contact {}: {} / {}, t = {}",
                     n + 1,
                     result.bodies[c.body_a],
                     result.bodies[c.body_b],
-                    c.time
+                    crate::text::time(c.time)
                 ),
             )
         })

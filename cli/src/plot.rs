@@ -107,6 +107,12 @@ fn axis_value(v: Real, log: bool) -> Option<Real> {
     drawn.is_finite().then_some(drawn)
 }
 
+/// Rows of mark labels above the data (`Chart::marks`), at most.
+const MARK_ROWS: usize = 4;
+
+/// A mark label's row height, a fraction of the padded data's height.
+const MARK_ROW_HEIGHT: Real = 0.07;
+
 /// A tick label.
 fn tick(v: Real, log: bool) -> String {
     if log {
@@ -154,12 +160,36 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
     };
     pad(&mut x0, &mut x1);
     pad(&mut y0, &mut y1);
+    // The marks' labels get a band of their own above the data, a row
+    // each (up to MARK_ROWS), so the data never runs through them.
+    let rows = chart.marks.len().min(MARK_ROWS);
+    let data_top = y1;
+    let row_height = (y1 - y0) * MARK_ROW_HEIGHT;
+    y1 += row_height * rows as Real;
+
+    // The legend: each labelled series, in a column right of the plot,
+    // where neither the data nor the marks' labels can run under it.
+    let legend: Vec<(String, RGBAColor, bool)> = chart
+        .series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.label.is_empty())
+        .map(|(index, s)| (s.label.clone(), PALETTE[index % PALETTE.len()].to_rgba(), s.line))
+        .collect();
+    let legend_width = legend
+        .iter()
+        .map(|(label, ..)| label.chars().count() as u32 * LEGEND_CHAR_WIDTH + LEGEND_TEXT_AT + 15)
+        .max()
+        .unwrap_or(0)
+        .min(CHART_SIZE.0 / 4);
 
     draw_png(path, |root| {
         let error = |e: &dyn std::fmt::Display| e.to_string();
         let font = |size: u32| (FAMILY, size).into_font();
-        let mut context = ChartBuilder::on(root)
-            .caption(&chart.title, font(30))
+        // The title over the whole width; under it the plot and the legend.
+        let body = root.margin(12, 0, 0, 0).titled(&chart.title, font(30)).map_err(|e| error(&e))?;
+        let (area, side) = body.split_horizontally(CHART_SIZE.0 - legend_width);
+        let mut context = ChartBuilder::on(&area)
             .margin(20)
             .x_label_area_size(60)
             .y_label_area_size(110)
@@ -184,56 +214,102 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
             .map_err(|e| error(&e))?;
         for (k, (mark, label)) in chart.marks.iter().enumerate() {
             let Some(x) = axis_value(*mark, log_x) else { continue };
+            // The first mark's row on top; each line rises to its own row,
+            // so a later mark's line stops below the earlier labels.
+            let y = data_top + row_height * ((rows - k % rows) as Real - 0.5);
             let style = ShapeStyle::from(&RGBColor(200, 30, 30)).stroke_width(2);
-            context.draw_series(LineSeries::new([(x, y0), (x, y1)], style)).map_err(|e| error(&e))?;
-            // Labels go beside the line, on the side with more room, staggered
-            // so that close marks stay readable.
-            let y = y1 - (y1 - y0) * (0.10 + 0.05 * (k % 4) as Real);
+            let line_top = y + row_height * 0.3;
+            context.draw_series(LineSeries::new([(x, y0), (x, line_top)], style)).map_err(|e| error(&e))?;
+            // Labels go beside the line, on the side with more room.
             let right_half = x > (x0 + x1) / 2.0;
             let anchor = Pos::new(if right_half { HPos::Right } else { HPos::Left }, VPos::Center);
             let shift = (x1 - x0) * 0.005 * if right_half { -1.0 } else { 1.0 };
             let style = font(18).color(&RGBColor(200, 30, 30)).pos(anchor);
             context.draw_series([Text::new(label.clone(), (x + shift, y), style)]).map_err(|e| error(&e))?;
         }
+        let mut labelled = std::collections::HashSet::new();
         for (index, (series, points)) in chart.series.iter().zip(&drawn).enumerate() {
             let color = PALETTE[index % PALETTE.len()].to_rgba();
             let style = ShapeStyle::from(&color).stroke_width(2);
             let coordinates: Vec<(Real, Real)> = points.iter().map(|p| (p.0, p.1)).collect();
-            let legend = if series.line {
-                context.draw_series(LineSeries::new(coordinates.clone(), style)).map_err(|e| error(&e))?
+            if series.line {
+                context.draw_series(LineSeries::new(coordinates.clone(), style)).map_err(|e| error(&e))?;
             } else {
                 context
                     .draw_series(coordinates.iter().map(|&p| Circle::new(p, 5, style.filled())))
-                    .map_err(|e| error(&e))?
-            };
-            if !series.label.is_empty() {
-                legend
-                    .label(series.label.clone())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3)));
+                    .map_err(|e| error(&e))?;
             }
             if series.line && coordinates.len() <= 60 {
                 context
                     .draw_series(coordinates.iter().map(|&p| Circle::new(p, 3, style.filled())))
                     .map_err(|e| error(&e))?;
             }
+            // Point labels above and right of their points, each text once
+            // (series of one sweep share their labels: `dt = 0.01`).
             for &(x, y, k) in points {
                 if let Some(text) = series.point_labels.get(k).filter(|t| !t.is_empty()) {
+                    if !labelled.insert(text.clone()) {
+                        continue;
+                    }
+                    let style = font(15).color(&color).pos(Pos::new(HPos::Left, VPos::Bottom));
                     context
-                        .draw_series([Text::new(text.clone(), (x, y), font(15).color(&color))])
+                        .draw_series([EmptyElement::at((x, y)) + Text::new(text.clone(), (6, -6), style)])
                         .map_err(|e| error(&e))?;
                 }
             }
         }
-        context
-            .configure_series_labels()
-            .label_font(font(18))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(|e| error(&e))?;
+        draw_legend(&side, &legend, font(18)).map_err(|e| error(&e))?;
         Ok(())
     })
+}
+
+/// A legend character's width at the legend's font size, pixels (DejaVu
+/// Sans at 18 px averages under 10).
+const LEGEND_CHAR_WIDTH: u32 = 10;
+
+/// Where a legend entry's text starts, right of its swatch, pixels.
+const LEGEND_TEXT_AT: u32 = 38;
+
+/// The legend's entries `(label, colour, drawn as a line)` down the side
+/// column, level with the top of the plot; a label too long for the column
+/// wraps at spaces.
+fn draw_legend<DB: DrawingBackend>(
+    side: &DrawingArea<DB, plotters::coord::Shift>,
+    entries: &[(String, RGBAColor, bool)],
+    font: FontDesc<'_>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let columns =
+        ((side.dim_in_pixel().0.saturating_sub(LEGEND_TEXT_AT + 10)) / LEGEND_CHAR_WIDTH).max(8) as usize;
+    let mut y = 40;
+    for (label, colour, line) in entries {
+        if *line {
+            side.draw(&PathElement::new(vec![(0, y), (28, y)], colour.stroke_width(3)))?;
+        } else {
+            side.draw(&Circle::new((14, y), 5, colour.filled()))?;
+        }
+        for text in wrap(label, columns) {
+            side.draw(&Text::new(text, (LEGEND_TEXT_AT as i32, y - 10), font.clone()))?;
+            y += 22;
+        }
+        y += 8;
+    }
+    Ok(())
+}
+
+/// `text` in lines of at most `columns` characters, broken at spaces (a
+/// word longer than a line stands alone).
+fn wrap(text: &str, columns: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split(' ') {
+        match lines.last_mut() {
+            Some(line) if line.chars().count() + 1 + word.chars().count() <= columns => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
 }
 
 /// Draws a [`CHART_SIZE`] PNG at `path`: `draw` paints on a white canvas

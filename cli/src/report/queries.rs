@@ -155,7 +155,13 @@ pub fn query_row(path: &std::path::Path, r: &FileReport) -> String {
 mod tests {
     use super::*;
 
-    fn report(queries: usize, positives: usize, false_positives: usize, unknown: usize, mean: Real) -> FileReport {
+    fn report(
+        queries: usize,
+        positives: usize,
+        false_positives: usize,
+        unknown: usize,
+        mean: Real,
+    ) -> FileReport {
         FileReport {
             kind: QueryKind::EdgeEdge,
             queries,
@@ -177,7 +183,10 @@ mod tests {
     #[test]
     fn the_totals_row_sums_what_adds_up() {
         let rows = [report(100, 10, 3, 0, 1.0), report(300, 20, 5, 0, 3.0), report(50, 0, 0, 50, 9.0)];
-        assert_eq!(query_totals_row(&rows), "| **all 3 files** | | 450 | 30 | 0 | 8 | 3 | 3.22 | | 18.0 | 30 | 0 |\n");
+        assert_eq!(
+            query_totals_row(&rows),
+            "| **all 3 files** | | 450 | 30 | 0 | 8 | 3 | 3.22 | | 18.0 | 30 | 0 |\n"
+        );
         assert!(query_totals_row(&rows[2..]).starts_with("| **all 1 file** | | 50 | ? | ? | ? |"));
     }
 }

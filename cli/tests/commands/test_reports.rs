@@ -244,7 +244,7 @@ fn sharded_queries_merge_into_one_table() {
             .lines()
             .map(|line| {
                 let mut cells: Vec<&str> = line.split('|').collect();
-                if cells.len() > 12 && !cells[1].contains("file") && !cells[1].contains("---") {
+                if cells.len() > 12 && cells[1].trim() != "file" && !cells[1].contains("---") {
                     cells[8..11].fill("");
                 }
                 cells.join("|")

@@ -7,6 +7,7 @@ mod ball_rest;
 
 mod animation;
 mod output_whole_or_absent;
+mod pictures;
 mod plots;
 mod run_page;
 mod scene_determinism;
