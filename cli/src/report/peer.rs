@@ -38,16 +38,16 @@ pub struct PeerComparison {
 pub fn peer_markdown(peer: &[PeerComparison]) -> String {
     let time = |t: Option<Real>| t.map_or("no contact".to_string(), crate::text::time);
     let mut out =
-        String::from("| pair | nearmiss | parry | parry query | parry s |\n|---|---|---|---|---|\n");
+        String::from("| pair | nearmiss | parry | parry query | parry's time |\n|---|---|---|---|---|\n");
     for p in peer {
         out.push_str(&format!(
-            "| {} / {} | {} | {} | {} | {:.3} |\n",
+            "| {} / {} | {} | {} | {} | {} |\n",
             p.body_a,
             p.body_b,
             time(p.nearmiss),
             time(p.parry),
             p.parry_query,
-            p.parry_wall_time_s
+            crate::text::wall(p.parry_wall_time_s)
         ));
     }
     out
