@@ -117,15 +117,13 @@ const MARK_ROW_HEIGHT: Real = 0.07;
 fn tick(v: Real, log: bool) -> String {
     if log {
         let power = 10f64.powf(v);
-        if (v - v.round()).abs() < 1e-9 {
+        if (v - v.round()).abs() < 1e-9 && !(0.0..=3.0).contains(&v.round()) {
             format!("1e{}", v.round() as i64)
         } else {
-            format!("{power:.1e}")
+            crate::text::approx(power, 2)
         }
-    } else if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e5) {
-        format!("{v:.2e}")
     } else {
-        format!("{v:.4}").trim_end_matches('0').trim_end_matches('.').to_string()
+        crate::text::approx(v, 4)
     }
 }
 
