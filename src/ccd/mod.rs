@@ -42,6 +42,7 @@
 //!   ([`CcdStatus::NonFiniteInput`]), never a silent "no contact".
 
 mod advance;
+mod closest_approach;
 mod contact;
 mod edge_edge;
 mod hull_gap;
@@ -52,6 +53,10 @@ mod options;
 mod vertex_face;
 
 pub use advance::ROUNDING_FLOOR_ULPS;
+pub use closest_approach::{
+    closest_approach, ApproachStatus, ClosestApproach, ClosestApproachQuery, DEFAULT_APPROACH_TOLERANCE,
+    MAX_APPROACH_RUNS,
+};
 pub use contact::{box_margin, ContactContract, ContactRule, BOX_MARGIN_TOLERANCE_FACTOR, TARGET_FRACTION};
 pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
 pub(crate) use hull_gap::{convex_distance, first_within, hull_gap, hull_gap_from, ConvexDistance};

@@ -3,6 +3,7 @@
 //! late against a brute-force scan.
 
 mod ccd_analytic;
+mod closest_approach;
 mod contact_contract;
 mod large_floor_contact_time;
 mod mesh_ccd_scan;
