@@ -10,10 +10,15 @@
 //! interval (the contract: every approach closer than `S + τ/2` is reported,
 //! so none means `d* ≥ S + τ/2`, a certified lower bound), or stops at a
 //! time where the meshes are within `S + τ` (where their exact distance,
-//! measured there, is an upper bound that is reached). A bisection on `S`
-//! closes the bracket. The first run asks for the query's `within`
-//! distance: a pair that never comes that near costs that one run, which
-//! for well separated meshes is one bounding-sphere or hull check.
+//! measured there, is an upper bound that is reached). From such a time the
+//! distance is falling; a golden-section descent on the exact distance
+//! finds its local minimum after it, the best upper bound `u` so far. The
+//! next run asks whether anything comes closer than `u` less three
+//! quarters of the tolerance: if not, the bracket is closed (one run, the
+//! usual case); if so, the descent starts again from there. The first run
+//! asks for the query's `within` distance: a pair that never comes that
+//! near costs that one run, which for well separated meshes is one
+//! bounding-sphere or hull check.
 //!
 //! Where the meshes come within the CCD's contact distance (touching), the
 //! answer is that contact ([`ApproachStatus::Contact`]): its time of first
@@ -31,9 +36,9 @@ use crate::motion::StepMotion;
 /// ([`CcdOptions::distance_tolerance`]).
 pub const DEFAULT_APPROACH_TOLERANCE: Real = 1e-6;
 
-/// The most CCD runs one closest approach takes (the first one, then the
-/// bisection's): `64`, enough to halve any finite bracket down to the
-/// rounding of its coordinates. A query that needs more ends as
+/// The most CCD runs one closest approach takes: `64`. Each run after the
+/// first finds a point closer than the best by at least half the width,
+/// or closes the bracket; a query that needs more ends as
 /// [`ApproachStatus::OutOfIterations`] with the bracket reached.
 pub const MAX_APPROACH_RUNS: usize = 64;
 
@@ -146,21 +151,9 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
     let (a, b) = (query.a, query.b);
     let radius = a.mesh.radius().min(b.mesh.radius()).max(Real::MIN_POSITIVE);
     let width = query.tolerance.unwrap_or(DEFAULT_APPROACH_TOLERANCE * radius);
-    // Each run's contract tolerance τ: half the bracket's width, so that
-    // the bisection's last bracket (width about τ) fits in it.
-    let tau = 0.5 * width;
+    // Each run's contract tolerance τ: a quarter of the bracket's width.
+    let tau = 0.25 * width;
     let options = CcdOptions { distance_tolerance: tau / radius, minimum_separation: 0.0, ..query.options };
-    let run = |separation: Real, warm: WarmStart, scratch: &mut MeshCcdScratch| {
-        let ccd = MeshCcdQuery {
-            a,
-            b,
-            duration: query.duration,
-            options,
-            contact: ContactRule::Separation(separation.max(0.0)),
-            kernel: query.kernel,
-        };
-        mesh_time_of_impact(&ccd, warm, scratch)
-    };
     let mut answer = ClosestApproach {
         status: ApproachStatus::Beyond,
         lower: 0.0,
@@ -169,18 +162,28 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
         closest: None,
         runs: 0,
     };
-    let mut warm = WarmStart::default();
-    // The first run: as close as `within`? (Its target is `within`.)
-    let mut separation = if query.within.is_finite() { query.within - 0.5 * tau } else { Real::INFINITY };
-    if separation.is_infinite() {
-        // Every pair is bracketed: start from the distance at the start.
-        let at_start = measure(&a, &b, 0.0, None, scratch);
-        answer.upper = at_start.distance;
-        answer.closest = Some(at_start);
-        separation = 0.5 * at_start.distance - 0.5 * tau;
+    if !query.within.is_finite() {
+        // Every approach is wanted: the interval's ends are a first upper bound.
+        for s in [0.0, query.duration] {
+            answer.keep(measure(&a, &b, s, None, scratch), s);
+        }
     }
+    let mut warm = WarmStart::default();
     while answer.runs < MAX_APPROACH_RUNS {
-        let result = run(separation, warm, scratch);
+        // The first run asks for `within`; each later one whether anything
+        // comes closer than the best found less three quarters of the
+        // width (if not, the bracket is closed).
+        let target = if answer.closest.is_none() { query.within } else { answer.upper - 0.75 * width };
+        let separation = (target - 0.5 * tau).max(0.0);
+        let ccd = MeshCcdQuery {
+            a,
+            b,
+            duration: query.duration,
+            options,
+            contact: ContactRule::Separation(separation),
+            kernel: query.kernel,
+        };
+        let result = mesh_time_of_impact(&ccd, warm, scratch);
         answer.runs += 1;
         warm = WarmStart { lower_bound: None, hint: result.hint, axis: result.axis, simplex: result.simplex };
         match (result.status, result.time_of_impact) {
@@ -189,44 +192,110 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
                 return answer;
             }
             (_, None) => {
-                // Never within the run's guaranteed distance.
-                answer.lower = answer.lower.max(result.guaranteed_distance);
-                if answer.closest.is_none() {
-                    answer.lower = answer.lower.max(query.within.min(result.guaranteed_distance));
-                    answer.status = ApproachStatus::Beyond;
-                    return answer;
-                }
+                // Never within the run's guaranteed distance: certified.
+                answer.lower = answer.lower.max(result.guaranteed_distance.min(answer.upper));
+                answer.status = match answer.closest {
+                    None => ApproachStatus::Beyond,
+                    Some(_) => ApproachStatus::Bracketed,
+                };
+                return answer;
+            }
+            (_, Some(time)) if separation == 0.0 => {
+                // Within the contact distance of no separation: touching,
+                // first at `time`.
+                let closest = measure(&a, &b, time, result.hint, scratch);
+                (answer.status, answer.lower, answer.upper) =
+                    (ApproachStatus::Contact, 0.0, closest.distance);
+                (answer.time, answer.closest) = (time, Some(closest));
+                return answer;
             }
             (_, Some(time)) => {
-                let measured = measure(&a, &b, time, result.hint, scratch);
-                if separation <= 0.0 {
-                    // Within the contact distance of no separation: touching,
-                    // first at `time`.
-                    (answer.status, answer.lower, answer.upper) =
-                        (ApproachStatus::Contact, 0.0, measured.distance);
-                    (answer.time, answer.closest) = (time, Some(measured));
-                    return answer;
-                }
-                if measured.distance < answer.upper || answer.closest.is_none() {
-                    (answer.upper, answer.time, answer.closest) = (measured.distance, time, Some(measured));
-                }
+                // Closer than asked at `time`, and closing: the distance's
+                // local minimum after it is the next best.
+                let (at, found) = descend(&a, &b, time, query.duration, result.hint, scratch);
+                answer.keep(found, at);
             }
         }
-        if answer.upper - answer.lower <= width || answer.upper <= tau {
-            if answer.lower < tau && separation > 0.0 {
-                // The bracket reaches down to touching: the run without
-                // separation says whether they touch, and first when.
-                separation = 0.0;
-                continue;
-            }
-            answer.status = ApproachStatus::Bracketed;
-            return answer;
-        }
-        // The next run's target halves the bracket.
-        separation = 0.5 * (answer.lower + answer.upper) - 0.5 * tau;
     }
     answer.status = ApproachStatus::OutOfIterations;
     answer
+}
+
+impl ClosestApproach {
+    /// Keeps `found` (at time `s`) if it is the closest yet.
+    fn keep(&mut self, found: MeshDistance, s: Real) {
+        if self.closest.is_none() || found.distance < self.upper {
+            (self.upper, self.time, self.closest) = (found.distance, s, Some(found));
+        }
+    }
+}
+
+/// Golden-section steps of [`descend`]: `48`, a time bracket shrunk by
+/// 0.618^48 ≈ 1e-10 of its length.
+const DESCENT_STEPS: usize = 48;
+
+/// From time `start`, where the meshes are closing, the local minimum of
+/// their exact distance after it (to [`DESCENT_STEPS`] golden-section
+/// steps), and its time: a march of doubling steps while the distance
+/// falls, then a golden section of the last three points. Any measured
+/// distance is reached, so this only makes the upper bound good, never
+/// wrong.
+fn descend(
+    a: &MovingMesh<'_>,
+    b: &MovingMesh<'_>,
+    start: Real,
+    duration: Real,
+    hint: Option<(usize, usize)>,
+    scratch: &mut MeshCcdScratch,
+) -> (Real, MeshDistance) {
+    let mut best = (start, measure(a, b, start, hint, scratch));
+    let at =
+        |s: Real, hint: Option<(usize, usize)>, scratch: &mut MeshCcdScratch| measure(a, b, s, hint, scratch);
+    // March: (previous, best, next) with the distance falling to best.
+    let mut previous = start;
+    let mut step = (duration - start) / 256.0;
+    let mut next = start;
+    while step > 0.0 {
+        next = (best.0 + step).min(duration);
+        let found = at(next, Some((best.1.triangle_a, best.1.triangle_b)), scratch);
+        if found.distance >= best.1.distance {
+            break;
+        }
+        previous = best.0;
+        best = (next, found);
+        if next >= duration {
+            return best;
+        }
+        step *= 2.0;
+    }
+    // Golden section on [previous, next] around best.
+    let (mut lo, mut hi) = (previous, next);
+    let ratio = 0.5 * (5.0_f64.sqrt() - 1.0);
+    for _ in 0..DESCENT_STEPS {
+        if hi - lo <= Real::EPSILON * duration.max(hi.abs()) {
+            break;
+        }
+        // Probe the larger side of best.
+        let probe = if best.0 - lo > hi - best.0 {
+            best.0 - (1.0 - ratio) * (best.0 - lo)
+        } else {
+            best.0 + (1.0 - ratio) * (hi - best.0)
+        };
+        let found = at(probe, Some((best.1.triangle_a, best.1.triangle_b)), scratch);
+        if found.distance < best.1.distance {
+            if probe < best.0 {
+                hi = best.0;
+            } else {
+                lo = best.0;
+            }
+            best = (probe, found);
+        } else if probe < best.0 {
+            lo = probe;
+        } else {
+            hi = probe;
+        }
+    }
+    best
 }
 
 /// The exact distance between the two meshes at time `s`, points in the
