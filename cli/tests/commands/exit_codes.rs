@@ -65,13 +65,13 @@ fn a_missed_expectation_is_printed_and_exits_1() {
 #[test]
 fn an_undecided_run_says_so_and_not_no_contact() {
     let dir = workspace("undecided");
-    // A plate spinning at 1e6 rad/s beside a wall, with too few iterations
+    // A plate spinning at 90 rad/s beside a wall, with too few iterations
     // for the CCD to decide (as `undecided_is_not_contact.rs`).
     std::fs::write(
         dir.join("spin.ron"),
         r#"Scene(name: "spin", dt: 0.01, duration: 0.1, ccd: (max_iterations: 5), bodies: [
-            (name: "wall", mesh: Box(half_extents: (0.1, 2.0, 2.0)), position: (1.55, 0.0, 0.0), fixed: true),
-            (name: "plate", mesh: Box(half_extents: (1.0, 1.0, 0.01)), angular_velocity: (0.0, 0.0, 1e6), kinematic: true),
+            (name: "wall", mesh: Box(half_extents: (0.1, 2.0, 2.0)), position: (1.5143, 0.0, 0.0), fixed: true),
+            (name: "plate", mesh: Box(half_extents: (1.0, 1.0, 0.01)), angular_velocity: (0.0, 0.0, 90.0), kinematic: true),
         ])"#,
     )
     .unwrap();
@@ -139,8 +139,8 @@ fn a_scene_that_cannot_be_recorded_fails_the_command() {
     std::fs::write(
         dir.join("spin.ron"),
         r#"Scene(name: "spin", dt: 0.01, duration: 0.1, ccd: (max_iterations: 5), bodies: [
-            (name: "wall", mesh: Box(half_extents: (0.1, 2.0, 2.0)), position: (1.55, 0.0, 0.0), fixed: true),
-            (name: "plate", mesh: Box(half_extents: (1.0, 1.0, 0.01)), angular_velocity: (0.0, 0.0, 1e6), kinematic: true),
+            (name: "wall", mesh: Box(half_extents: (0.1, 2.0, 2.0)), position: (1.5143, 0.0, 0.0), fixed: true),
+            (name: "plate", mesh: Box(half_extents: (1.0, 1.0, 0.01)), angular_velocity: (0.0, 0.0, 90.0), kinematic: true),
         ])"#,
     )
     .unwrap();
