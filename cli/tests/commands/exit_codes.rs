@@ -62,11 +62,9 @@ fn a_missed_expectation_is_printed_and_exits_1() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn an_undecided_run_says_so_and_not_no_contact() {
-    let dir = workspace("undecided");
-    // A plate spinning at 90 rad/s beside a wall, with too few iterations
-    // for the CCD to decide (as `undecided_is_not_contact.rs`).
+/// `spin.ron` in `dir`: a plate spinning at 90 rad/s beside a wall, with
+/// too few iterations for the CCD to decide (as `undecided_is_not_contact.rs`).
+fn write_undecidable(dir: &Path) {
     std::fs::write(
         dir.join("spin.ron"),
         r#"Scene(name: "spin", dt: 0.01, duration: 0.1, ccd: (max_iterations: 5), bodies: [
@@ -75,6 +73,12 @@ fn an_undecided_run_says_so_and_not_no_contact() {
         ])"#,
     )
     .unwrap();
+}
+
+#[test]
+fn an_undecided_run_says_so_and_not_no_contact() {
+    let dir = workspace("undecided");
+    write_undecidable(&dir);
     let output = nearmiss(&["run", "spin.ron", "-o", "out"], &dir);
     let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
     assert_eq!(output.status.code(), Some(3), "{stdout}{stderr}");
@@ -135,15 +139,8 @@ fn record_puts_the_comma_after_the_value_and_the_file_loads_back() {
 #[test]
 fn a_scene_that_cannot_be_recorded_fails_the_command() {
     let dir = workspace("record-fails");
-    // Too few iterations: the run is undecided, and there is no answer to pin.
-    std::fs::write(
-        dir.join("spin.ron"),
-        r#"Scene(name: "spin", dt: 0.01, duration: 0.1, ccd: (max_iterations: 5), bodies: [
-            (name: "wall", mesh: Box(half_extents: (0.1, 2.0, 2.0)), position: (1.5143, 0.0, 0.0), fixed: true),
-            (name: "plate", mesh: Box(half_extents: (1.0, 1.0, 0.01)), angular_velocity: (0.0, 0.0, 90.0), kinematic: true),
-        ])"#,
-    )
-    .unwrap();
+    // The run is undecided: there is no answer to pin.
+    write_undecidable(&dir);
     let before = std::fs::read_to_string(dir.join("spin.ron")).unwrap();
     let output = nearmiss(&["test", "--record", "spin.ron"], &dir);
     let stderr = String::from_utf8_lossy(&output.stderr);
