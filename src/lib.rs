@@ -73,6 +73,7 @@ pub mod kernels;
 pub mod math;
 pub mod mesh;
 pub mod motion;
+pub mod near_miss;
 pub mod poses;
 pub mod response;
 #[cfg(any(test, feature = "testing"))]

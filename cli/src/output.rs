@@ -60,6 +60,42 @@ pub struct Summary<'a> {
     /// With `--compare rapier`: rapier's outcome per pair beside nearmiss's.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rapier: Option<serde_json::Value>,
+    /// With `near_misses` in the scene: every pair that came within its
+    /// distance without touching, nearest first.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub near_misses: Option<Vec<NearMissJson<'a>>>,
+}
+
+/// A near miss in `summary.json`.
+#[derive(Serialize)]
+pub struct NearMissJson<'a> {
+    /// The two bodies' names.
+    pub bodies: [&'a str; 2],
+    /// The closest approach found, where: `distance` (the certified
+    /// bracket's upper end, reached at `time`), `point_a`, `point_b`,
+    /// `triangle_a`, `triangle_b`, `feature_a`, `feature_b`.
+    #[serde(flatten)]
+    pub closest: &'a MeshDistance,
+    /// The pair is never closer than this over the run (certified).
+    pub lower: Real,
+    /// When `distance` is reached.
+    pub time: Real,
+    /// Every step's bracket closed within its tolerance (`false`: a CCD run
+    /// ran out of iterations; the bracket holds, wider).
+    pub decided: bool,
+}
+
+impl<'a> NearMissJson<'a> {
+    /// The near miss of a run, named.
+    pub fn of(result: &'a RunResult, miss: &'a nearmiss::near_miss::NearMiss) -> NearMissJson<'a> {
+        NearMissJson {
+            bodies: [&result.bodies[miss.body_a], &result.bodies[miss.body_b]],
+            closest: &miss.closest,
+            lower: miss.lower,
+            time: miss.time,
+            decided: miss.decided,
+        }
+    }
 }
 
 /// The peers' answers a run is written with (`--compare`).
@@ -179,6 +215,7 @@ impl<'a> Summary<'a> {
             },
             peer,
             rapier: None,
+            near_misses: None,
         }
     }
 
@@ -269,6 +306,11 @@ fn write_run_files(
     let summary = Summary {
         rapier: peers.rapier.clone(),
         source: Some(scene.run().source.as_str()).filter(|s| *s != nearmiss::scene::FROM_STRING),
+        near_misses: scene
+            .run()
+            .near_misses
+            .is_some()
+            .then(|| result.near_misses.iter().map(|m| NearMissJson::of(result, m)).collect()),
         ..Summary::with_peer(result, peers.parry)
     }
     .to_json();

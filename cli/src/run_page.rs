@@ -82,6 +82,31 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
             let _ = writeln!(page, "![{}]({picture})\n", picture.trim_end_matches(".png").replace('_', " "));
         }
     }
+    if let Some(spec) = &scene.run().near_misses {
+        let _ = writeln!(
+            page,
+            "## Near misses\n\nPairs that came within {} without touching: {}. Each pair is never closer than `lower` over the run (certified), and `distance` apart at `time`.\n",
+            text::approx(spec.within, 3),
+            result.near_misses.len()
+        );
+        if !result.near_misses.is_empty() {
+            let _ = writeln!(page, "| bodies | distance | lower | time | features |\n|---|---|---|---|---|");
+            for miss in result.near_misses.iter().take(LISTED_CONTACTS) {
+                let _ = writeln!(
+                    page,
+                    "| {} / {} | {} | {} | {} | {} / {} |",
+                    name(miss.body_a),
+                    name(miss.body_b),
+                    text::approx(miss.distance, 6),
+                    text::approx(miss.lower, 6),
+                    text::time(miss.time),
+                    miss.closest.feature_a,
+                    miss.closest.feature_b
+                );
+            }
+            page.push('\n');
+        }
+    }
     if let Some(note) = missing_pictures(scene, result) {
         let _ = writeln!(page, "{note}.\n");
     }

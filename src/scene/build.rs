@@ -206,6 +206,7 @@ impl Builder<'_> {
             Some(plot) => Some(super::PlotSpec { log_y: plot.log_y, contacts: plot.contacts.clone() }),
         };
         let expect = self.expect(file.expect.as_ref(), &names)?;
+        let near_misses = self.near_misses(&file, &names)?;
         Ok(Scene {
             model: super::Model {
                 dt,
@@ -227,6 +228,7 @@ impl Builder<'_> {
                 expect,
                 poses,
                 steps_given: file.steps.is_some(),
+                near_misses,
                 up: file.up.unwrap_or_else(|| super::Axis::against(&gravity)),
             },
         })
@@ -424,6 +426,41 @@ impl Builder<'_> {
     }
 
     /// The traced pairs and cadence.
+    fn near_misses(&self, file: &SceneFile, names: &Names<'_>) -> Result<Option<super::NearMissSpec>> {
+        let Some(settings) = &file.near_misses else { return Ok(None) };
+        let within = self.positive("near_misses.within", settings.within)?;
+        if matches!(file.on_contact, OnContact::Simulate { .. }) {
+            return self.invalid(
+                "near_misses",
+                "not under `on_contact: Simulate` yet (rapier moves the bodies there): use Stop, Record or Bounce",
+            );
+        }
+        let pairs = match &settings.pairs {
+            TracePairs::All => None,
+            TracePairs::Only(list) => Some(self.named_pairs("near_misses.pairs", list, names)?),
+        };
+        Ok(Some(super::NearMissSpec { within, pairs }))
+    }
+
+    /// Pairs given by body names, as indices `(i, j)`, `i < j`.
+    fn named_pairs(
+        &self,
+        field: &str,
+        list: &[(String, String)],
+        names: &Names<'_>,
+    ) -> Result<Vec<(usize, usize)>> {
+        let mut pairs = Vec::with_capacity(list.len());
+        for (k, (a, b)) in list.iter().enumerate() {
+            let field = format!("{field}[{k}]");
+            let (i, j) = (self.lookup(names, field.clone(), a)?, self.lookup(names, field.clone(), b)?);
+            if i == j {
+                return self.invalid(field, "a pair needs two different bodies");
+            }
+            pairs.push((i.min(j), i.max(j)));
+        }
+        Ok(pairs)
+    }
+
     fn trace(
         &self,
         trace: Option<&TraceSettings>,
@@ -450,16 +487,7 @@ impl Builder<'_> {
                     .collect()
             }
             TracePairs::Only(list) => {
-                let mut pairs = Vec::with_capacity(list.len());
-                for (k, (a, b)) in list.iter().enumerate() {
-                    let field = format!("trace.pairs[{k}]");
-                    let (i, j) =
-                        (self.lookup(names, field.clone(), a)?, self.lookup(names, field.clone(), b)?);
-                    if i == j {
-                        return self.invalid(field, "a pair needs two different bodies");
-                    }
-                    pairs.push((i.min(j), i.max(j)));
-                }
+                let pairs = self.named_pairs("trace.pairs", list, names)?;
                 self.records_within_limit("trace", "pairs", pairs.len() as u64, (steps, trace.every))?;
                 pairs
             }

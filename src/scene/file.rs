@@ -57,6 +57,11 @@ pub struct SceneFile {
     /// The bodies' poses over time (`poses.csv`); none by default.
     #[serde(default)]
     pub poses: Option<PosesSettings>,
+    /// Near misses: every pair whose closest approach over the run is at
+    /// most `within` (an absolute distance), in `summary.json`'s
+    /// `near_misses` with a certified bracket; none by default.
+    #[serde(default)]
+    pub near_misses: Option<NearMissSettings>,
     /// The scene's up axis, `X`, `Y` or `Z`: how viewers stand it up
     /// (`animation.glb` is written +Y up, as glTF requires). Default: the
     /// axis gravity pulls down along, else `Z`.
@@ -218,6 +223,18 @@ pub struct TraceSettings {
 
 fn one() -> u64 {
     1
+}
+
+/// The near misses a run lists.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NearMissSettings {
+    /// List the pairs that come this close or closer (an absolute
+    /// distance, positive).
+    pub within: f64,
+    /// `All` pairs (not both fixed, the default), or `Only([("a", "b"), ...])`.
+    #[serde(default)]
+    pub pairs: TracePairs,
 }
 
 /// The traced pairs.

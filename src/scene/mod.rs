@@ -76,6 +76,8 @@ pub struct RunSpec {
     pub expect: Option<Expectation>,
     /// The pose record (`poses.csv`), if asked for.
     pub poses: Option<PosesSpec>,
+    /// The near misses to list, if asked for.
+    pub near_misses: Option<NearMissSpec>,
     /// The scene's up axis (for viewers; the simulation has none).
     pub up: Axis,
     /// The file gave `steps` (not `duration`): messages name what it wrote.
@@ -196,6 +198,16 @@ pub struct TraceSpec {
     /// arithmetic on the closest triangle pair): set by reports that
     /// measure the kernel's error, never by scene files.
     pub reference: bool,
+}
+
+/// The near misses of a scene (`near_misses: (within: D)`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NearMissSpec {
+    /// Pairs that come this close or closer are listed.
+    pub within: Real,
+    /// The pairs looked at (body indices `i < j`), or `None`: every pair
+    /// that is not fixed.
+    pub pairs: Option<Vec<(usize, usize)>>,
 }
 
 /// The distance plot of a scene.

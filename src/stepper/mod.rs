@@ -49,6 +49,7 @@ pub(crate) use world::{PairState, World};
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;
 use crate::math::Real;
+use crate::near_miss::NearMissObserver;
 use crate::poses::PoseObserver;
 use crate::response::{Response, StepContext};
 use crate::scene::{Model, RunSpec, Scene};
@@ -198,6 +199,7 @@ fn not_started(scene: &Scene, reason: String) -> RunResult {
         termination: Termination::Diverged { body: 0, step: 0, reason },
         counters: Counters::default(),
         final_states: Vec::new(),
+        near_misses: Vec::new(),
     }
 }
 
@@ -221,10 +223,13 @@ pub(crate) struct Stepper {
     trace: Option<TraceObserver>,
     /// The pose record, when the scene asks for one.
     poses: Option<PoseObserver>,
+    /// The near misses, when the scene asks for them.
+    near_misses: Option<NearMissObserver>,
     scratch: Scratch,
     counters: Counters,
     /// Added to every swept box's margin: half the smallest separation any
-    /// pair's query asks for beyond the scene's (the guard's contact skins).
+    /// pair's query asks for beyond the scene's (the guard's contact skins,
+    /// the near misses' distance).
     extra_box_margin: Real,
 }
 
@@ -249,6 +254,8 @@ struct Scratch {
     found: Vec<Found>,
     /// The integrated states of a step.
     advanced: integrate::Advanced,
+    /// The step's motions before the response (for the near misses).
+    motions: Vec<crate::motion::StepMotion>,
 }
 
 impl Stepper {
@@ -269,9 +276,14 @@ impl Stepper {
             trace: run.and_then(|run| TraceObserver::of(&model, run, options.parallel)),
             poses: run
                 .and_then(|run| run.poses.as_ref().map(|spec| PoseObserver::new(spec.every, run.steps))),
+            near_misses: run.and_then(|run| run.near_misses.as_ref().map(NearMissObserver::new)),
             scratch: Scratch::default(),
             counters: Counters::default(),
-            extra_box_margin: 0.0,
+            // The near misses' pairs must be candidates: boxes grown by half
+            // their distance.
+            extra_box_margin: run
+                .and_then(|run| run.near_misses.as_ref())
+                .map_or(0.0, |spec| 0.5 * spec.within),
             model,
         }
     }
@@ -299,8 +311,22 @@ impl Stepper {
         self.broad_phase(world);
         let mut found = std::mem::take(&mut self.scratch.found);
         self.narrow_phase(world, t0, &mut found);
+        // The near misses take the integrated motions, up to the step's
+        // contacts (known after the response, which may find more).
+        let contacts_before = world.contacts.len();
+        if self.near_misses.is_some() {
+            self.scratch.motions.clear();
+            self.scratch.motions.extend_from_slice(&world.motions);
+        }
         let contact = self.respond(world, t0, &mut found);
         self.scratch.found = found;
+        if let Some(near_misses) = self.near_misses.as_mut() {
+            let clock = Instant::now();
+            let contacts =
+                world.contacts[contacts_before..].iter().map(|c| ((c.body_a, c.body_b), c.time - t0));
+            near_misses.observe_step(&self.model, t0, &world.pairs, &self.scratch.motions, contacts);
+            self.counters.seconds.near_misses += clock.elapsed().as_secs_f64();
+        }
         if let Some(undecided) = world.undecided {
             let (a, b) = undecided.pair;
             return Err(Termination::Undecided {
@@ -448,6 +474,7 @@ impl Stepper {
         };
         let final_states =
             (0..model.bodies.len()).map(|i| world.state_at(i, end_time - last_step_start)).collect();
+        let near_misses = self.near_misses.take().map_or_else(Vec::new, NearMissObserver::finish);
         let mut contacts = world.contacts;
         contacts
             .sort_by(|a, b| a.time.total_cmp(&b.time).then((a.body_a, a.body_b).cmp(&(b.body_a, b.body_b))));
@@ -465,6 +492,7 @@ impl Stepper {
             termination,
             counters: self.counters,
             final_states,
+            near_misses,
         }
     }
 }

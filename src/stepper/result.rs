@@ -147,6 +147,8 @@ pub struct StageSeconds {
     pub rearm: Real,
     /// Tracing.
     pub trace: Real,
+    /// The near misses' closest approaches.
+    pub near_misses: Real,
     /// An outside engine's steps (`on_contact: Simulate`: rapier's dynamics
     /// and contact solving; a [`Guard`](crate::guard::Guard)'s `rapier_step`).
     pub engine: Real,
@@ -193,6 +195,9 @@ pub struct RunResult {
     pub counters: Counters,
     /// Each body at `end_time`.
     pub final_states: Vec<RigidState>,
+    /// With `near_misses` in the scene: every pair that came within its
+    /// distance without touching, nearest first.
+    pub near_misses: Vec<crate::near_miss::NearMiss>,
 }
 
 impl RunResult {

@@ -6,6 +6,7 @@
 mod ball_rest;
 
 mod bounce;
+mod near_misses;
 mod parallel_and_broad_phase;
 mod scene_analytic;
 mod trace_certificate;

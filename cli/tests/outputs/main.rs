@@ -6,6 +6,7 @@
 mod ball_rest;
 
 mod animation;
+mod near_misses;
 mod output_whole_or_absent;
 mod pictures;
 mod plots;

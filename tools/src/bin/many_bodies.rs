@@ -11,6 +11,8 @@
 //! alone on the same scene in the same run (its CCD on; convex hulls, then
 //! every body a triangle mesh), with the guard's share of each step.
 //! With `--trace N`: every pair traced every N steps (the trace column).
+//! With `--near-misses D`: every pair's near misses within `D` (the near
+//! misses column: their time; the last: how many pairs).
 //! With `--simulate --no-peers`: Simulate only (for profiling the guard).
 //! With `--rapier` (Bounce): rapier alone on the same bodies in the same
 //! run (restitution 1, no friction, its CCD on, convex hulls), its steps
@@ -30,20 +32,23 @@ struct Setup {
     simulate: bool,
     trace: Option<u64>,
     bunnies: bool,
+    /// `--near-misses D`: every pair's near misses within `D`.
+    near_misses: Option<f64>,
 }
 
 /// The bunny's OBJ file (see `scripts/fetch-bunny.sh`).
 const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/meshes/bunny.obj");
 
 fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
-    let Setup { steps, simulate, trace, bunnies } = setup;
+    let Setup { steps, simulate, trace, bunnies, near_misses } = setup;
     let mut rng = Rng::new(seed);
     let per_side = (bodies as f64).cbrt().ceil() as usize;
     let cell = 1.2;
     let half = cell * per_side as f64 / 2.0;
     let response =
         if simulate { "Simulate(restitution: 1.0, friction: 0.0)" } else { "Bounce(restitution: 1.0)" };
-    let trace = trace.map_or(String::new(), |every| format!("trace: (pairs: All, every: {every}), "));
+    let trace = trace.map_or(String::new(), |every| format!("trace: (pairs: All, every: {every}), "))
+        + &near_misses.map_or(String::new(), |within| format!("near_misses: (within: {within:?}), "));
     let mut text = format!(
         "Scene(name: \"box_{bodies}\", dt: 0.004166666666666667, steps: {steps}, on_contact: {response}, {trace}bodies: ["
     );
@@ -112,13 +117,18 @@ fn main() {
         eprintln!("--bunnies needs {BUNNY}: run scripts/fetch-bunny.sh");
         std::process::exit(2);
     }
-    let setup = Setup { steps, simulate, trace, bunnies };
+    let near_misses = args
+        .iter()
+        .position(|a| a == "--near-misses")
+        .and_then(|k| args.get(k + 1))
+        .map(|s| s.parse().expect("a near-miss distance"));
+    let setup = Setup { steps, simulate, trace, bunnies, near_misses };
     if simulate {
         return simulate_beside_rapier(&args, setup);
     }
     let counts = body_counts(&args);
-    println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | respond ms | re-arm ms | trace ms | candidate pairs/step | contacts |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | respond ms | re-arm ms | trace ms | near misses ms | candidate pairs/step | contacts | near misses |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
         let scene = box_scene(n, 1, setup);
         let result = run_with(&scene, RunOptions::default(), &mut |_| {});
@@ -126,7 +136,7 @@ fn main() {
         let c = &result.counters;
         let per_step = |seconds: f64| seconds * 1e3 / steps;
         println!(
-            "| {n} | {steps} | {:.3} | {:.0} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.0} | {} |",
+            "| {n} | {steps} | {:.3} | {:.0} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.0} | {} | {} |",
             per_step(result.wall_time_s),
             steps / result.wall_time_s,
             per_step(c.seconds.integrate),
@@ -135,15 +145,17 @@ fn main() {
             per_step(c.seconds.respond),
             per_step(c.seconds.rearm),
             per_step(c.seconds.trace),
+            per_step(c.seconds.near_misses),
             c.work.candidate_pairs as f64 / steps,
-            result.contacts.len()
+            result.contacts.len(),
+            result.near_misses.len()
         );
         if result.steps < setup.steps as u64 {
             eprintln!("{n} bodies: the run ended after {} steps: {:?}", result.steps, result.termination);
         }
         if args.iter().any(|a| a == "--rapier") {
             // The same bodies as rapier sees them under Simulate.
-            let same = box_scene(n, 1, Setup { simulate: true, trace: None, ..setup });
+            let same = box_scene(n, 1, Setup { simulate: true, trace: None, near_misses: None, ..setup });
             let convex = nearmiss::guard::run_rapier_alone(&same, false).expect("rapier runs");
             let rate = convex.steps as f64 / convex.wall_time_s;
             let ours = steps / result.wall_time_s;

@@ -141,6 +141,9 @@ fn run_one(args: &Args, path: &std::path::Path, scene: &Scene) -> CommandResult 
     }
 }
 
+/// Near misses listed on the terminal (all are in `summary.json`).
+const NEAR_MISSES_SHOWN: usize = 5;
+
 /// The run in two lines: how far it went, and its first contact.
 fn print_result(scene: &Scene, result: &RunResult) {
     println!(
@@ -164,6 +167,30 @@ fn print_result(scene: &Scene, result: &RunResult) {
         // Said by the error that follows: not "no contact".
         (None, Termination::Undecided { .. } | Termination::Diverged { .. }) => {}
         (None, _) => println!("no contact up to t = {}", text::time(result.end_time)),
+    }
+    if let Some(spec) = &scene.run().near_misses {
+        let list = &result.near_misses;
+        println!(
+            "near misses within {}: {}{}",
+            text::approx(spec.within, 3),
+            text::count(list.len() as u64, "pair"),
+            if list.len() > NEAR_MISSES_SHOWN {
+                format!(", the nearest {NEAR_MISSES_SHOWN}:")
+            } else {
+                String::new()
+            }
+        );
+        for miss in list.iter().take(NEAR_MISSES_SHOWN) {
+            println!(
+                "  {} / {} at t = {}: distance {} (never closer than {}){}",
+                result.bodies[miss.body_a],
+                result.bodies[miss.body_b],
+                text::time(miss.time),
+                text::approx(miss.distance, 6),
+                text::approx(miss.lower, 6),
+                if miss.decided { "" } else { ", not decided to the tolerance" }
+            );
+        }
     }
     // Meshes in contact from the start: said, not only written as a status.
     let at_start: Vec<String> = result

@@ -1,0 +1,114 @@
+//! `near_misses: (within: D)` (issue 30 §2): a run lists every pair that
+//! came within `D` without touching, with a certified bracket holding the
+//! analytic closest approach; pairs that stay farther, and pairs that
+//! touch, are not listed; the broad phase changes nothing.
+
+use nearmiss::math::Real;
+use nearmiss::scene::Scene;
+use nearmiss::stepper::{run, run_with, RunOptions};
+
+/// A cube passes a fixed cube 0.25 from its face (t in [2/3, 4/3]); a ball
+/// of radius 0.3 drops towards its top face, its lowest vertex 0.2 above
+/// it at the run's end (t = 2); a third cube stays 4 away.
+fn pass_by(near_misses: &str, duration: Real) -> Scene {
+    Scene::from_ron_str(&format!(
+        r#"Scene(name: "pass_by", dt: 0.01, duration: {duration:?}, near_misses: {near_misses},
+            bodies: [
+                (name: "fixed", mesh: Box(half_extents: (0.5, 0.5, 0.5)), fixed: true),
+                (name: "passer", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (-3.0, 1.25, 0.2), velocity: (3.0, 0.0, 0.0)),
+                (name: "far", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (0.0, -5.0, 0.0), velocity: (0.0, 0.0, 1.0)),
+                (name: "ball", mesh: Icosphere(radius: 0.3, subdivisions: 1), position: (0.0, 0.0, 3.0), velocity: (0.0, 0.0, -1.0)),
+            ])"#
+    ))
+    .unwrap()
+}
+
+/// Every pair, within 0.5.
+const ALL: &str = "(within: 0.5)";
+
+/// The bracket's width: the closest-approach tolerance, 1e-6 of the
+/// smaller radius (0.3 for the ball, √3/2 for the cubes).
+const WIDTH: Real = 1e-6 * 0.87;
+
+#[test]
+fn the_pairs_that_come_near_are_listed_with_their_analytic_approach() {
+    let result = run(&pass_by(ALL, 2.0));
+    let listed: Vec<(&str, &str)> = result
+        .near_misses
+        .iter()
+        .map(|m| (result.bodies[m.body_a].as_str(), result.bodies[m.body_b].as_str()))
+        .collect();
+    // Nearest first; `far` never within 0.5.
+    assert_eq!(listed, [("fixed", "ball"), ("fixed", "passer")]);
+    let (ball, passer) = (&result.near_misses[0], &result.near_misses[1]);
+    for (miss, analytic) in [(ball, 0.2), (passer, 0.25)] {
+        assert!(miss.decided);
+        assert!(miss.lower <= analytic && analytic <= miss.distance * (1.0 + 1e-12), "{miss:?}");
+        assert!(miss.distance - miss.lower <= WIDTH, "{miss:?}");
+        let gap = miss.closest.point_b - miss.closest.point_a;
+        assert!((gap.norm() - miss.distance).abs() < 1e-12);
+    }
+    // The ball is closest at the run's end; the passer while the faces
+    // overlap (within the width's slack of its ends).
+    assert!((ball.time - 2.0).abs() < 1e-9, "{ball:?}");
+    assert!(passer.time > 2.0 / 3.0 - 1e-3 && passer.time < 4.0 / 3.0 + 1e-3, "{passer:?}");
+}
+
+#[test]
+fn a_pair_that_touches_is_a_contact_not_a_near_miss() {
+    // Longer: the ball reaches the box at t = 2.2 (its vertex at 0.3 below
+    // its centre, 2.7 − 0.5 = 2.2 of travel); the run stops there.
+    let result = run(&pass_by(ALL, 3.0));
+    let contact = result.first_contact.as_ref().expect("the ball lands");
+    assert!(contact.time <= 2.2 && 2.2 - contact.time < 1e-6);
+    let listed: Vec<&str> = result.near_misses.iter().map(|m| result.bodies[m.body_b].as_str()).collect();
+    assert_eq!(listed, ["passer"], "{:?}", result.near_misses);
+}
+
+#[test]
+fn only_the_pairs_asked_for_and_nothing_farther_than_asked() {
+    let only = run(&pass_by(r#"(within: 0.5, pairs: Only([("passer", "fixed")]))"#, 2.0));
+    assert_eq!(only.near_misses.len(), 1);
+    assert_eq!((only.near_misses[0].body_a, only.near_misses[0].body_b), (0, 1));
+    // Within 0.22: the ball (0.2) only.
+    let closer = run(&pass_by("(within: 0.22)", 2.0));
+    assert_eq!(closer.near_misses.len(), 1);
+    assert_eq!(closer.bodies[closer.near_misses[0].body_b], "ball");
+}
+
+/// The broad phase (boxes grown by half the distance) and the all-pairs
+/// run give the same near misses.
+#[test]
+fn the_broad_phase_changes_nothing() {
+    let scene = pass_by(ALL, 2.0);
+    let broad = run_with(&scene, RunOptions::default(), &mut |_| {});
+    let all = run_with(&scene, RunOptions { broad_phase: false, ..RunOptions::default() }, &mut |_| {});
+    assert_eq!(broad.near_misses.len(), all.near_misses.len());
+    for (x, y) in broad.near_misses.iter().zip(&all.near_misses) {
+        assert_eq!((x.body_a, x.body_b), (y.body_a, y.body_b));
+        assert!(
+            (x.distance - y.distance).abs() <= WIDTH && (x.lower - y.lower).abs() <= WIDTH,
+            "{x:?} {y:?}"
+        );
+    }
+}
+
+#[test]
+fn near_misses_are_refused_where_rapier_moves_the_bodies() {
+    let error = Scene::from_ron_str(
+        r#"Scene(name: "s", dt: 0.01, steps: 1, on_contact: Simulate(), near_misses: (within: 0.1), bodies: [
+            (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), fixed: true),
+        ])"#,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("near_misses") && error.contains("Simulate"), "{error}");
+    let error = Scene::from_ron_str(
+        r#"Scene(name: "s", dt: 0.01, steps: 1, near_misses: (within: -1.0), bodies: [
+            (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), fixed: true),
+        ])"#,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("near_misses.within"), "{error}");
+}
