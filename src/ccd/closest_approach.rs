@@ -212,7 +212,7 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
             (_, Some(time)) => {
                 // Closer than asked at `time`, and closing: the distance's
                 // local minimum after it is the next best.
-                let (at, found) = descend(&a, &b, time, query.duration, result.hint, scratch);
+                let (at, found) = descend(&a, &b, (time, query.duration), 0.125 * width, result.hint, scratch);
                 answer.keep(found, at);
             }
         }
@@ -235,19 +235,24 @@ impl ClosestApproach {
 const DESCENT_STEPS: usize = 48;
 
 /// From time `start`, where the meshes are closing, the local minimum of
-/// their exact distance after it (to [`DESCENT_STEPS`] golden-section
-/// steps), and its time: a march of doubling steps while the distance
-/// falls, then a golden section of the last three points. Any measured
-/// distance is reached, so this only makes the upper bound good, never
-/// wrong.
+/// their exact distance after it, and its time: a march of doubling steps
+/// while the distance falls, then a golden section of the last three
+/// points, until the bracket is so short that the distance cannot change
+/// by `precision` across it (the distance moves at most at the head-on
+/// speed `|v_a − v_b| + |ω_a| r_a + |ω_b| r_b`), or [`DESCENT_STEPS`]
+/// steps. Any measured distance is reached, so this only makes the upper
+/// bound good, never wrong.
 fn descend(
     a: &MovingMesh<'_>,
     b: &MovingMesh<'_>,
-    start: Real,
-    duration: Real,
+    (start, duration): (Real, Real),
+    precision: Real,
     hint: Option<(usize, usize)>,
     scratch: &mut MeshCcdScratch,
 ) -> (Real, MeshDistance) {
+    let speed = (a.motion.velocity - b.motion.velocity).norm()
+        + a.motion.angular_velocity.norm() * a.mesh.radius()
+        + b.motion.angular_velocity.norm() * b.mesh.radius();
     let mut best = (start, measure(a, b, start, hint, scratch));
     let at =
         |s: Real, hint: Option<(usize, usize)>, scratch: &mut MeshCcdScratch| measure(a, b, s, hint, scratch);
@@ -272,7 +277,7 @@ fn descend(
     let (mut lo, mut hi) = (previous, next);
     let ratio = 0.5 * (5.0_f64.sqrt() - 1.0);
     for _ in 0..DESCENT_STEPS {
-        if hi - lo <= Real::EPSILON * duration.max(hi.abs()) {
+        if hi - lo <= Real::EPSILON * duration.max(hi.abs()) || (hi - lo) * speed <= precision {
             break;
         }
         // Probe the larger side of best.
