@@ -212,7 +212,8 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
             (_, Some(time)) => {
                 // Closer than asked at `time`, and closing: the distance's
                 // local minimum after it is the next best.
-                let (at, found) = descend(&a, &b, (time, query.duration), 0.125 * width, result.hint, scratch);
+                let (at, found) =
+                    descend(&a, &b, (time, query.duration), 0.125 * width, result.hint, scratch);
                 answer.keep(found, at);
             }
         }
