@@ -248,15 +248,18 @@ fn direction_name(v: &Vector) -> String {
     format!("({}, {}, {})", c(v.x), c(v.y), c(v.z))
 }
 
+/// A panel's chart: plane coordinates, both axes linear.
+type PanelChart<'a, DB> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
 /// The world's axes as seen in `view`: a grey arrow for each of x, y and
 /// z from `at`, `length` long when it lies in the view's plane (shorter as
 /// it points out of it; a dot when it points straight out).
 fn draw_triad<DB: DrawingBackend>(
-    chart: &mut ChartContext<
-        '_,
-        DB,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
+    chart: &mut PanelChart<'_, DB>,
     view: &View,
     at: (Real, Real),
     length: Real,
@@ -295,11 +298,7 @@ fn draw_triad<DB: DrawingBackend>(
 /// Every edge of `mesh` at `pose`, projected into `view` (edges wholly
 /// outside the view are left out).
 fn draw_wireframe<DB: DrawingBackend>(
-    chart: &mut ChartContext<
-        '_,
-        DB,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
+    chart: &mut PanelChart<'_, DB>,
     view: &View,
     mesh: &TriMesh,
     pose: &Pose,
