@@ -16,7 +16,10 @@
 //! listed points), and the pair is never closer than `lower`, which is the
 //! smallest certified bound of the steps since it first came within `D`
 //! (every earlier step, and every step the broad phase left it out, kept
-//! it farther than `D`).
+//! it farther than `D`). What is not looked at: the rest of a step after
+//! either body's contact in it (under `Bounce` a body that hit holds still
+//! there; under `Record` it moves on), where a pair's approach is not
+//! bracketed.
 
 use std::collections::{HashMap, HashSet};
 
@@ -37,7 +40,8 @@ pub struct NearMiss {
     /// The smallest distance found, reached at `time` (the bracket's upper
     /// end).
     pub distance: Real,
-    /// The pair is never closer than this over the run (certified).
+    /// The pair is never closer than this over the run (certified; but for
+    /// the rest of a step after either body's contact, see the module).
     pub lower: Real,
     /// When `distance` is reached.
     pub time: Real,
