@@ -42,6 +42,37 @@ pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
             obtained,
             error: None,
         },
+        Expectation::NearMiss { bodies, distance, tolerance } => {
+            let miss = result
+                .near_misses
+                .iter()
+                .find(|m| (m.body_a, m.body_b) == *bodies)
+                .filter(|_| !diverged && !undecided);
+            let obtained = match miss {
+                Some(m) => format!(
+                    "near miss {} / {}: {} at t = {} (never closer than {})",
+                    name(m.body_a),
+                    name(m.body_b),
+                    text::approx(m.distance, 9),
+                    text::time(m.time),
+                    text::approx(m.lower, 9)
+                ),
+                None => format!("no near miss of {} / {} ({obtained})", name(bodies.0), name(bodies.1)),
+            };
+            Verdict {
+                passed: miss
+                    .is_some_and(|m| m.lower >= distance - tolerance && m.distance <= distance + tolerance),
+                expected: format!(
+                    "near miss {} / {}: {} ± {}",
+                    name(bodies.0),
+                    name(bodies.1),
+                    text::approx(*distance, 9),
+                    text::approx(*tolerance, 2)
+                ),
+                obtained,
+                error: miss.map(|m| m.distance - distance),
+            }
+        }
         Expectation::Contact { time, tolerance, bodies, recorded } => {
             let contact = result.first_contact.as_ref().filter(|_| !diverged);
             let error = contact.map(|c| c.time - time);
@@ -118,6 +149,8 @@ pub fn record(path: &Path, max_steps: u64) -> Result<Recorded, String> {
         None => false,
         Some(Expectation::Contact { recorded, .. }) => !recorded,
         Some(Expectation::NoContact) => !text.contains(RECORDED_COMMENT),
+        // A near miss is derived (or written by hand): never recorded over.
+        Some(_) => true,
     };
     if derived {
         return Ok(Recorded::KeptDerived);

@@ -205,8 +205,8 @@ impl Builder<'_> {
             }
             Some(plot) => Some(super::PlotSpec { log_y: plot.log_y, contacts: plot.contacts.clone() }),
         };
-        let expect = self.expect(file.expect.as_ref(), &names)?;
         let near_misses = self.near_misses(&file, &names)?;
+        let expect = self.expect(file.expect.as_ref(), &names, near_misses.as_ref())?;
         Ok(Scene {
             model: super::Model {
                 dt,
@@ -521,7 +521,12 @@ impl Builder<'_> {
     }
 
     /// What `nearmiss test` checks.
-    fn expect(&self, expect: Option<&ExpectSettings>, names: &Names<'_>) -> Result<Option<Expectation>> {
+    fn expect(
+        &self,
+        expect: Option<&ExpectSettings>,
+        names: &Names<'_>,
+        near_misses: Option<&super::NearMissSpec>,
+    ) -> Result<Option<Expectation>> {
         match expect {
             None => Ok(None),
             Some(ExpectSettings::NoContact) => Ok(Some(Expectation::NoContact)),
@@ -537,6 +542,26 @@ impl Builder<'_> {
                     bodies: (i.min(j), i.max(j)),
                     recorded: *recorded,
                 }))
+            }
+            Some(ExpectSettings::NearMiss { bodies: (a, b), distance, tolerance }) => {
+                let field = || "expect.bodies".to_string();
+                let (i, j) = (self.lookup(names, field(), a)?, self.lookup(names, field(), b)?);
+                if i == j {
+                    return self.invalid("expect.bodies", "a near miss needs two different bodies");
+                }
+                let distance = self.non_negative("expect.distance", *distance)?;
+                let tolerance = self.non_negative("expect.tolerance", *tolerance)?;
+                let listed = near_misses.is_some_and(|spec| spec.within >= distance + tolerance);
+                if !listed {
+                    return self.invalid(
+                        "expect",
+                        format!(
+                            "a near miss is checked from the run's near misses: add `near_misses: (within: {})` or more",
+                            shortest(distance + tolerance)
+                        ),
+                    );
+                }
+                Ok(Some(Expectation::NearMiss { bodies: (i.min(j), i.max(j)), distance, tolerance }))
             }
         }
     }

@@ -446,4 +446,16 @@ pub enum ExpectSettings {
     },
     /// No contact during the run.
     NoContact,
+    /// The two bodies pass each other without touching, their closest
+    /// approach over the run `distance ± tolerance` (the certified bracket
+    /// inside that band); needs `near_misses` with `within` at least
+    /// `distance + tolerance`.
+    NearMiss {
+        /// The two bodies, in either order.
+        bodies: (String, String),
+        /// The expected closest approach.
+        distance: f64,
+        /// The allowed deviation.
+        tolerance: f64,
+    },
 }

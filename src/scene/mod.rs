@@ -236,6 +236,16 @@ pub enum Expectation {
     },
     /// Nothing touches.
     NoContact,
+    /// The two bodies (indices) come within `distance ± tolerance` of each
+    /// other at their closest, without touching.
+    NearMiss {
+        /// The two bodies.
+        bodies: (usize, usize),
+        /// Expected closest approach.
+        distance: Real,
+        /// Allowed deviation.
+        tolerance: Real,
+    },
 }
 
 /// The `source` of a scene read by [`Scene::from_ron_str`] (no file).

@@ -188,3 +188,28 @@ fn meshes_intersecting_at_the_start_are_said_to() {
     assert!(!String::from_utf8_lossy(&output.stderr).contains("already touch"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_near_miss_is_expected_like_a_contact() {
+    let dir = workspace("near-miss");
+    // A cube passes a fixed one 0.25 from its face (see tests/runs/near_misses.rs).
+    let scene = |distance: &str| {
+        format!(
+            r#"Scene(name: "pass", dt: 0.01, duration: 2.0, near_misses: (within: 0.5), bodies: [
+                (name: "fixed", mesh: Box(half_extents: (0.5, 0.5, 0.5)), fixed: true),
+                (name: "passer", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (-3.0, 1.25, 0.2), velocity: (3.0, 0.0, 0.0)),
+            ], expect: NearMiss(bodies: ("passer", "fixed"), distance: {distance}, tolerance: 1e-6))"#
+        )
+    };
+    std::fs::write(dir.join("met.ron"), scene("0.25")).unwrap();
+    std::fs::write(dir.join("missed.ron"), scene("0.26")).unwrap();
+    let output = nearmiss(&["test", "met.ron"], &dir);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{stdout}");
+    assert!(stdout.contains("pass met.ron: expected near miss fixed / passer: 0.25 ± 1e-6; obtained near miss fixed / passer: 0.25 at t = "), "{stdout}");
+    let output = nearmiss(&["test", "missed.ron"], &dir);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(1), "{stdout}");
+    assert!(stdout.contains("FAIL missed.ron") && stdout.contains("error -0.01"), "{stdout}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
