@@ -24,7 +24,7 @@
 //! answer is that contact ([`ApproachStatus::Contact`]): its time of first
 //! contact is then what a caller wants.
 
-use super::contact::ContactRule;
+use super::contact::{ContactRule, TARGET_FRACTION};
 use super::mesh_pair::{mesh_time_of_impact, MeshCcdQuery, MeshCcdScratch, MovingMesh, WarmStart};
 use super::options::{CcdOptions, CcdStatus};
 use crate::math::Real;
@@ -41,6 +41,28 @@ pub const DEFAULT_APPROACH_TOLERANCE: Real = 1e-6;
 /// or closes the bracket; a query that needs more ends as
 /// [`ApproachStatus::OutOfIterations`] with the bracket reached.
 pub const MAX_APPROACH_RUNS: usize = 64;
+
+/// Each CCD run's contract tolerance, as a fraction of the bracket's
+/// width: `0.25`. A run that finds nothing certifies the distance stays
+/// above its target; one that finds a time stops within this tolerance of
+/// the target.
+pub const RUN_TOLERANCE_FRACTION: Real = 0.25;
+
+/// After a closer point is found, the next run asks whether anything comes
+/// closer than it less this fraction of the width: `0.75`. If nothing
+/// does, the bracket is this fraction of the width (within the
+/// tolerance); if something does, it is at least `0.75 − 0.25 / 2` of the
+/// width closer, so the runs make progress.
+pub const PROOF_MARGIN_FRACTION: Real = 0.75;
+
+/// The descent to a local minimum stops once the distance cannot move by
+/// this fraction of the width across its time bracket: `0.125` (the upper
+/// bound is then that close to the local minimum).
+pub const DESCENT_PRECISION_FRACTION: Real = 0.125;
+
+/// The descent's first step, a fraction of the rest of the interval:
+/// `1/256` (then doubling while the distance falls).
+pub const DESCENT_FIRST_STEP_FRACTION: Real = 1.0 / 256.0;
 
 /// A closest-approach query: two meshes moving as in
 /// [`mesh_time_of_impact`] over `[0, duration]`.
@@ -152,7 +174,7 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
     let radius = a.mesh.radius().min(b.mesh.radius()).max(Real::MIN_POSITIVE);
     let width = query.tolerance.unwrap_or(DEFAULT_APPROACH_TOLERANCE * radius);
     // Each run's contract tolerance τ: a quarter of the bracket's width.
-    let tau = 0.25 * width;
+    let tau = RUN_TOLERANCE_FRACTION * width;
     let options = CcdOptions { distance_tolerance: tau / radius, minimum_separation: 0.0, ..query.options };
     let mut answer = ClosestApproach {
         status: ApproachStatus::Beyond,
@@ -173,8 +195,13 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
         // The first run asks for `within`; each later one whether anything
         // comes closer than the best found less three quarters of the
         // width (if not, the bracket is closed).
-        let target = if answer.closest.is_none() { query.within } else { answer.upper - 0.75 * width };
-        let separation = (target - 0.5 * tau).max(0.0);
+        let target = if answer.closest.is_none() {
+            query.within
+        } else {
+            answer.upper - PROOF_MARGIN_FRACTION * width
+        };
+        // The run's target (`separation + τ / 2`, the contract's) is `target`.
+        let separation = (target - TARGET_FRACTION * tau).max(0.0);
         let ccd = MeshCcdQuery {
             a,
             b,
@@ -212,8 +239,14 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
             (_, Some(time)) => {
                 // Closer than asked at `time`, and closing: the distance's
                 // local minimum after it is the next best.
-                let (at, found) =
-                    descend(&a, &b, (time, query.duration), 0.125 * width, result.hint, scratch);
+                let (at, found) = descend(
+                    &a,
+                    &b,
+                    (time, query.duration),
+                    DESCENT_PRECISION_FRACTION * width,
+                    result.hint,
+                    scratch,
+                );
                 answer.keep(found, at);
             }
         }
@@ -259,7 +292,7 @@ fn descend(
         |s: Real, hint: Option<(usize, usize)>, scratch: &mut MeshCcdScratch| measure(a, b, s, hint, scratch);
     // March: (previous, best, next) with the distance falling to best.
     let mut previous = start;
-    let mut step = (duration - start) / 256.0;
+    let mut step = (duration - start) * DESCENT_FIRST_STEP_FRACTION;
     let mut next = start;
     while step > 0.0 {
         next = (best.0 + step).min(duration);

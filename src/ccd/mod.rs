@@ -55,7 +55,8 @@ mod vertex_face;
 pub use advance::ROUNDING_FLOOR_ULPS;
 pub use closest_approach::{
     closest_approach, ApproachStatus, ClosestApproach, ClosestApproachQuery, DEFAULT_APPROACH_TOLERANCE,
-    MAX_APPROACH_RUNS,
+    DESCENT_FIRST_STEP_FRACTION, DESCENT_PRECISION_FRACTION, MAX_APPROACH_RUNS, PROOF_MARGIN_FRACTION,
+    RUN_TOLERANCE_FRACTION,
 };
 pub use contact::{box_margin, ContactContract, ContactRule, BOX_MARGIN_TOLERANCE_FACTOR, TARGET_FRACTION};
 pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
