@@ -85,9 +85,11 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
     if let Some(spec) = &scene.run().near_misses {
         let _ = writeln!(
             page,
-            "## Near misses\n\nPairs that came within {} without touching: {}. Each pair is never closer than `lower` over the run (certified), and `distance` apart at `time`.\n",
+            "## Near misses\n\nPairs that came within {} without touching: {}. Each pair is never closer than `lower` over the run (certified{}), and `distance` apart at `time`.\n",
             text::approx(spec.within, 3),
-            result.near_misses.len()
+            result.near_misses.len(),
+            // What the bracket does not cover (see `nearmiss::near_miss`).
+            if result.contacts.is_empty() { "" } else { "; not over the rest of a step after either body's contact" }
         );
         if !result.near_misses.is_empty() {
             let _ = writeln!(page, "| bodies | distance | lower | time | features |\n|---|---|---|---|---|");
