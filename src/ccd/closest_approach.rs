@@ -11,7 +11,7 @@
 //! so none means `d* ≥ S + τ/2`, a certified lower bound), or stops at a
 //! time where the meshes are within `S + τ` (where their exact distance,
 //! measured there, is an upper bound that is reached). From such a time the
-//! distance is falling; a golden-section descent on the exact distance
+//! distance is falling; a descent (Brent's) on the exact distance
 //! finds its local minimum after it, the best upper bound `u` so far. The
 //! next run asks whether anything comes closer than `u` less three
 //! quarters of the tolerance: if not, the bracket is closed (one run, the
@@ -25,7 +25,7 @@
 //! contact is then what a caller wants.
 
 use super::contact::{ContactRule, TARGET_FRACTION};
-use super::mesh_pair::{mesh_time_of_impact, MeshCcdQuery, MeshCcdScratch, MovingMesh, WarmStart};
+use super::mesh_pair::{mesh_time_of_impact, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart};
 use super::options::{CcdOptions, CcdStatus};
 use crate::math::Real;
 use crate::mesh::{mesh_distance_relative, DistanceKernel, DistanceSearch, MeshDistance};
@@ -171,11 +171,7 @@ pub struct ClosestApproach {
 /// ```
 pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdScratch) -> ClosestApproach {
     let (a, b) = (query.a, query.b);
-    let radius = a.mesh.radius().min(b.mesh.radius()).max(Real::MIN_POSITIVE);
-    let width = query.tolerance.unwrap_or(DEFAULT_APPROACH_TOLERANCE * radius);
-    // Each run's contract tolerance τ: a quarter of the bracket's width.
-    let tau = RUN_TOLERANCE_FRACTION * width;
-    let options = CcdOptions { distance_tolerance: tau / radius, minimum_separation: 0.0, ..query.options };
+    let runs = Runs::of(query);
     let mut answer = ClosestApproach {
         status: ApproachStatus::Beyond,
         lower: 0.0,
@@ -198,52 +194,39 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
         let target = if answer.closest.is_none() {
             query.within
         } else {
-            answer.upper - PROOF_MARGIN_FRACTION * width
+            answer.upper - PROOF_MARGIN_FRACTION * runs.width
         };
-        // The run's target (`separation + τ / 2`, the contract's) is `target`.
-        let separation = (target - TARGET_FRACTION * tau).max(0.0);
-        let ccd = MeshCcdQuery {
-            a,
-            b,
-            duration: query.duration,
-            options,
-            contact: ContactRule::Separation(separation),
-            kernel: query.kernel,
-        };
-        let result = mesh_time_of_impact(&ccd, warm, scratch);
+        let (run, result) = runs.below(query, target, warm, scratch);
         answer.runs += 1;
         warm = WarmStart { lower_bound: None, hint: result.hint, axis: result.axis, simplex: result.simplex };
-        match (result.status, result.time_of_impact) {
-            (CcdStatus::OutOfIterations, _) => {
+        match run {
+            Run::Undecided => {
                 answer.status = ApproachStatus::Undecided;
                 return answer;
             }
-            (_, None) => {
-                // Never within the run's guaranteed distance: certified.
-                answer.lower = answer.lower.max(result.guaranteed_distance.min(answer.upper));
+            Run::Beyond { lower } => {
+                answer.lower = answer.lower.max(lower.min(answer.upper));
                 answer.status = match answer.closest {
                     None => ApproachStatus::Beyond,
                     Some(_) => ApproachStatus::Bracketed,
                 };
                 return answer;
             }
-            (_, Some(time)) if separation == 0.0 => {
-                // Within the contact distance of no separation: touching,
-                // first at `time`.
+            Run::Touching { time } => {
                 let closest = measure(&a, &b, time, result.hint, scratch);
                 (answer.status, answer.lower, answer.upper) =
                     (ApproachStatus::Contact, 0.0, closest.distance);
                 (answer.time, answer.closest) = (time, Some(closest));
                 return answer;
             }
-            (_, Some(time)) => {
+            Run::Closer { time } => {
                 // Closer than asked at `time`, and closing: the distance's
                 // local minimum after it is the next best.
                 let (at, found) = descend(
                     &a,
                     &b,
                     (time, query.duration),
-                    DESCENT_PRECISION_FRACTION * width,
+                    DESCENT_PRECISION_FRACTION * runs.width,
                     result.hint,
                     scratch,
                 );
@@ -255,6 +238,85 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
     answer
 }
 
+/// What one CCD run of a closest approach found below its target.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) enum Run {
+    /// Never closer than `lower` (certified, at least the target) over the
+    /// interval.
+    Beyond { lower: Real },
+    /// Within the target (to the run's tolerance) at `time`, first.
+    Closer { time: Real },
+    /// The target was within the run's tolerance of 0: touching, first at
+    /// `time` (never late).
+    Touching { time: Real },
+    /// The CCD ran out of iterations.
+    Undecided,
+}
+
+/// The CCD runs' settings of one query: the bracket's width and the runs'
+/// options.
+struct Runs {
+    width: Real,
+    /// Each run's contract tolerance τ (absolute).
+    tau: Real,
+    options: CcdOptions,
+}
+
+impl Runs {
+    fn of(query: &ClosestApproachQuery<'_>) -> Runs {
+        let radius = query.a.mesh.radius().min(query.b.mesh.radius()).max(Real::MIN_POSITIVE);
+        let width = query.tolerance.unwrap_or(DEFAULT_APPROACH_TOLERANCE * radius);
+        // Each run's contract tolerance τ: a quarter of the bracket's width.
+        let tau = RUN_TOLERANCE_FRACTION * width;
+        let options = CcdOptions { distance_tolerance: tau / radius, minimum_separation: 0.0, ..query.options };
+        Runs { width, tau, options }
+    }
+
+    /// One CCD run: does anything come closer than `target`?
+    fn below(
+        &self,
+        query: &ClosestApproachQuery<'_>,
+        target: Real,
+        warm: WarmStart,
+        scratch: &mut MeshCcdScratch,
+    ) -> (Run, MeshCcdResult) {
+        // The run's target (`separation + τ / 2`, the contract's) is `target`.
+        let separation = (target - TARGET_FRACTION * self.tau).max(0.0);
+        let ccd = MeshCcdQuery {
+            a: query.a,
+            b: query.b,
+            duration: query.duration,
+            options: self.options,
+            contact: ContactRule::Separation(separation),
+            kernel: query.kernel,
+        };
+        let result = mesh_time_of_impact(&ccd, warm, scratch);
+        let run = match (result.status, result.time_of_impact) {
+            (CcdStatus::OutOfIterations, _) => Run::Undecided,
+            // Never within the run's guaranteed distance: certified.
+            (_, None) => Run::Beyond { lower: result.guaranteed_distance },
+            // Within the contact distance of no separation.
+            (_, Some(time)) if separation == 0.0 => Run::Touching { time },
+            (_, Some(time)) => Run::Closer { time },
+        };
+        (run, result)
+    }
+}
+
+/// The first run of [`closest_approach`] alone: whether the meshes of
+/// `query` come within its `within` over the interval, and if so when
+/// first (and the CCD's closest triangle pair there, a hint). A caller
+/// that brackets many intervals of one pair screens them this way and
+/// brackets only those that may hold its closest approach.
+pub(crate) fn screen(
+    query: &ClosestApproachQuery<'_>,
+    scratch: &mut MeshCcdScratch,
+) -> (Run, Option<(usize, usize)>) {
+    let runs = Runs::of(query);
+    let (run, result) = runs.below(query, query.within, WarmStart::default(), scratch);
+    (run, result.hint)
+}
+
 impl ClosestApproach {
     /// Keeps `found` (at time `s`) if it is the closest yet.
     fn keep(&mut self, found: MeshDistance, s: Real) {
@@ -264,18 +326,22 @@ impl ClosestApproach {
     }
 }
 
-/// Golden-section steps of [`descend`]: `48`, a time bracket shrunk by
-/// 0.618^48 ≈ 1e-10 of its length.
+/// The most steps of [`descend`]'s minimisation: `48` (golden-section
+/// steps alone would shrink the time bracket to 0.618^48 ≈ 1e-10 of its
+/// length).
 const DESCENT_STEPS: usize = 48;
 
 /// From time `start`, where the meshes are closing, the local minimum of
 /// their exact distance after it, and its time: a march of doubling steps
-/// while the distance falls, then a golden section of the last three
-/// points, until the bracket is so short that the distance cannot change
-/// by `precision` across it (the distance moves at most at the head-on
-/// speed `|v_a − v_b| + |ω_a| r_a + |ω_b| r_b`), or [`DESCENT_STEPS`]
+/// while the distance falls, then Brent's minimisation on the last three
+/// points (a parabola's vertex where it falls well inside the bracket, a
+/// golden section where not), until the bracket is so short that the
+/// distance cannot change by `precision` across it (the distance moves at
+/// most at the head-on speed `|v_a − v_b| + |ω_a| r_a + |ω_b| r_b`), a
+/// parabola's step gains less than `precision`, or [`DESCENT_STEPS`]
 /// steps. Any measured distance is reached, so this only makes the upper
-/// bound good, never wrong.
+/// bound good, never wrong (a minimum missed by more than the proof's
+/// margin is found by the next proving run).
 fn descend(
     a: &MovingMesh<'_>,
     b: &MovingMesh<'_>,
@@ -307,39 +373,92 @@ fn descend(
         }
         step *= 2.0;
     }
-    // Golden section on [previous, next] around best.
+    // Brent's minimisation on [previous, next] around best: a parabola
+    // through the three best points where it falls well inside the
+    // bracket, a golden section where it does not.
     let (mut lo, mut hi) = (previous, next);
     let ratio = 0.5 * (5.0_f64.sqrt() - 1.0);
+    // The two next-best points (time, distance), for the parabola.
+    let mut second = (next, Real::INFINITY);
+    let mut third = (previous, Real::INFINITY);
+    let (mut step_before_last, mut last_step) = (Real::INFINITY, Real::INFINITY);
     for _ in 0..DESCENT_STEPS {
         if hi - lo <= Real::EPSILON * duration.max(hi.abs()) || (hi - lo) * speed <= precision {
             break;
         }
-        // Probe the larger side of best.
-        let probe = if best.0 - lo > hi - best.0 {
+        let golden = if best.0 - lo > hi - best.0 {
             best.0 - (1.0 - ratio) * (best.0 - lo)
         } else {
             best.0 + (1.0 - ratio) * (hi - best.0)
         };
+        let parabolic = parabola_vertex(best.0, best.1.distance, second, third)
+            .filter(|&x| x > lo && x < hi && (x - best.0).abs() < 0.5 * step_before_last);
+        let (probe, by_parabola) = match parabolic {
+            // Not closer to best than the time can tell apart.
+            Some(x) => {
+                let least = Real::EPSILON.sqrt() * best.0.abs().max(duration * 1e-6);
+                let shift = (x - best.0).abs();
+                (if shift < least { best.0 + least.copysign(x - best.0) } else { x }, true)
+            }
+            None => (golden, false),
+        };
+        step_before_last = last_step;
+        last_step = (probe - best.0).abs();
         let found = at(probe, Some((best.1.triangle_a, best.1.triangle_b)), scratch);
+        let gain = best.1.distance - found.distance;
         if found.distance < best.1.distance {
             if probe < best.0 {
                 hi = best.0;
             } else {
                 lo = best.0;
             }
+            third = second;
+            second = (best.0, best.1.distance);
             best = (probe, found);
-        } else if probe < best.0 {
-            lo = probe;
         } else {
-            hi = probe;
+            if probe < best.0 {
+                lo = probe;
+            } else {
+                hi = probe;
+            }
+            if found.distance <= second.1 {
+                third = second;
+                second = (probe, found.distance);
+            } else if found.distance <= third.1 {
+                third = (probe, found.distance);
+            }
+        }
+        // A parabola's step that gains less than the precision: the
+        // minimum is found to it (the proving run checks).
+        if by_parabola && gain < precision {
+            break;
         }
     }
     best
 }
 
+/// The time at the vertex of the parabola through `(x, fx)` and the two
+/// other points, if it opens upwards (a minimum).
+fn parabola_vertex(x: Real, fx: Real, (v, fv): (Real, Real), (w, fw): (Real, Real)) -> Option<Real> {
+    if !(fv.is_finite() && fw.is_finite()) || v == w || v == x || w == x {
+        return None;
+    }
+    let slope_vx = (fx - fv) / (x - v);
+    let slope_xw = (fw - fx) / (w - x);
+    let curvature = (slope_xw - slope_vx) / (w - v);
+    if !(curvature > 0.0) {
+        return None;
+    }
+    // f(t) = fx + s (t - x) + c (t - x)^2 with s the slope at x of the
+    // parabola: s = slope_vx + c (x - v).
+    let slope = slope_vx + curvature * (x - v);
+    let t = x - slope / (2.0 * curvature);
+    t.is_finite().then_some(t)
+}
+
 /// The exact distance between the two meshes at time `s`, points in the
 /// world frame.
-fn measure(
+pub(crate) fn measure(
     a: &MovingMesh<'_>,
     b: &MovingMesh<'_>,
     s: Real,

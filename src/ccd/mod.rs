@@ -53,6 +53,7 @@ mod options;
 mod vertex_face;
 
 pub use advance::ROUNDING_FLOOR_ULPS;
+pub(crate) use closest_approach::{measure as distance_at, screen as screen_approach, Run as ApproachRun};
 pub use closest_approach::{
     closest_approach, ApproachStatus, ClosestApproach, ClosestApproachQuery, DEFAULT_APPROACH_TOLERANCE,
     DESCENT_FIRST_STEP_FRACTION, DESCENT_PRECISION_FRACTION, MAX_APPROACH_RUNS, PROOF_MARGIN_FRACTION,

@@ -112,3 +112,27 @@ fn near_misses_are_refused_where_rapier_moves_the_bodies() {
     .to_string();
     assert!(error.contains("near_misses.within"), "{error}");
 }
+
+/// A slow pass: a cube drifts at 0.1 along x past a fixed cube's edge, its
+/// own edge 0.25 out in y and in z, so the pair stays 0.25·√2 apart for the
+/// 1,500 steps (t in [5, 20]) their x-extents overlap: far more steps than
+/// a pair holds before bracketing them (`MAX_HELD_STEPS`), with a flat
+/// minimum (no step nearer than the others).
+#[test]
+fn a_long_flat_approach_is_bracketed_across_many_flushes() {
+    let scene = Scene::from_ron_str(
+        r#"Scene(name: "drift", dt: 0.01, duration: 20.0, near_misses: (within: 0.5), bodies: [
+            (name: "fixed", mesh: Box(half_extents: (0.5, 0.5, 0.5)), fixed: true),
+            (name: "drifter", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (-1.5, 1.25, 1.25), velocity: (0.1, 0.0, 0.0)),
+        ])"#,
+    )
+    .unwrap();
+    let result = run(&scene);
+    assert_eq!(result.near_misses.len(), 1, "{:?}", result.near_misses);
+    let miss = &result.near_misses[0];
+    let analytic = 0.25 * Real::sqrt(2.0);
+    assert!(miss.decided);
+    assert!(miss.lower <= analytic && analytic <= miss.distance * (1.0 + 1e-12), "{miss:?}");
+    assert!(miss.distance - miss.lower <= WIDTH, "{miss:?}");
+    assert!(miss.time > 5.0 - 1e-3 && miss.time <= 20.0, "{miss:?}");
+}
