@@ -35,10 +35,10 @@
 use std::collections::{HashMap, HashSet};
 
 use crate::ccd::{
-    closest_approach, distance_at, screen_approach, ApproachRun, ApproachStatus, ClosestApproach, ClosestApproachQuery,
-    MeshCcdScratch, MovingMesh,
+    closest_approach, distance_at, screen_approach, ApproachRun, ApproachStatus, ClosestApproach,
+    ClosestApproachQuery, MeshCcdScratch, MovingMesh,
 };
-use crate::math::Real;
+use crate::math::{Pose, Real};
 use crate::mesh::MeshDistance;
 use crate::motion::StepMotion;
 use crate::scene::{Model, NearMissSpec};
@@ -61,6 +61,10 @@ pub struct NearMiss {
     pub time: Real,
     /// The closest points (world frame), triangles and features at `time`.
     pub closest: MeshDistance,
+    /// The pose of `body_a`'s frame (its mesh's frame) at `time`.
+    pub pose_a: Pose,
+    /// The pose of `body_b`'s frame at `time`.
+    pub pose_b: Pose,
     /// Every step's bracket closed; `false` if a step's CCD ran out of
     /// iterations (the bracket holds, perhaps wider than the tolerance).
     pub decided: bool,
@@ -194,9 +198,7 @@ impl NearMissObserver {
                         // A new near miss: a first distance reached, for the
                         // record (the bracket at the flush finds the best).
                         let found = distance_at(&a, &b, time, hint, &mut self.scratch);
-                        let mut record = PairRecord::new(key, &found);
-                        (record.miss.distance, record.miss.time) = (found.distance, step.t0 + time);
-                        self.pairs.entry(key).or_insert(record)
+                        self.pairs.entry(key).or_insert(PairRecord::new(key, &step, time, found))
                     }
                 };
                 record.held.push(step);
@@ -209,12 +211,14 @@ impl NearMissObserver {
             ApproachRun::Undecided => {
                 let end = distance_at(&a, &b, step.duration, hint, &mut self.scratch);
                 if record.is_some() || end.distance <= self.within {
-                    let record = self.pairs.entry(key).or_insert_with(|| PairRecord::new(key, &end));
+                    let record = self
+                        .pairs
+                        .entry(key)
+                        .or_insert_with(|| PairRecord::new(key, &step, step.duration, end));
                     record.miss.lower = 0.0;
                     record.miss.decided = false;
                     if end.distance < record.miss.distance {
-                        (record.miss.distance, record.miss.time, record.miss.closest) =
-                            (end.distance, step.t0 + step.duration, end);
+                        record.miss.reach(&step, step.duration, end);
                     }
                 }
                 true
@@ -253,20 +257,30 @@ fn approach_query<'a>(
     query
 }
 
+impl NearMiss {
+    /// The pair is `found.distance` apart (reached) at `s` into `step`.
+    fn reach(&mut self, step: &HeldStep, s: Real, found: MeshDistance) {
+        (self.distance, self.time, self.closest) = (found.distance, step.t0 + s, found);
+        (self.pose_a, self.pose_b) = (step.a.pose_at(s), step.b.pose_at(s));
+    }
+}
+
 impl PairRecord {
-    fn new(key: (usize, usize), found: &MeshDistance) -> PairRecord {
-        PairRecord {
-            miss: NearMiss {
-                body_a: key.0,
-                body_b: key.1,
-                distance: Real::INFINITY,
-                lower: Real::INFINITY,
-                time: 0.0,
-                closest: *found,
-                decided: true,
-            },
-            held: Vec::new(),
-        }
+    /// A pair first found `found` apart at `s` into `step`.
+    fn new(key: (usize, usize), step: &HeldStep, s: Real, found: MeshDistance) -> PairRecord {
+        let mut miss = NearMiss {
+            body_a: key.0,
+            body_b: key.1,
+            distance: Real::INFINITY,
+            lower: Real::INFINITY,
+            time: 0.0,
+            closest: found,
+            pose_a: Pose::identity(),
+            pose_b: Pose::identity(),
+            decided: true,
+        };
+        miss.reach(step, s, found);
+        PairRecord { miss, held: Vec::new() }
     }
 
     /// Brackets the held steps, each asking only for what comes closer than
@@ -319,7 +333,7 @@ impl PairRecord {
             (status, closest) => {
                 miss.decided &= status == ApproachStatus::Bracketed;
                 if let Some(closest) = closest.filter(|_| approach.upper < miss.distance) {
-                    (miss.distance, miss.time, miss.closest) = (approach.upper, step.t0 + approach.time, closest);
+                    miss.reach(step, approach.time, closest);
                 }
             }
         }
@@ -361,7 +375,7 @@ fn nearest_index(n: usize, f: &mut impl FnMut(usize) -> Real) -> usize {
 /// be just past it).
 fn outwards(start: usize, n: usize) -> impl Iterator<Item = usize> {
     (0..2 * n).filter_map(move |i| {
-        let offset = (i + 1) / 2;
+        let offset = i.div_ceil(2);
         let k = if i % 2 == 1 { start.checked_add(offset) } else { start.checked_sub(offset) };
         k.filter(|&k| k < n)
     })

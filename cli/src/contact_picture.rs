@@ -1,19 +1,21 @@
-//! `contact_<n>.png`: a picture of a contact, so that a user sees at a
-//! glance which feature of which body hit which (the `plot` feature).
+//! `contact_<n>.png` and `nearest_near_miss.png`: a picture of a contact, or of
+//! the run's nearest near miss, so that a user sees at a glance which
+//! feature of which body hit (or passed) which (the `plot` feature).
 //!
 //! Three orthographic wireframe views of the two meshes at their poses at
-//! the time of contact, all centred on the contact (the midpoint of the two
-//! closest points), with `n` the contact normal (from body a's closest
-//! point towards body b's; where they coincide, triangle a's normal):
+//! that time, all centred on the midpoint of the two closest points, with
+//! `n` the direction from body a's closest point towards body b's (the
+//! contact normal; where the points coincide, triangle a's normal):
 //! 1. from the side (n up), both bodies whole;
-//! 2. the same, zoomed on the contact (the smaller contact triangle whole,
-//!    at least a tenth of the whole view);
-//! 3. looking down the normal onto the contact, zoomed alike.
+//! 2. the same, zoomed on the closest points (a contact: the smaller
+//!    closest triangle whole, at least a tenth of the whole view and four
+//!    contact distances; a near miss: four times its distance);
+//! 3. looking down n onto the closest points, zoomed alike.
 //!
-//! Body a is drawn in blue, body b in orange; the two triangles in contact
-//! are filled, the closest points are dots and the normal a red arrow. The
-//! caption gives the time, the bodies, their triangles and features, the
-//! distance and the contact distance.
+//! Body a is drawn in blue, body b in orange; the two closest triangles
+//! are filled, the closest points are dots and n a red arrow. The caption
+//! gives the time, the bodies, their triangles and features, the distance
+//! and the contact distance (a near miss: the certified lower bound).
 
 use std::path::Path;
 
@@ -22,7 +24,8 @@ use plotters::prelude::*;
 use crate::plot::{draw_png, PlotError, FAMILY};
 use crate::text;
 use nearmiss::math::{Point, Pose, Real, Vector};
-use nearmiss::mesh::TriMesh;
+use nearmiss::mesh::{MeshDistance, TriMesh};
+use nearmiss::near_miss::NearMiss;
 use nearmiss::stepper::Contact;
 
 /// Contacts pictured per run: the first ones, and any the scene's `plot`
@@ -70,24 +73,103 @@ impl View {
     }
 }
 
+/// What a picture shows: two bodies at one instant, their closest points
+/// and the direction between them (a contact, or a near miss).
+pub struct Encounter<'a> {
+    /// The caption's start: `contact 2`, `nearest near miss`.
+    pub label: String,
+    /// When.
+    pub time: Real,
+    /// The closest points (world frame), triangles and features.
+    pub closest: &'a MeshDistance,
+    /// The meshes' frames at `time`.
+    pub poses: (Pose, Pose),
+    /// What the zoomed views show.
+    pub zoom: Zoom,
+    /// The caption's end: `distance 1e-9 (contact distance 1e-6)`.
+    pub detail: String,
+    /// What the red arrow is: `the contact normal`, `the gap's direction`.
+    pub arrow: &'static str,
+}
+
+/// What the zoomed views of an [`Encounter`] show.
+#[derive(Copy, Clone, Debug)]
+pub enum Zoom {
+    /// A contact of this contact distance: the smaller closest triangle
+    /// whole, at least a tenth of the whole view and four contact
+    /// distances.
+    Contact(Real),
+    /// A gap of this distance: four times it around the closest points.
+    Gap(Real),
+}
+
+impl<'a> Encounter<'a> {
+    /// Contact `n` (1-based) of a run.
+    pub fn of_contact(contact: &'a Contact, n: usize) -> Encounter<'a> {
+        Encounter {
+            label: format!("contact {n}"),
+            time: contact.time,
+            closest: &contact.closest,
+            poses: (contact.pose_a, contact.pose_b),
+            zoom: Zoom::Contact(contact.contact_distance),
+            detail: format!(
+                "distance {} (contact distance {})",
+                text::approx(contact.closest.distance, 3),
+                text::approx(contact.contact_distance, 3)
+            ),
+            arrow: "the contact normal",
+        }
+    }
+
+    /// A near miss of a run, `label` saying which.
+    pub fn of_near_miss(miss: &'a NearMiss, label: &str) -> Encounter<'a> {
+        Encounter {
+            label: label.to_string(),
+            time: miss.time,
+            closest: &miss.closest,
+            poses: (miss.pose_a, miss.pose_b),
+            zoom: Zoom::Gap(miss.distance),
+            detail: format!(
+                "distance {} (never closer than {})",
+                text::approx(miss.distance, 6),
+                text::approx(miss.lower, 6)
+            ),
+            arrow: "the gap's direction",
+        }
+    }
+}
+
 /// Draws contact `n` (1-based) of a run between `mesh_a` and `mesh_b` to
 /// `path`; `names` are the two bodies' names.
 pub fn draw_contact(
     contact: &Contact,
     n: usize,
+    meshes: (&TriMesh, &TriMesh),
+    names: (&str, &str),
+    path: &Path,
+) -> Result<(), PlotError> {
+    draw_encounter(&Encounter::of_contact(contact, n), meshes, names, path)
+}
+
+/// Draws `encounter` of `mesh_a` and `mesh_b` to `path`; `names` are the
+/// two bodies' names.
+pub fn draw_encounter(
+    encounter: &Encounter<'_>,
     (mesh_a, mesh_b): (&TriMesh, &TriMesh),
     names: (&str, &str),
     path: &Path,
 ) -> Result<(), PlotError> {
-    let (pa, pb) = (contact.closest.point_a, contact.closest.point_b);
-    let triangle_a = mesh_a.triangle(contact.closest.triangle_a).map(|p| contact.pose_a * p);
+    let closest = encounter.closest;
+    let (pose_a, pose_b) = encounter.poses;
+    let (pa, pb) = (closest.point_a, closest.point_b);
+    let triangle_a = mesh_a.triangle(closest.triangle_a).map(|p| pose_a * p);
     let face_normal = (triangle_a[1] - triangle_a[0]).cross(&(triangle_a[2] - triangle_a[0]));
     let normal = [pb - pa, face_normal, Vector::z()]
         .into_iter()
         .find(|v| v.norm() > 0.0 && v.norm().is_finite())
         .map_or(Vector::z(), |v| v.normalize());
     let center = Point::from((pa.coords + pb.coords) / 2.0);
-    let vertices: Vec<Point> = [(mesh_a, &contact.pose_a), (mesh_b, &contact.pose_b)]
+    let vertices: Vec<Point> = [(mesh_a, &pose_a), (mesh_b, &pose_b)]
         .iter()
         .flat_map(|(mesh, pose)| mesh.vertices().iter().map(move |v| *pose * v))
         .collect();
@@ -111,13 +193,17 @@ pub fn draw_contact(
     // Zoomed: the smaller contact triangle whole (the larger may be a whole
     // floor), and at least 1/ZOOM of the whole view and a few contact
     // distances around the contact.
-    let triangle_b = mesh_b.triangle(contact.closest.triangle_b).map(|p| contact.pose_b * p);
+    let triangle_b = mesh_b.triangle(closest.triangle_b).map(|p| pose_b * p);
     let reach = |t: &[Point; 3]| t.iter().map(|p| (p - center).norm()).fold(0.0, Real::max);
     let small_triangle = reach(&triangle_a).min(reach(&triangle_b)) * 1.25;
-    let zoom = (spread(&right).max(spread(&normal)) / ZOOM)
-        .max(small_triangle)
-        .min(whole)
-        .max(4.0 * contact.contact_distance);
+    let zoom = match encounter.zoom {
+        // On the gap: both closest points, the gap a quarter of the view.
+        Zoom::Gap(distance) => (4.0 * distance).min(whole),
+        Zoom::Contact(contact_distance) => (spread(&right).max(spread(&normal)) / ZOOM)
+            .max(small_triangle)
+            .min(whole)
+            .max(4.0 * contact_distance),
+    };
     let views = [
         View {
             title: "side view (normal up)".into(),
@@ -148,16 +234,16 @@ pub fn draw_contact(
         },
     ];
     let caption = format!(
-        "contact {n}: t = {}   {} (triangle {} {})  /  {} (triangle {} {})   distance {} (contact distance {})",
-        text::time(contact.time),
+        "{}: t = {}   {} (triangle {} {})  /  {} (triangle {} {})   {}",
+        encounter.label,
+        text::time(encounter.time),
         names.0,
-        contact.closest.triangle_a,
-        contact.closest.feature_a,
+        closest.triangle_a,
+        closest.feature_a,
         names.1,
-        contact.closest.triangle_b,
-        contact.closest.feature_b,
-        text::approx(contact.closest.distance, 3),
-        text::approx(contact.contact_distance, 3)
+        closest.triangle_b,
+        closest.feature_b,
+        encounter.detail
     );
 
     draw_png(path, |root| {
@@ -165,8 +251,8 @@ pub fn draw_contact(
         let (top, rest) = root.split_vertically(70);
         top.draw(&Text::new(caption, (20, 12), (FAMILY, 18).into_font())).map_err(|e| error(&e))?;
         let legend = format!(
-            "blue: {}   orange: {}   red: the contact normal, from {} towards {}   grey: the world's axes   lengths in scene units, from the contact",
-            names.0, names.1, names.0, names.1
+            "blue: {}   orange: {}   red: {}, from {} towards {}   grey: the world's axes   lengths in scene units, from the midpoint",
+            names.0, names.1, encounter.arrow, names.0, names.1
         );
         top.draw(&Text::new(legend, (20, 42), (FAMILY, 16).into_font())).map_err(|e| error(&e))?;
         let panels = rest.split_evenly((1, 3));
@@ -202,8 +288,8 @@ pub fn draw_contact(
                 .draw()
                 .map_err(|e| error(&e))?;
             for (mesh, pose, color, contact_triangle) in [
-                (mesh_a, &contact.pose_a, BLUE_BODY, contact.closest.triangle_a),
-                (mesh_b, &contact.pose_b, ORANGE_BODY, contact.closest.triangle_b),
+                (mesh_a, &pose_a, BLUE_BODY, closest.triangle_a),
+                (mesh_b, &pose_b, ORANGE_BODY, closest.triangle_b),
             ] {
                 draw_wireframe(&mut chart, view, mesh, pose, color).map_err(|e| error(&e))?;
                 let t = mesh.triangle(contact_triangle).map(|p| view.project(&(*pose * p)));

@@ -83,6 +83,10 @@ pub struct NearMissJson<'a> {
     /// Every step's bracket closed within its tolerance (`false`: a CCD run
     /// ran out of iterations; the bracket holds, wider).
     pub decided: bool,
+    /// The first body's pose (its mesh's frame) at `time`.
+    pub pose_a: PoseJson,
+    /// The second body's pose at `time`.
+    pub pose_b: PoseJson,
 }
 
 impl<'a> NearMissJson<'a> {
@@ -94,6 +98,8 @@ impl<'a> NearMissJson<'a> {
             lower: miss.lower,
             time: miss.time,
             decided: miss.decided,
+            pose_a: PoseJson::of(&miss.pose_a),
+            pose_b: PoseJson::of(&miss.pose_b),
         }
     }
 }
@@ -238,8 +244,15 @@ pub fn write_outputs(out: &Path, result: &RunResult, scene: &Scene) -> std::io::
 pub const SWAP_ATTEMPTS: usize = 8;
 
 /// The file names a run writes (and replaces as a whole).
-pub const RUN_FILES: [&str; 6] =
-    ["summary.json", "trace.csv", "distance.png", "poses.csv", "animation.glb", "report.md"];
+pub const RUN_FILES: [&str; 7] = [
+    "summary.json",
+    "trace.csv",
+    "distance.png",
+    crate::run_page::NEAREST_NEAR_MISS_PICTURE,
+    "poses.csv",
+    "animation.glb",
+    "report.md",
+];
 
 /// Whether `name` is a file a run writes: one of [`RUN_FILES`] or a contact
 /// picture (`contact_<n>.png`).
@@ -345,6 +358,15 @@ fn write_run_files(
             crate::contact_picture::draw_contact(contact, n, meshes, names, &folder.join(&name))
                 .map_err(std::io::Error::other)?;
             written.push(name);
+        }
+        if let Some(miss) = result.near_misses.first() {
+            let meshes = (&*scene.model().bodies[miss.body_a].mesh, &*scene.model().bodies[miss.body_b].mesh);
+            let names = (result.bodies[miss.body_a].as_str(), result.bodies[miss.body_b].as_str());
+            let encounter = crate::contact_picture::Encounter::of_near_miss(miss, "nearest near miss");
+            let path = folder.join(crate::run_page::NEAREST_NEAR_MISS_PICTURE);
+            crate::contact_picture::draw_encounter(&encounter, meshes, names, &path)
+                .map_err(std::io::Error::other)?;
+            written.push(crate::run_page::NEAREST_NEAR_MISS_PICTURE.to_string());
         }
     }
     written.push("report.md".to_string());
@@ -498,7 +520,16 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
             points
         })
         .collect();
-    let positive = samples.iter().flatten().map(|p| p.1).filter(|d| *d > 0.0 && d.is_finite());
+    // The traced pairs' near misses: their certified closest approaches,
+    // which the samples at the step ends pass by.
+    let approaches: Vec<(Real, Real)> = result
+        .near_misses
+        .iter()
+        .filter(|m| pairs.iter().any(|&p| (p.0.min(p.1), p.0.max(p.1)) == (m.body_a, m.body_b)))
+        .map(|m| (m.time, m.distance))
+        .collect();
+    let positive =
+        samples.iter().flatten().chain(&approaches).map(|p| p.1).filter(|d| *d > 0.0 && d.is_finite());
     let (smallest, largest) =
         positive.fold((Real::INFINITY, 0.0 as Real), |(lo, hi), d| (lo.min(d), hi.max(d)));
     let chosen = log_y.is_none();
@@ -521,6 +552,12 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
             line: true,
             point_labels: Vec::new(),
         })
+        .chain((!approaches.is_empty()).then(|| Series {
+            label: "closest approach (near misses, certified)".to_string(),
+            points: approaches.iter().map(|&(t, d)| (t, shown(d))).collect(),
+            line: false,
+            point_labels: approaches.iter().map(|&(_, d)| crate::text::approx(d, 6)).collect(),
+        }))
         .collect();
     let marks = result
         .contacts

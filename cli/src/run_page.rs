@@ -13,6 +13,10 @@ use nearmiss::stepper::{Contact, RunResult};
 /// always given, and `summary.json` has them all).
 pub const LISTED_CONTACTS: usize = 20;
 
+/// The picture of a run's nearest near miss (with `plot` and
+/// `near_misses` in the scene).
+pub const NEAREST_NEAR_MISS_PICTURE: &str = "nearest_near_miss.png";
+
 /// The page of a run that wrote `files` (names in its folder).
 pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
     let mut page = String::new();
@@ -108,6 +112,9 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
             }
             page.push('\n');
         }
+        if files.contains(&NEAREST_NEAR_MISS_PICTURE) {
+            let _ = writeln!(page, "![the nearest near miss]({NEAREST_NEAR_MISS_PICTURE})\n");
+        }
     }
     if let Some(note) = missing_pictures(scene, result) {
         let _ = writeln!(page, "{note}.\n");
@@ -124,6 +131,7 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
             "poses.csv" => "every body's pose over time",
             "distance.png" => "the plot above",
             f if f.starts_with("contact_") => "the two bodies at that contact (pictured above)",
+            NEAREST_NEAR_MISS_PICTURE => "the two bodies where they came nearest (pictured above)",
             _ => "",
         };
         let what = if what.is_empty() { String::new() } else { format!(": {what}") };

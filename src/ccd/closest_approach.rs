@@ -25,7 +25,9 @@
 //! contact is then what a caller wants.
 
 use super::contact::{ContactRule, TARGET_FRACTION};
-use super::mesh_pair::{mesh_time_of_impact, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart};
+use super::mesh_pair::{
+    mesh_time_of_impact, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart,
+};
 use super::options::{CcdOptions, CcdStatus};
 use crate::math::Real;
 use crate::mesh::{mesh_distance_relative, DistanceKernel, DistanceSearch, MeshDistance};
@@ -268,7 +270,8 @@ impl Runs {
         let width = query.tolerance.unwrap_or(DEFAULT_APPROACH_TOLERANCE * radius);
         // Each run's contract tolerance τ: a quarter of the bracket's width.
         let tau = RUN_TOLERANCE_FRACTION * width;
-        let options = CcdOptions { distance_tolerance: tau / radius, minimum_separation: 0.0, ..query.options };
+        let options =
+            CcdOptions { distance_tolerance: tau / radius, minimum_separation: 0.0, ..query.options };
         Runs { width, tau, options }
     }
 
@@ -446,7 +449,7 @@ fn parabola_vertex(x: Real, fx: Real, (v, fv): (Real, Real), (w, fw): (Real, Rea
     let slope_vx = (fx - fv) / (x - v);
     let slope_xw = (fw - fx) / (w - x);
     let curvature = (slope_xw - slope_vx) / (w - v);
-    if !(curvature > 0.0) {
+    if curvature.is_nan() || curvature <= 0.0 {
         return None;
     }
     // f(t) = fx + s (t - x) + c (t - x)^2 with s the slope at x of the

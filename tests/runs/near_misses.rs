@@ -3,7 +3,9 @@
 //! analytic closest approach; pairs that stay farther, and pairs that
 //! touch, are not listed; the broad phase changes nothing.
 
+use nearmiss::kernels::point_triangle;
 use nearmiss::math::Real;
+use nearmiss::mesh::{mesh_distance, DistanceKernel, DistanceSearch};
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{run, run_with, RunOptions};
 
@@ -32,7 +34,8 @@ const WIDTH: Real = 1e-6 * 0.87;
 
 #[test]
 fn the_pairs_that_come_near_are_listed_with_their_analytic_approach() {
-    let result = run(&pass_by(ALL, 2.0));
+    let scene = pass_by(ALL, 2.0);
+    let result = run(&scene);
     let listed: Vec<(&str, &str)> = result
         .near_misses
         .iter()
@@ -47,6 +50,22 @@ fn the_pairs_that_come_near_are_listed_with_their_analytic_approach() {
         assert!(miss.distance - miss.lower <= WIDTH, "{miss:?}");
         let gap = miss.closest.point_b - miss.closest.point_a;
         assert!((gap.norm() - miss.distance).abs() < 1e-12);
+        // The poses are the bodies' at `time`: the meshes there are
+        // `distance` apart, between the same points.
+        let model = scene.model();
+        let (mesh_a, mesh_b) = (&model.bodies[miss.body_a].mesh, &model.bodies[miss.body_b].mesh);
+        let search = DistanceSearch::new(DistanceKernel::Exact, None);
+        let there =
+            mesh_distance(mesh_a, &miss.pose_a, mesh_b, &miss.pose_b, &search, &mut Default::default());
+        assert!((there.distance - miss.distance).abs() < 1e-12, "{there:?} {miss:?}");
+        // Each closest point lies on its triangle, placed by its pose.
+        for (mesh, pose, triangle, point) in [
+            (mesh_a, &miss.pose_a, miss.closest.triangle_a, &miss.closest.point_a),
+            (mesh_b, &miss.pose_b, miss.closest.triangle_b, &miss.closest.point_b),
+        ] {
+            let on = point_triangle(point, &mesh.triangle(triangle).map(|p| pose * p));
+            assert!(on.distance < 1e-12, "{on:?} {miss:?}");
+        }
     }
     // The ball is closest at the run's end; the passer while the faces
     // overlap (within the width's slack of its ends).

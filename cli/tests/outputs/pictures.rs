@@ -49,13 +49,18 @@ fn scene(name: &str) -> Scene {
 fn every_picture_of_a_run_is_whole() {
     let out = std::env::temp_dir().join(format!("nearmiss-pictures-{}", std::process::id()));
     // Linear and log distance axes, many and few contacts, contact pictures
-    // of boxes, balls, triangles and a turning blade.
-    for name in ["ball_between_walls", "falling_box", "ball_rest", "two_triangles", "spinning_blade"] {
+    // of boxes, balls, triangles and a turning blade, a near miss.
+    for name in
+        ["ball_between_walls", "falling_box", "ball_rest", "two_triangles", "spinning_blade", "bar_clearance"]
+    {
         let scene = scene(name);
         let result = nearmiss::stepper::run(&scene);
         let written = nearmiss_cli::output::write_outputs(&out, &result, &scene).unwrap();
         let pictures: Vec<_> = written.iter().filter(|p| p.extension().is_some_and(|e| e == "png")).collect();
         assert!(pictures.len() >= 2, "{name}: a distance chart and a contact picture at least");
+        if !result.near_misses.is_empty() {
+            assert!(written.iter().any(|p| p.ends_with("nearest_near_miss.png")), "{name}: {written:?}");
+        }
         for picture in pictures {
             check(picture);
         }
