@@ -225,12 +225,31 @@ impl<'a> Summary<'a> {
         }
     }
 
+    /// The summary of `result`, a run of `scene`, with the peers' answers.
+    pub fn of_run(result: &'a RunResult, scene: &'a Scene, peers: &Peers<'a>) -> Summary<'a> {
+        Summary {
+            rapier: peers.rapier.clone(),
+            source: Some(scene.run().source.as_str()).filter(|s| *s != nearmiss::scene::FROM_STRING),
+            near_misses: scene
+                .run()
+                .near_misses
+                .is_some()
+                .then(|| result.near_misses.iter().map(|m| NearMissJson::of(result, m)).collect()),
+            ..Summary::with_peer(result, peers.parry)
+        }
+    }
+
     /// Pretty JSON text.
     pub fn to_json(&self) -> String {
         // Serializing plain structs of numbers and strings cannot fail;
         // non-finite numbers become `null`.
         serde_json::to_string_pretty(self).unwrap_or_default() + "\n"
     }
+}
+
+/// `summary.json`'s text for `result`, a run of `scene` (without peers).
+pub fn summary_json(result: &RunResult, scene: &Scene) -> String {
+    Summary::of_run(result, scene, &Peers::default()).to_json()
 }
 
 /// Writes the run's files into `<out>/<scene>/` and returns their paths:
@@ -316,17 +335,7 @@ fn write_run_files(
         )));
     }
     let mut written = Vec::new();
-    let summary = Summary {
-        rapier: peers.rapier.clone(),
-        source: Some(scene.run().source.as_str()).filter(|s| *s != nearmiss::scene::FROM_STRING),
-        near_misses: scene
-            .run()
-            .near_misses
-            .is_some()
-            .then(|| result.near_misses.iter().map(|m| NearMissJson::of(result, m)).collect()),
-        ..Summary::with_peer(result, peers.parry)
-    }
-    .to_json();
+    let summary = Summary::of_run(result, scene, peers).to_json();
     write_synced(&folder.join("summary.json"), summary.as_bytes())?;
     written.push("summary.json".to_string());
     if scene.run().trace.is_some() {

@@ -1,0 +1,357 @@
+"""nearmiss: continuous collision detection for triangle meshes.
+
+Exact triangle distances (and the seed paper's DyOP), continuous collision
+detection of rotating meshes that never reports contact late, certified
+closest approaches of moving meshes, and scene runs, on numpy arrays.
+
+Arrays are float64 (anything numpy converts to float64 is accepted);
+every number must be finite. Shapes: a point (3,), a triangle (3, 3) (its
+vertices as rows), batches (N, 3) and (N, 3, 3). Bad input raises
+``ValueError`` (wrong shape, a non-finite number, an index out of range, a
+degenerate triangle) or ``TypeError`` (not numbers), naming the argument.
+
+A pose is ``(position, rotation)``: position (3,), rotation a unit
+quaternion ``[w, x, y, z]`` (4,) or a rotation matrix (3, 3); ``None`` is
+the identity. A motion is ``(velocity, angular_velocity)``, both (3,) in
+the world frame, constant over the query (the mesh turns about its own
+frame's origin, placed by the pose); ``None`` is at rest.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, NamedTuple, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _nearmiss
+from ._nearmiss import Mesh, SceneError
+
+__all__ = [
+    "FEATURES",
+    "FORMULAS",
+    "ClosestApproach",
+    "Mesh",
+    "MeshDistance",
+    "SceneError",
+    "SceneInfo",
+    "TimeOfImpact",
+    "TriangleDistance",
+    "TriangleClosestPoints",
+    "closest_approach",
+    "dyop_distance",
+    "load_scene",
+    "mesh_distance",
+    "mesh_time_of_impact",
+    "point_segment_distance",
+    "point_segment_distances",
+    "run_scene",
+    "triangle_closest_points",
+    "triangle_distance",
+    "triangle_distances",
+]
+
+#: The names of the feature codes of :func:`triangle_closest_points`:
+#: ``FEATURES[code]``; vertex ``i`` is code ``i``, edge ``i`` (from vertex
+#: ``i`` to vertex ``i + 1``) is ``3 + i``, the face is 6.
+FEATURES: Tuple[str, ...] = ("vertex 0", "vertex 1", "vertex 2", "edge 0", "edge 1", "edge 2", "face")
+
+#: The point–edge formulas: ``"vector"`` (the default, compensated),
+#: ``"plain_vector"`` and ``"heron"`` (the seed paper's), ``"stable_heron"``
+#: (Kahan's ordering of Heron's formula).
+FORMULAS: Tuple[str, ...] = ("vector", "plain_vector", "heron", "stable_heron")
+
+ArrayLike = Union[np.ndarray, Sequence[Any]]
+Pose = Optional[Tuple[ArrayLike, ArrayLike]]
+Motion = Optional[Tuple[ArrayLike, ArrayLike]]
+
+
+class TriangleDistance(NamedTuple):
+    """The distance of two triangles and where it is reached."""
+
+    #: The distance; exactly 0 when the triangles touch or overlap.
+    distance: float
+    #: The closest point on the first triangle (a common point if they meet).
+    point_a: np.ndarray
+    #: The closest point on the second triangle.
+    point_b: np.ndarray
+    #: The feature ``point_a`` lies on: ``"vertex 0"``, ``"edge 2"``, ``"face"``.
+    feature_a: str
+    #: The feature ``point_b`` lies on.
+    feature_b: str
+    #: Whether the stated accuracy holds (sizes within about 1e60 of each other).
+    within_range: bool
+
+
+class TriangleClosestPoints(NamedTuple):
+    """Distances, closest points and features of triangle pairs, as arrays."""
+
+    distance: np.ndarray
+    point_a: np.ndarray
+    point_b: np.ndarray
+    #: Feature codes (int8): ``FEATURES[code]`` names them.
+    feature_a: np.ndarray
+    feature_b: np.ndarray
+
+
+class MeshDistance(NamedTuple):
+    """The distance of two meshes and where it is reached (world frame)."""
+
+    distance: float
+    point_a: np.ndarray
+    point_b: np.ndarray
+    #: The triangles (indices into the meshes' faces).
+    triangle_a: int
+    triangle_b: int
+    feature_a: str
+    feature_b: str
+
+
+class TimeOfImpact(NamedTuple):
+    """The answer of :func:`mesh_time_of_impact`."""
+
+    #: The time of first contact (never later than the true one), or None.
+    time: Optional[float]
+    #: How the iteration ended: ``"separated"``, ``"filtered"`` (no contact,
+    #: proved before any iteration), ``"converged"``, ``"initially_touching"``,
+    #: ``"out_of_iterations"`` (contact reported, conservatively, where the
+    #: iterations ran out: could not decide).
+    status: str
+    #: No contact is reported farther apart than this.
+    contact_distance: float
+    #: Every approach closer than this is reported.
+    guaranteed_distance: float
+    #: At contact: a triangle pair within the contact distance there.
+    closest: Optional[MeshDistance]
+    #: Advancement steps taken.
+    iterations: int
+
+
+class ClosestApproach(NamedTuple):
+    """The answer of :func:`closest_approach`: ``lower <= d* <= upper``."""
+
+    #: ``"bracketed"``, ``"contact"`` (they touch; ``time`` is the time of
+    #: first contact), ``"beyond"`` (never within ``within``),
+    #: ``"out_of_iterations"`` or ``"undecided"``.
+    status: str
+    #: Certified: the meshes are never closer than this over the interval.
+    lower: float
+    #: Reached: the meshes are this far apart at ``time`` (inf when beyond).
+    upper: float
+    time: float
+    closest: Optional[MeshDistance]
+    #: CCD runs taken.
+    runs: int
+
+
+def _floats(name: str, value: Any) -> np.ndarray:
+    array = np.asarray(value)
+    if array.dtype.kind not in "biuf":
+        raise TypeError(f"{name}: expected numbers (float64), got an array of dtype {array.dtype}")
+    return np.ascontiguousarray(array, dtype=np.float64)
+
+
+def _pose(name: str, pose: Pose) -> Tuple[np.ndarray, np.ndarray]:
+    if pose is None:
+        return np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0])
+    try:
+        position, rotation = pose
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: expected (position, rotation) or None, got {type(pose).__name__}") from None
+    return _floats(f"{name} position", position), _floats(f"{name} rotation", rotation)
+
+
+def _motion(name: str, motion: Motion) -> Tuple[np.ndarray, np.ndarray]:
+    if motion is None:
+        return np.zeros(3), np.zeros(3)
+    try:
+        velocity, angular_velocity = motion
+    except (TypeError, ValueError):
+        raise TypeError(
+            f"{name}: expected (velocity, angular_velocity) or None, got {type(motion).__name__}"
+        ) from None
+    return _floats(f"{name} velocity", velocity), _floats(f"{name} angular velocity", angular_velocity)
+
+
+def _mesh(name: str, mesh: Any) -> Mesh:
+    if not isinstance(mesh, Mesh):
+        raise TypeError(f"{name}: expected a nearmiss.Mesh, got {type(mesh).__name__}")
+    return mesh
+
+
+def _mesh_distance(raw: Optional[tuple]) -> Optional[MeshDistance]:
+    return None if raw is None else MeshDistance(*raw)
+
+
+def triangle_distance(a: ArrayLike, b: ArrayLike) -> TriangleDistance:
+    """The exact distance between triangles ``a`` and ``b`` (each (3, 3)).
+
+    Exactly 0 when they touch or intersect (decided with exact
+    predicates), with a common point as both closest points.
+    """
+    return TriangleDistance(*_nearmiss.triangle_distance(_floats("a", a), _floats("b", b)))
+
+
+def triangle_distances(a: ArrayLike, b: ArrayLike) -> np.ndarray:
+    """The distances of ``a[i]`` and ``b[i]`` for (N, 3, 3) batches.
+
+    The vectorised kernel (AVX2 or AVX-512 where the machine has them), on
+    all cores, without the GIL; the same numbers as the Rust library's
+    ``kernels::batch::triangle_distances``.
+    """
+    return _nearmiss.triangle_distances(_floats("a", a), _floats("b", b))
+
+
+def triangle_closest_points(a: ArrayLike, b: ArrayLike) -> TriangleClosestPoints:
+    """Distances, closest points (N, 3) and feature codes of (N, 3, 3) batches.
+
+    Each pair as :func:`triangle_distance` answers it, on all cores.
+    """
+    return TriangleClosestPoints(*_nearmiss.triangle_closest_points(_floats("a", a), _floats("b", b)))
+
+
+def point_segment_distance(p: ArrayLike, a: ArrayLike, b: ArrayLike, formula: str = "vector") -> float:
+    """The distance from point ``p`` to the segment ``a``–``b`` by ``formula``.
+
+    See :data:`FORMULAS`; ``"heron"`` and ``"plain_vector"`` are the seed
+    paper's formulas, kept to show their error.
+    """
+    return _nearmiss.point_segment_distance(_floats("p", p), _floats("a", a), _floats("b", b), formula)
+
+
+def point_segment_distances(p: ArrayLike, a: ArrayLike, b: ArrayLike, formula: str = "vector") -> np.ndarray:
+    """:func:`point_segment_distance` for (N, 3) batches, on all cores."""
+    return _nearmiss.point_segment_distances(_floats("p", p), _floats("a", a), _floats("b", b), formula)
+
+
+def dyop_distance(a: ArrayLike, b: ArrayLike, formula: str = "vector") -> float:
+    """The seed paper's DyOP distance between triangles ``a`` and ``b``.
+
+    An approximation (it does not detect intersecting triangles); use
+    :func:`triangle_distance` for the exact distance.
+    """
+    return _nearmiss.dyop_distance(_floats("a", a), _floats("b", b), formula)
+
+
+def mesh_distance(mesh_a: Mesh, pose_a: Pose, mesh_b: Mesh, pose_b: Pose) -> MeshDistance:
+    """The exact distance between two posed meshes (0 if they touch)."""
+    raw = _nearmiss.mesh_distance_between(
+        _mesh("mesh_a", mesh_a), _pose("pose_a", pose_a), _mesh("mesh_b", mesh_b), _pose("pose_b", pose_b)
+    )
+    return MeshDistance(*raw)
+
+
+def mesh_time_of_impact(
+    mesh_a: Mesh,
+    pose_a: Pose,
+    motion_a: Motion,
+    mesh_b: Mesh,
+    pose_b: Pose,
+    motion_b: Motion,
+    duration: float = 1.0,
+    *,
+    distance_tolerance: Optional[float] = None,
+    minimum_separation: float = 0.0,
+    max_iterations: Optional[int] = None,
+    kernel: str = "exact",
+) -> TimeOfImpact:
+    """The time of first contact of two moving meshes over ``[0, duration]``.
+
+    Each mesh starts at its pose and moves with constant linear and angular
+    velocity (the rotation exact, not linearised). Contact is reported
+    within ``minimum_separation + distance_tolerance * r`` (``r`` the
+    smaller mesh radius; tolerance default 1e-6), never later than the
+    true time and never missed; a query that runs out of iterations says
+    so (``status == "out_of_iterations"``). ``kernel``: ``"exact"`` or a
+    DyOP kernel (``"dyop_vector"``, ``"dyop_heron"``, ...). Runs without
+    the GIL.
+    """
+    raw = _nearmiss.mesh_time_of_impact(
+        _mesh("mesh_a", mesh_a),
+        _pose("pose_a", pose_a),
+        _motion("motion_a", motion_a),
+        _mesh("mesh_b", mesh_b),
+        _pose("pose_b", pose_b),
+        _motion("motion_b", motion_b),
+        float(duration),
+        None if distance_tolerance is None else float(distance_tolerance),
+        float(minimum_separation),
+        max_iterations,
+        kernel,
+    )
+    time, status, contact_distance, guaranteed_distance, closest, iterations = raw
+    return TimeOfImpact(time, status, contact_distance, guaranteed_distance, _mesh_distance(closest), iterations)
+
+
+def closest_approach(
+    mesh_a: Mesh,
+    pose_a: Pose,
+    motion_a: Motion,
+    mesh_b: Mesh,
+    pose_b: Pose,
+    motion_b: Motion,
+    duration: float = 1.0,
+    *,
+    within: float = float("inf"),
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+) -> ClosestApproach:
+    """The smallest distance of two moving meshes over ``[0, duration]``.
+
+    A certified bracket ``lower <= d* <= upper`` (``upper - lower`` at most
+    ``tolerance``, default 1e-6 of the smaller radius), ``upper`` reached at
+    ``time`` between ``closest``'s points. Only approaches within
+    ``within`` are bracketed (a pair that stays farther costs one CCD run:
+    ``status == "beyond"``). Motions as in :func:`mesh_time_of_impact`.
+    """
+    raw = _nearmiss.closest_approach_between(
+        _mesh("mesh_a", mesh_a),
+        _pose("pose_a", pose_a),
+        _motion("motion_a", motion_a),
+        _mesh("mesh_b", mesh_b),
+        _pose("pose_b", pose_b),
+        _motion("motion_b", motion_b),
+        float(duration),
+        float(within),
+        None if tolerance is None else float(tolerance),
+        max_iterations,
+    )
+    status, lower, upper, time, closest, runs = raw
+    return ClosestApproach(status, lower, upper, time, _mesh_distance(closest), runs)
+
+
+class SceneInfo(NamedTuple):
+    """What :func:`load_scene` reads of a valid scene."""
+
+    name: str
+    bodies: Tuple[str, ...]
+    steps: int
+    dt: float
+
+
+def load_scene(path: Union[str, os.PathLike]) -> SceneInfo:
+    """Reads and validates a scene file, as ``nearmiss check`` does.
+
+    Raises :class:`SceneError` (a ``ValueError``) with the file, line and
+    column or field when it is not valid.
+    """
+    name, bodies, steps, dt = _nearmiss.load_scene(os.fspath(path))
+    return SceneInfo(name, tuple(bodies), steps, dt)
+
+
+def run_scene(path: Union[str, os.PathLike], *, trace: bool = False) -> Any:
+    """Runs a scene file; returns its summary as a dict (``summary.json``).
+
+    With ``trace=True``, returns ``(summary, trace)``, the trace a dict of
+    arrays ``step``, ``time``, ``body_a``, ``body_b`` (body indices into
+    ``load_scene(path).bodies``) and ``distance``. Raises
+    :class:`SceneError` for a scene that is not valid. Runs without the
+    GIL.
+    """
+    text, columns = _nearmiss.run_scene_json(os.fspath(path))
+    summary = json.loads(text)
+    if not trace:
+        return summary
+    keys = ("step", "time", "body_a", "body_b", "distance")
+    return summary, dict(zip(keys, columns))

@@ -1,0 +1,76 @@
+"""Bad input: a clear ValueError or TypeError naming the argument, never a
+crash, never a silent wrong answer."""
+
+import numpy as np
+import pytest
+
+import nearmiss
+from conftest import ROOT
+
+UNIT = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+CUBE_VERTICES = [[x, y, z] for z in (-0.5, 0.5) for y in (-0.5, 0.5) for x in (-0.5, 0.5)]
+
+
+@pytest.mark.parametrize(
+    "call, kind, message",
+    [
+        (lambda: nearmiss.triangle_distance(np.zeros((2, 3)), UNIT), ValueError, "a: expected an array of shape (3, 3), got shape (2, 3)"),
+        (lambda: nearmiss.triangle_distance(UNIT, [[0, 0, np.nan], [1, 0, 0], [0, 1, 0]]), ValueError, "b: element [0, 2] is NaN, not a finite number"),
+        (lambda: nearmiss.triangle_distance(UNIT, UNIT + [[np.inf, 0, 0], [0, 0, 0], [0, 0, 0]]), ValueError, "not a finite number"),
+        (lambda: nearmiss.triangle_distance("abc", UNIT), TypeError, "a: expected numbers"),
+        (lambda: nearmiss.triangle_distances(np.zeros((4, 3, 3)), np.zeros((5, 3, 3))), ValueError, "a and b must hold as many items: 4 and 5"),
+        (lambda: nearmiss.triangle_distances(np.zeros((4, 3)), np.zeros((4, 3))), ValueError, "expected an array of shape (N, 3, 3)"),
+        (lambda: nearmiss.point_segment_distance([0, 0, 0], [1, 0, 0], [2, 0, 0], "herons"), ValueError, "formula: \"herons\" is not one of"),
+        (lambda: nearmiss.Mesh(CUBE_VERTICES, [[0, 1, 9]]), ValueError, "triangle 0 refers to vertex 9, but there are only 8 vertices"),
+        (lambda: nearmiss.Mesh(CUBE_VERTICES, [[0, -1, 2]]), ValueError, "faces: element [0, 1] is -1, not a vertex index"),
+        (lambda: nearmiss.Mesh(CUBE_VERTICES, [[0, 1, 1]]), ValueError, "triangle 0 is degenerate"),
+        (lambda: nearmiss.Mesh(CUBE_VERTICES, [[0.0, 1.0, 2.0]]), TypeError, "faces: expected numbers of dtype int64, got dtype float64"),
+        (lambda: nearmiss.Mesh(CUBE_VERTICES, np.zeros((0, 3), dtype=int)), ValueError, "the mesh has no triangles"),
+        (lambda: nearmiss.Mesh([[0, 0, 0], [1, 0, 0], [0, np.nan, 0]], [[0, 1, 2]]), ValueError, "vertices: element [2, 1] is NaN"),
+        (lambda: nearmiss.Mesh.from_obj(ROOT / "no such.obj"), ValueError, "no such.obj"),
+    ],
+)
+def test_bad_arrays(call, kind, message):
+    with pytest.raises(kind) as raised:
+        call()
+    assert message in str(raised.value)
+
+
+def test_bad_poses_and_motions():
+    cube = nearmiss.Mesh(CUBE_VERTICES, [[0, 1, 3]])
+    at = [0.0, 0.0, 0.0]
+    with pytest.raises(ValueError, match=r"pose_a rotation: a quaternion \[w, x, y, z\] must have norm 1"):
+        nearmiss.mesh_distance(cube, (at, [1.0, 1.0, 0.0, 0.0]), cube, None)
+    with pytest.raises(ValueError, match="pose_b rotation: not a rotation matrix"):
+        nearmiss.mesh_distance(cube, None, cube, (at, -np.eye(3)))
+    with pytest.raises(ValueError, match=r"expected a quaternion \(4,\) or a rotation matrix \(3, 3\), got shape \(2,\)"):
+        nearmiss.mesh_distance(cube, (at, [1.0, 0.0]), cube, None)
+    with pytest.raises(TypeError, match="pose_a: expected \\(position, rotation\\)"):
+        nearmiss.mesh_distance(cube, 3.0, cube, None)
+    with pytest.raises(ValueError, match="a velocity: element \\[1\\] is inf"):
+        nearmiss.mesh_time_of_impact(cube, None, ([0, np.inf, 0], [0, 0, 0]), cube, (at, [1, 0, 0, 0]), None)
+    with pytest.raises(ValueError, match="duration: -1 is not a positive number"):
+        nearmiss.mesh_time_of_impact(cube, None, None, cube, None, None, -1.0)
+    with pytest.raises(ValueError, match="kernel:"):
+        nearmiss.mesh_time_of_impact(cube, None, None, cube, None, None, 1.0, kernel="approximate")
+    with pytest.raises(TypeError, match="mesh_b: expected a nearmiss.Mesh"):
+        nearmiss.mesh_distance(cube, None, "cube", None)
+
+
+def test_bad_scenes_name_the_file_line_and_column(tmp_path):
+    bad = tmp_path / "bad.ron"
+    bad.write_text(
+        'Scene(name: "x", dt: 0.01, steps: 10, bodies: [\n'
+        '    (name: "a", mesh: Box(half_extents: (1.0, 1.0)), fixed: true),\n'
+        "])\n"
+    )
+    with pytest.raises(nearmiss.SceneError) as raised:
+        nearmiss.load_scene(bad)
+    assert f"{bad}:2:" in str(raised.value)
+    assert isinstance(raised.value, ValueError)
+    with pytest.raises(nearmiss.SceneError, match="cannot read the scene file"):
+        nearmiss.run_scene(tmp_path / "missing.ron")
+    typo = tmp_path / "typo.ron"
+    typo.write_text('Scene(name: "x", dt: 0.01, stepz: 10, bodies: [])\n')
+    with pytest.raises(nearmiss.SceneError, match="stepz"):
+        nearmiss.run_scene(typo)

@@ -1,0 +1,100 @@
+"""Meshes, mesh distance, time of impact and closest approach against
+analytic answers: the contact is never late, the bracket holds the
+closest approach."""
+
+import math
+
+import numpy as np
+import pytest
+
+import nearmiss
+from conftest import ROOT, box
+
+
+def test_a_mesh_keeps_its_arrays(cube):
+    assert len(cube) == 12
+    assert cube.vertices.shape == (8, 3) and cube.faces.shape == (12, 3)
+    assert cube.faces.dtype == np.int64
+    assert cube.radius == pytest.approx(math.sqrt(3) / 2, rel=1e-15)
+    assert "12 triangles" in repr(cube)
+
+
+def test_an_obj_file(cube):
+    handle = nearmiss.Mesh.from_obj(ROOT / "scenes" / "meshes" / "t_handle.obj")
+    assert len(handle) == 24
+    # The bar's end face is at x = 1: a cube 2 to its right is 0.5 away.
+    d = nearmiss.mesh_distance(handle, None, cube, ([2.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]))
+    assert d.distance == pytest.approx(0.5, rel=1e-15)
+
+
+def test_mesh_distance_with_a_rotation_matrix_and_a_quaternion(cube):
+    # Turned 45 degrees about z, the cube's edge reaches sqrt(2)/2 along x.
+    c, s = math.cos(math.pi / 4), math.sin(math.pi / 4)
+    matrix = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    quaternion = [math.cos(math.pi / 8), 0.0, 0.0, math.sin(math.pi / 8)]
+    for rotation in (matrix, quaternion):
+        d = nearmiss.mesh_distance(cube, ([0.0, 0.0, 0.0], rotation), cube, ([2.0, 0.0, 0.0], [1, 0, 0, 0]))
+        assert d.distance == pytest.approx(1.5 - math.sqrt(2) / 2, rel=1e-14)
+
+
+def test_head_on_cubes_touch_at_the_analytic_time_never_late(cube):
+    # Faces 2 apart, closing at 1: contact at t = 2.
+    toi = nearmiss.mesh_time_of_impact(
+        cube, None, None, cube, ([3.0, 0.0, 0.0], [1, 0, 0, 0]), ([-1.0, 0.0, 0.0], [0.0, 0.0, 0.0]), 3.0
+    )
+    assert toi.status == "converged"
+    assert toi.time <= 2.0
+    assert 2.0 - toi.time <= toi.contact_distance  # early by at most the contact distance over the speed 1
+    assert toi.closest.distance <= toi.contact_distance
+
+
+def test_a_spinning_bar_reaches_a_wall_at_the_analytic_angle():
+    # A bar (2 x 0.2 x 0.2) spins about z at 10 rad/s; the wall's face is the
+    # plane x = 0.9. Its corner (radius sqrt(1.01), angle atan(0.1) off the
+    # bar's axis) first reaches x = 0.9 when cos(theta + atan 0.1) =
+    # 0.9 / sqrt(1.01), turning the bar's +x end towards the wall from -90
+    # degrees: theta measured from the start.
+    bar = box((1.0, 0.1, 0.1))
+    wall = box((0.5, 3.0, 3.0))
+    start = [math.cos(-math.pi / 4), 0.0, 0.0, math.sin(-math.pi / 4)]  # -90 degrees about z
+    omega = 10.0
+    toi = nearmiss.mesh_time_of_impact(
+        bar, ([0.0, 0.0, 0.0], start), ([0, 0, 0], [0.0, 0.0, omega]), wall, ([1.4, 0.0, 0.0], [1, 0, 0, 0]), None, 0.5
+    )
+    r, lead = math.sqrt(1.01), math.atan(0.1)
+    # The corner at angle phi = -90 deg + theta + atan(0.1) reaches x = 0.9
+    # first where cos(phi) = 0.9 / r, phi < 0.
+    phi = -math.acos(0.9 / r)
+    analytic = (phi + math.pi / 2 - lead) / omega
+    assert toi.status == "converged"
+    assert toi.time <= analytic
+    # Early by at most the contact distance over the corner's speed there.
+    assert analytic - toi.time <= toi.contact_distance / (omega * r * abs(math.sin(phi))) * 1.01
+
+
+@pytest.mark.parametrize("scale", [1e-5, 1.0, 1e6])
+def test_the_closest_approach_of_a_pass_is_bracketed(scale):
+    # A cube passes another 0.25 from its face (scaled).
+    big = box((0.5 * scale, 0.5 * scale, 0.5 * scale))
+    approach = nearmiss.closest_approach(
+        big,
+        None,
+        None,
+        big,
+        ([-3.0 * scale, 1.25 * scale, 0.0], [1, 0, 0, 0]),
+        ([3.0 * scale, 0.0, 0.0], [0, 0, 0]),
+        2.0,
+    )
+    analytic = 0.25 * scale
+    assert approach.status == "bracketed"
+    assert approach.lower <= analytic <= approach.upper * (1 + 1e-12)
+    assert approach.upper - approach.lower <= 1e-6 * big.radius
+    assert approach.closest.distance == approach.upper
+
+
+def test_a_pair_that_stays_beyond_within_costs_one_run(cube):
+    far = nearmiss.closest_approach(
+        cube, None, None, cube, ([5.0, 0.0, 0.0], [1, 0, 0, 0]), None, 1.0, within=1.0
+    )
+    assert far.status == "beyond" and far.runs == 1
+    assert far.lower >= 1.0 and far.closest is None
