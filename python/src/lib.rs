@@ -502,12 +502,37 @@ fn pose(
     Ok(Pose::from_parts(translation.into(), rotation))
 }
 
+/// Two arrays of an argument: a pose's position and rotation, a motion's
+/// velocity and angular velocity.
+type Arrays<'py> = (PyReadonlyArrayDyn<'py, f64>, PyReadonlyArrayDyn<'py, f64>);
+
+/// Two meshes moving over `[0, duration]`, from a query's arguments.
+struct MovingPair {
+    a: (Arc<TriMesh>, StepMotion),
+    b: (Arc<TriMesh>, StepMotion),
+    duration: f64,
+}
+
+impl MovingPair {
+    fn of(
+        (mesh_a, pose_a, motion_a): (&Mesh, Arrays<'_>, Arrays<'_>),
+        (mesh_b, pose_b, motion_b): (&Mesh, Arrays<'_>, Arrays<'_>),
+        duration: f64,
+    ) -> PyResult<MovingPair> {
+        Ok(MovingPair {
+            a: (mesh_a.inner.clone(), motion("a", pose_a, motion_a)?),
+            b: (mesh_b.inner.clone(), motion("b", pose_b, motion_b)?),
+            duration: positive_duration(duration)?,
+        })
+    }
+}
+
 /// A body's motion: its pose at the start, and its constant linear and
 /// angular velocities (world frame).
 fn motion(
     name: &str,
-    (position, rotation): (PyReadonlyArrayDyn<'_, f64>, PyReadonlyArrayDyn<'_, f64>),
-    (velocity, angular): (PyReadonlyArrayDyn<'_, f64>, PyReadonlyArrayDyn<'_, f64>),
+    (position, rotation): Arrays<'_>,
+    (velocity, angular): Arrays<'_>,
 ) -> PyResult<StepMotion> {
     let pose = pose(name, &position, &rotation)?;
     let velocity = vector(&format!("{name} velocity"), &velocity)?;
@@ -537,9 +562,9 @@ fn mesh_distance_tuple<'py>(py: Python<'py>, d: &MeshDistance) -> MeshDistanceTu
 fn mesh_distance_between<'py>(
     py: Python<'py>,
     mesh_a: &Mesh,
-    pose_a: (PyReadonlyArrayDyn<'py, f64>, PyReadonlyArrayDyn<'py, f64>),
+    pose_a: Arrays<'py>,
     mesh_b: &Mesh,
-    pose_b: (PyReadonlyArrayDyn<'py, f64>, PyReadonlyArrayDyn<'py, f64>),
+    pose_b: Arrays<'py>,
 ) -> PyResult<MeshDistanceTuple<'py>> {
     let pa = pose("pose_a", &pose_a.0, &pose_a.1)?;
     let pb = pose("pose_b", &pose_b.0, &pose_b.1)?;
@@ -599,20 +624,18 @@ fn positive_duration(duration: f64) -> PyResult<f64> {
 fn mesh_time_of_impact<'py>(
     py: Python<'py>,
     mesh_a: &Mesh,
-    pose_a: (PyReadonlyArrayDyn<'py, f64>, PyReadonlyArrayDyn<'py, f64>),
-    motion_a: (PyReadonlyArrayDyn<'py, f64>, PyReadonlyArrayDyn<'py, f64>),
+    pose_a: Arrays<'py>,
+    motion_a: Arrays<'py>,
     mesh_b: &Mesh,
-    pose_b: (PyReadonlyArrayDyn<'py, f64>, PyReadonlyArrayDyn<'py, f64>),
-    motion_b: (PyReadonlyArrayDyn<'py, f64>, PyReadonlyArrayDyn<'py, f64>),
+    pose_b: Arrays<'py>,
+    motion_b: Arrays<'py>,
     duration: f64,
     distance_tolerance: Option<f64>,
     minimum_separation: f64,
     max_iterations: Option<usize>,
     kernel: &str,
 ) -> PyResult<(Option<f64>, &'static str, f64, f64, Option<MeshDistanceTuple<'py>>, usize)> {
-    let ma = motion("a", pose_a, motion_a)?;
-    let mb = motion("b", pose_b, motion_b)?;
-    let duration = positive_duration(duration)?;
+    let pair = MovingPair::of((mesh_a, pose_a, motion_a), (mesh_b, pose_b, motion_b), duration)?;
     let mut options = options(distance_tolerance, max_iterations)?;
     if !(minimum_separation.is_finite() && minimum_separation >= 0.0) {
         return Err(PyValueError::new_err(format!(
@@ -621,12 +644,11 @@ fn mesh_time_of_impact<'py>(
     }
     options.minimum_separation = minimum_separation;
     let kernel = self::kernel(kernel)?;
-    let (a, b) = (mesh_a.inner.clone(), mesh_b.inner.clone());
     let result = py.detach(|| {
         let query = MeshCcdQuery {
-            a: MovingMesh { mesh: &a, motion: &ma },
-            b: MovingMesh { mesh: &b, motion: &mb },
-            duration,
+            a: MovingMesh { mesh: &pair.a.0, motion: &pair.a.1 },
+            b: MovingMesh { mesh: &pair.b.0, motion: &pair.b.1 },
+            duration: pair.duration,
             options,
             contact: ContactRule::ScaleRelative,
             kernel,
@@ -652,19 +674,17 @@ fn mesh_time_of_impact<'py>(
 fn closest_approach_between<'py>(
     py: Python<'py>,
     mesh_a: &Mesh,
-    pose_a: (PyReadonlyArrayDyn<'py, f64>, PyReadonlyArrayDyn<'py, f64>),
-    motion_a: (PyReadonlyArrayDyn<'py, f64>, PyReadonlyArrayDyn<'py, f64>),
+    pose_a: Arrays<'py>,
+    motion_a: Arrays<'py>,
     mesh_b: &Mesh,
-    pose_b: (PyReadonlyArrayDyn<'py, f64>, PyReadonlyArrayDyn<'py, f64>),
-    motion_b: (PyReadonlyArrayDyn<'py, f64>, PyReadonlyArrayDyn<'py, f64>),
+    pose_b: Arrays<'py>,
+    motion_b: Arrays<'py>,
     duration: f64,
     within: f64,
     tolerance: Option<f64>,
     max_iterations: Option<usize>,
 ) -> PyResult<(&'static str, f64, f64, f64, Option<MeshDistanceTuple<'py>>, usize)> {
-    let ma = motion("a", pose_a, motion_a)?;
-    let mb = motion("b", pose_b, motion_b)?;
-    let duration = positive_duration(duration)?;
+    let pair = MovingPair::of((mesh_a, pose_a, motion_a), (mesh_b, pose_b, motion_b), duration)?;
     if within.is_nan() || within <= 0.0 {
         return Err(PyValueError::new_err(format!("within: {within} is not a positive distance")));
     }
@@ -672,12 +692,11 @@ fn closest_approach_between<'py>(
         return Err(PyValueError::new_err(format!("tolerance: {t} is not a positive number")));
     }
     let options = options(None, max_iterations)?;
-    let (a, b) = (mesh_a.inner.clone(), mesh_b.inner.clone());
     let found = py.detach(|| {
         let mut query = ClosestApproachQuery::new(
-            MovingMesh { mesh: &a, motion: &ma },
-            MovingMesh { mesh: &b, motion: &mb },
-            duration,
+            MovingMesh { mesh: &pair.a.0, motion: &pair.a.1 },
+            MovingMesh { mesh: &pair.b.0, motion: &pair.b.1 },
+            pair.duration,
         );
         (query.within, query.tolerance, query.options) = (within, tolerance, options);
         closest_approach(&query, &mut MeshCcdScratch::default())

@@ -180,6 +180,19 @@ def _mesh(name: str, mesh: Any) -> Mesh:
     return mesh
 
 
+def _moving(mesh_a, pose_a, motion_a, mesh_b, pose_b, motion_b, duration) -> tuple:
+    """A moving pair's arguments, converted and checked."""
+    return (
+        _mesh("mesh_a", mesh_a),
+        _pose("pose_a", pose_a),
+        _motion("motion_a", motion_a),
+        _mesh("mesh_b", mesh_b),
+        _pose("pose_b", pose_b),
+        _motion("motion_b", motion_b),
+        float(duration),
+    )
+
+
 def _mesh_distance(raw: Optional[tuple]) -> Optional[MeshDistance]:
     return None if raw is None else MeshDistance(*raw)
 
@@ -268,13 +281,7 @@ def mesh_time_of_impact(
     the GIL.
     """
     raw = _nearmiss.mesh_time_of_impact(
-        _mesh("mesh_a", mesh_a),
-        _pose("pose_a", pose_a),
-        _motion("motion_a", motion_a),
-        _mesh("mesh_b", mesh_b),
-        _pose("pose_b", pose_b),
-        _motion("motion_b", motion_b),
-        float(duration),
+        *_moving(mesh_a, pose_a, motion_a, mesh_b, pose_b, motion_b, duration),
         None if distance_tolerance is None else float(distance_tolerance),
         float(minimum_separation),
         max_iterations,
@@ -306,13 +313,7 @@ def closest_approach(
     ``status == "beyond"``). Motions as in :func:`mesh_time_of_impact`.
     """
     raw = _nearmiss.closest_approach_between(
-        _mesh("mesh_a", mesh_a),
-        _pose("pose_a", pose_a),
-        _motion("motion_a", motion_a),
-        _mesh("mesh_b", mesh_b),
-        _pose("pose_b", pose_b),
-        _motion("motion_b", motion_b),
-        float(duration),
+        *_moving(mesh_a, pose_a, motion_a, mesh_b, pose_b, motion_b, duration),
         float(within),
         None if tolerance is None else float(tolerance),
         max_iterations,
