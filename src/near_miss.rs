@@ -78,6 +78,8 @@ pub const MAX_HELD_STEPS: usize = 64;
 #[derive(Debug)]
 pub(crate) struct NearMissObserver {
     within: Real,
+    /// The brackets' width (`None`: the closest approach's default).
+    tolerance: Option<Real>,
     /// The pairs asked for, sorted (`None`: every pair).
     only: Option<Vec<(usize, usize)>>,
     pairs: HashMap<(usize, usize), PairRecord>,
@@ -118,6 +120,7 @@ impl NearMissObserver {
         });
         NearMissObserver {
             within: spec.within,
+            tolerance: spec.tolerance,
             only,
             pairs: HashMap::new(),
             touched: HashSet::new(),
@@ -180,14 +183,14 @@ impl NearMissObserver {
         let a = MovingMesh { mesh: mesh_a, motion: &step.a };
         let b = MovingMesh { mesh: mesh_b, motion: &step.b };
         let record = self.pairs.get_mut(&key);
-        let mut query = approach_query(model, &a, &b, step.duration);
+        let mut query = approach_query(model, (&a, &b), step.duration, self.tolerance);
         query.within = record.as_ref().map_or(self.within, |record| record.miss.distance.min(self.within));
         let (run, hint) = screen_approach(&query, &mut self.scratch);
         match run {
             ApproachRun::Beyond { lower } => match record {
                 Some(record) => {
                     record.miss.lower = record.miss.lower.min(lower);
-                    record.flush(model, &mut self.scratch)
+                    record.flush(model, self.tolerance, &mut self.scratch)
                 }
                 None => true,
             },
@@ -202,7 +205,7 @@ impl NearMissObserver {
                     }
                 };
                 record.held.push(step);
-                record.held.len() < MAX_HELD_STEPS || record.flush(model, &mut self.scratch)
+                record.held.len() < MAX_HELD_STEPS || record.flush(model, self.tolerance, &mut self.scratch)
             }
             ApproachRun::Touching { .. } => false,
             // Undecided: the CCD could not tell how close the pair comes in
@@ -229,12 +232,12 @@ impl NearMissObserver {
     /// Every pair that came within the distance, nearest first (the steps
     /// still held bracketed first).
     pub(crate) fn finish(mut self, model: &Model) -> Vec<NearMiss> {
-        let within = self.within;
+        let (within, tolerance) = (self.within, self.tolerance);
         let scratch = &mut self.scratch;
         let mut list: Vec<NearMiss> = self
             .pairs
             .into_values()
-            .filter_map(|mut record| record.flush(model, scratch).then_some(record.miss))
+            .filter_map(|mut record| record.flush(model, tolerance, scratch).then_some(record.miss))
             .filter(|miss| miss.distance <= within)
             .collect();
         list.sort_by(|x, y| {
@@ -247,11 +250,12 @@ impl NearMissObserver {
 /// The closest-approach query of a pair's step, as the run's CCD asks.
 fn approach_query<'a>(
     model: &Model,
-    a: &MovingMesh<'a>,
-    b: &MovingMesh<'a>,
+    (a, b): (&MovingMesh<'a>, &MovingMesh<'a>),
     duration: Real,
+    tolerance: Option<Real>,
 ) -> ClosestApproachQuery<'a> {
     let mut query = ClosestApproachQuery::new(*a, *b, duration);
+    query.tolerance = tolerance;
     query.options.max_iterations = model.ccd.max_iterations;
     query.kernel = model.kernel;
     query
@@ -289,7 +293,7 @@ impl PairRecord {
     /// falling and then rising across them), then its neighbours outwards,
     /// so that the first bracket finds the best and the others are proved
     /// farther by one CCD run each. `false` if the pair touches.
-    fn flush(&mut self, model: &Model, scratch: &mut MeshCcdScratch) -> bool {
+    fn flush(&mut self, model: &Model, tolerance: Option<Real>, scratch: &mut MeshCcdScratch) -> bool {
         if self.held.is_empty() {
             return true;
         }
@@ -310,7 +314,7 @@ impl PairRecord {
             let step = &held[k];
             let a = MovingMesh { mesh: mesh_a, motion: &step.a };
             let b = MovingMesh { mesh: mesh_b, motion: &step.b };
-            let mut query = approach_query(model, &a, &b, step.duration);
+            let mut query = approach_query(model, (&a, &b), step.duration, tolerance);
             query.within = self.miss.distance;
             let approach = closest_approach(&query, scratch);
             if !self.keep(step, &approach) {

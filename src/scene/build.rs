@@ -425,7 +425,7 @@ impl Builder<'_> {
         Ok(())
     }
 
-    /// The traced pairs and cadence.
+    /// The near misses asked for.
     fn near_misses(&self, file: &SceneFile, names: &Names<'_>) -> Result<Option<super::NearMissSpec>> {
         let Some(settings) = &file.near_misses else { return Ok(None) };
         let within = self.positive("near_misses.within", settings.within)?;
@@ -439,7 +439,8 @@ impl Builder<'_> {
             TracePairs::All => None,
             TracePairs::Only(list) => Some(self.named_pairs("near_misses.pairs", list, names)?),
         };
-        Ok(Some(super::NearMissSpec { within, pairs }))
+        let tolerance = settings.tolerance.map(|t| self.positive("near_misses.tolerance", t)).transpose()?;
+        Ok(Some(super::NearMissSpec { within, pairs, tolerance }))
     }
 
     /// Pairs given by body names, as indices `(i, j)`, `i < j`.

@@ -235,6 +235,11 @@ pub struct NearMissSettings {
     /// `All` pairs (not both fixed, the default), or `Only([("a", "b"), ...])`.
     #[serde(default)]
     pub pairs: TracePairs,
+    /// The largest width of each pair's bracket (an absolute distance,
+    /// positive); default: the closest approach's, 1e-6 of the pair's
+    /// smaller radius.
+    #[serde(default)]
+    pub tolerance: Option<f64>,
 }
 
 /// The traced pairs.

@@ -208,6 +208,10 @@ pub struct NearMissSpec {
     /// The pairs looked at (body indices `i < j`), or `None`: every pair
     /// that is not fixed.
     pub pairs: Option<Vec<(usize, usize)>>,
+    /// The largest width of a pair's bracket (absolute), or `None`:
+    /// [`crate::ccd::DEFAULT_APPROACH_TOLERANCE`] of the pair's smaller
+    /// radius.
+    pub tolerance: Option<Real>,
 }
 
 /// The distance plot of a scene.

@@ -155,3 +155,25 @@ fn a_long_flat_approach_is_bracketed_across_many_flushes() {
     assert!(miss.distance - miss.lower <= WIDTH, "{miss:?}");
     assert!(miss.time > 5.0 - 1e-3 && miss.time <= 20.0, "{miss:?}");
 }
+
+/// A stated width: each bracket is at most that wide and still holds the
+/// analytic approach; a width that is not a positive number is refused.
+#[test]
+fn a_scene_can_state_the_brackets_width() {
+    let result = run(&pass_by("(within: 0.5, tolerance: 1e-3)", 2.0));
+    assert_eq!(result.near_misses.len(), 2);
+    for (miss, analytic) in result.near_misses.iter().zip([0.2, 0.25]) {
+        assert!(miss.lower <= analytic && analytic <= miss.distance * (1.0 + 1e-12), "{miss:?}");
+        assert!(miss.distance - miss.lower <= 1e-3, "{miss:?}");
+    }
+    for bad in ["0.0", "-1.0", "inf"] {
+        let error = Scene::from_ron_str(&format!(
+            r#"Scene(name: "s", dt: 0.01, steps: 1, near_misses: (within: 0.1, tolerance: {bad}), bodies: [
+                (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), fixed: true),
+            ])"#
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(error.contains("near_misses.tolerance"), "{error}");
+    }
+}

@@ -11,8 +11,10 @@
 //! alone on the same scene in the same run (its CCD on; convex hulls, then
 //! every body a triangle mesh), with the guard's share of each step.
 //! With `--trace N`: every pair traced every N steps (the trace column).
-//! With `--near-misses D`: every pair's near misses within `D` (the near
-//! misses column: their time; the last: how many pairs).
+//! With `--near-misses D [--near-miss-tolerance T]`: every pair's near
+//! misses within `D`, each bracketed to the width `T` (default 1e-6 of the
+//! pair's smaller radius); the near misses column is their time, the last
+//! how many pairs were listed.
 //! With `--simulate --no-peers`: Simulate only (for profiling the guard).
 //! With `--rapier` (Bounce): rapier alone on the same bodies in the same
 //! run (restitution 1, no friction, its CCD on, convex hulls), its steps
@@ -34,13 +36,15 @@ struct Setup {
     bunnies: bool,
     /// `--near-misses D`: every pair's near misses within `D`.
     near_misses: Option<f64>,
+    /// `--near-miss-tolerance T`: their brackets' width.
+    near_miss_tolerance: Option<f64>,
 }
 
 /// The bunny's OBJ file (see `scripts/fetch-bunny.sh`).
 const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/meshes/bunny.obj");
 
 fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
-    let Setup { steps, simulate, trace, bunnies, near_misses } = setup;
+    let Setup { steps, simulate, trace, bunnies, near_misses, near_miss_tolerance } = setup;
     let mut rng = Rng::new(seed);
     let per_side = (bodies as f64).cbrt().ceil() as usize;
     let cell = 1.2;
@@ -48,7 +52,10 @@ fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
     let response =
         if simulate { "Simulate(restitution: 1.0, friction: 0.0)" } else { "Bounce(restitution: 1.0)" };
     let trace = trace.map_or(String::new(), |every| format!("trace: (pairs: All, every: {every}), "))
-        + &near_misses.map_or(String::new(), |within| format!("near_misses: (within: {within:?}), "));
+        + &near_misses.map_or(String::new(), |within| {
+            let tolerance = near_miss_tolerance.map_or(String::new(), |t| format!(", tolerance: {t:?}"));
+            format!("near_misses: (within: {within:?}{tolerance}), ")
+        });
     let mut text = format!(
         "Scene(name: \"box_{bodies}\", dt: 0.004166666666666667, steps: {steps}, on_contact: {response}, {trace}bodies: ["
     );
@@ -122,7 +129,12 @@ fn main() {
         .position(|a| a == "--near-misses")
         .and_then(|k| args.get(k + 1))
         .map(|s| s.parse().expect("a near-miss distance"));
-    let setup = Setup { steps, simulate, trace, bunnies, near_misses };
+    let near_miss_tolerance = args
+        .iter()
+        .position(|a| a == "--near-miss-tolerance")
+        .and_then(|k| args.get(k + 1))
+        .map(|s| s.parse().expect("a near-miss tolerance"));
+    let setup = Setup { steps, simulate, trace, bunnies, near_misses, near_miss_tolerance };
     if simulate {
         return simulate_beside_rapier(&args, setup);
     }
