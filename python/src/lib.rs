@@ -34,6 +34,13 @@ create_exception!(
     "A scene file that cannot be read or is not valid (the message names the file, line and column or field)."
 );
 
+/// How far a rotation argument may be from one: a quaternion's norm from 1,
+/// a matrix's `MᵀM` from the identity (largest entry): `1e-9`, room for
+/// the rounding of a rotation computed in float64 and written out, far
+/// below a mistake (a quaternion is then normalised, a matrix taken as
+/// its nearest rotation).
+const ROTATION_TOLERANCE: f64 = 1e-9;
+
 /// Pairs per parallel task of the batched queries.
 const BATCH_CHUNK: usize = 1024;
 
@@ -460,7 +467,8 @@ impl Mesh {
 }
 
 /// A pose from a position (3,) and a rotation: a unit quaternion (4,)
-/// `[w, x, y, z]` or a rotation matrix (3, 3), each within 1e-9 of one.
+/// `[w, x, y, z]` or a rotation matrix (3, 3), each within
+/// [`ROTATION_TOLERANCE`] of one.
 fn pose(
     name: &str,
     position: &PyReadonlyArrayDyn<'_, f64>,
@@ -472,7 +480,7 @@ fn pose(
         [4] => {
             let (_, q) = checked(&rotation_name, rotation, false, &[4])?;
             let q = nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]);
-            if (q.norm() - 1.0).abs() > 1e-9 {
+            if (q.norm() - 1.0).abs() > ROTATION_TOLERANCE {
                 return Err(PyValueError::new_err(format!(
                     "{rotation_name}: a quaternion [w, x, y, z] must have norm 1, this one has {}",
                     q.norm()
@@ -484,7 +492,7 @@ fn pose(
             let (_, m) = checked(&rotation_name, rotation, false, &[3, 3])?;
             let m = nalgebra::Matrix3::from_fn(|i, j| m[3 * i + j]);
             let off = (m.transpose() * m - nalgebra::Matrix3::identity()).amax();
-            if off > 1e-9 || m.determinant() < 0.0 {
+            if off > ROTATION_TOLERANCE || m.determinant() < 0.0 {
                 return Err(PyValueError::new_err(format!(
                     "{rotation_name}: not a rotation matrix (orthonormal, determinant +1): M^T M is off the identity by {off:e}, det {}",
                     m.determinant()
