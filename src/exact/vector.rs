@@ -47,6 +47,11 @@ impl RationalVector {
         RationalVector { x: &self.x + &other.x * k, y: &self.y + &other.y * k, z: &self.z + &other.z * k }
     }
 
+    /// `-self`.
+    pub fn negated(&self) -> RationalVector {
+        RationalVector { x: -&self.x, y: -&self.y, z: -&self.z }
+    }
+
     /// Dot product.
     pub fn dot(&self, other: &RationalVector) -> Rational {
         &self.x * &other.x + &self.y * &other.y + &self.z * &other.z

@@ -25,6 +25,9 @@
 //! - [`triangle_distance`]: exact (to rounding) triangle–triangle distance with
 //!   closest points and features, built from [`point_face_interior`],
 //!   [`segment_segment`] and the exact [`triangles_intersect`].
+//! - [`triangle_intersection`] and [`triangle_penetration`]: past contact,
+//!   the set two triangles share and the shortest translation that
+//!   separates them.
 //! - [`dyop_distance`]: the seed's approximate DyOP kernel.
 //! - [`batch`]: the same kernels over structure-of-arrays batches, vectorized
 //!   with runtime CPU-feature dispatch, bit-identical to the scalar ones.
@@ -47,6 +50,7 @@ mod scale;
 mod segment_segment;
 mod separated;
 mod triangle_intersection;
+mod triangle_overlap;
 mod triangle_triangle;
 
 pub use compensated::difference_of_products;
@@ -64,4 +68,8 @@ pub(crate) use scale::{largest_magnitude, normalising_exponent, scale_by_power_o
 pub use scale::{MIN_RELATIVE_SIZE, SAFE_EXPONENT};
 pub use segment_segment::{segment_segment, segment_segment_lanes, Edge, SegmentSegment};
 pub use triangle_intersection::triangles_intersect;
+pub use triangle_overlap::{
+    triangle_intersection, triangle_penetration, OverlapPolygon, TriangleIntersection, TrianglePenetration,
+    MAX_OVERLAP_VERTICES,
+};
 pub use triangle_triangle::{triangle_distance, triangle_distance_with, TriangleDistance};

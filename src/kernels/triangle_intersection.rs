@@ -92,7 +92,7 @@ fn segments_meet(p: &Point, q: &Point, r: &Point, s: &Point) -> Option<Point> {
 
 /// Exact sign-correct orientation of `d` against the plane `(a, b, c)`.
 #[inline]
-fn orient(a: &Point, b: &Point, c: &Point, d: &Point) -> Real {
+pub(super) fn orient(a: &Point, b: &Point, c: &Point, d: &Point) -> Real {
     let c3 = |p: &Point| Coord3D { x: p.x, y: p.y, z: p.z };
     orient3d(c3(a), c3(b), c3(c), c3(d))
 }
@@ -109,7 +109,7 @@ fn project(p: &Point, axis: usize) -> Coord<Real> {
 
 /// Exact 2-D orientation of `(a, b, c)` projected along `axis`.
 #[inline]
-fn orient_projected(a: &Point, b: &Point, c: &Point, axis: usize) -> Real {
+pub(super) fn orient_projected(a: &Point, b: &Point, c: &Point, axis: usize) -> Real {
     orient2d(project(a, axis), project(b, axis), project(c, axis))
 }
 

@@ -11,3 +11,4 @@ mod point_segment_vs_exact;
 mod scale_invariance;
 mod triangle_distance_vs_exact;
 mod triangle_distance_vs_parry;
+mod triangle_overlap_vs_exact;
