@@ -10,6 +10,9 @@ fn documented_defaults_are_the_real_ones() {
     // kernels::refine: "Default `1e-3`" and "Default `16`".
     assert_eq!(REFINE_BELOW_EXTENT, 1e-3);
     assert_eq!(REFINE_TIE_BAND_ULPS, 16.0);
+    // mesh/penetration.rs: "Default `1e-10`" and "Default `1e-12`".
+    assert_eq!(nearmiss::mesh::PARALLEL_EDGE_SINE, 1e-10);
+    assert_eq!(nearmiss::mesh::FLAT_EDGE_TOLERANCE, 1e-12);
 }
 
 #[test]

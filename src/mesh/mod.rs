@@ -4,11 +4,16 @@
 //!
 //! A mesh is a surface (a triangle soup): two meshes are in contact when
 //! their surfaces touch. A mesh entirely inside another does not touch it.
+//! Past contact, [`mesh_intersection`] gives where two surfaces cross, and
+//! [`convex_penetration`] how deep two convex meshes overlap as solids (a
+//! mesh inside another overlaps it there).
 
 mod bvh;
 pub(crate) mod distance;
+mod intersection;
 mod mass;
 mod obj;
+mod penetration;
 mod primitives;
 mod support;
 mod trimesh;
@@ -19,8 +24,14 @@ pub use distance::{
     mesh_distance, mesh_distance_brute_force, mesh_distance_relative, DistanceKernel, DistanceSearch,
     MeshDistance, MeshDistanceScratch,
 };
+pub use intersection::{
+    mesh_intersection, mesh_intersection_brute_force, CrossingPair, MeshIntersection, MeshIntersectionScratch,
+};
 pub use mass::MassProperties;
 pub use obj::{load_obj, parse_obj, ObjError};
+pub use penetration::{
+    convex_penetration, MeshPenetration, NotConvex, FLAT_EDGE_TOLERANCE, PARALLEL_EDGE_SINE,
+};
 pub use primitives::{box_mesh, icosphere, needle, single_triangle, tetrahedron, MAX_ICOSPHERE_SUBDIVISIONS};
 pub use support::{SUPPORT_TABLE_MARGIN, SUPPORT_TABLE_MIN_VERTICES};
 pub use trimesh::{MeshError, TriMesh, CONVEX_SURFACE_TOLERANCE};

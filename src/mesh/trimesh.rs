@@ -2,6 +2,7 @@
 
 use super::bvh::MeshBvh;
 use super::mass::MassProperties;
+use super::penetration::ConvexFeatures;
 use super::support::{self, SupportTable};
 use crate::math::{Point, Real, Triangle, Vector};
 
@@ -63,6 +64,9 @@ pub struct TriMesh {
     /// Whether the mesh is the boundary of its vertices' hull (see
     /// [`TriMesh::is_convex`]), decided at the first call.
     convex: std::sync::OnceLock<bool>,
+    /// Faces and edges for the separating-axis depth of convex meshes,
+    /// built at the first call.
+    convex_features: std::sync::OnceLock<ConvexFeatures>,
 }
 
 /// How far a vertex may lie outside a triangle's plane, as a fraction of
@@ -132,6 +136,7 @@ impl TriMesh {
             support,
             bounds,
             convex: std::sync::OnceLock::new(),
+            convex_features: std::sync::OnceLock::new(),
         })
     }
 
@@ -203,6 +208,12 @@ impl TriMesh {
     /// ([`TriMesh::convex_within`]).
     pub fn is_convex(&self) -> bool {
         *self.convex.get_or_init(|| self.convex_within(CONVEX_SURFACE_TOLERANCE))
+    }
+
+    /// The faces and edges of a convex mesh for
+    /// [`convex_penetration`](super::convex_penetration), built once.
+    pub(crate) fn convex_features(&self) -> &ConvexFeatures {
+        self.convex_features.get_or_init(|| ConvexFeatures::of(self))
     }
 
     /// Whether the mesh is closed and every vertex lies on the same side of

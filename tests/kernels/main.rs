@@ -7,6 +7,7 @@ mod bounds;
 
 mod batch_matches_scalar;
 mod dyop_kernel;
+mod mesh_overlap;
 mod point_segment_vs_exact;
 mod scale_invariance;
 mod triangle_distance_vs_exact;

@@ -1,0 +1,245 @@
+//! Past contact for meshes: the intersection curve against a brute force
+//! and an analytic length, and the convex penetration depth against
+//! analysis, against parry's `contact` (SAT for boxes, GJK/EPA for convex
+//! polyhedra) and against its own definition (moving `b` by the depth
+//! separates the solids, a shorter move does not).
+
+use nearmiss::math::{pose_to_parry, to_parry, Point, Pose, Real, Vector};
+use nearmiss::mesh::{
+    box_mesh, convex_penetration, icosphere, mesh_distance, mesh_intersection, mesh_intersection_brute_force,
+    DistanceSearch, MeshDistanceScratch, MeshIntersection, MeshIntersectionScratch, TriMesh,
+};
+use nearmiss::samples::Rng;
+use parry3d_f64::query::contact;
+use parry3d_f64::shape::{ConvexPolyhedron, Cuboid, Shape};
+
+fn random_pose(rng: &mut Rng, reach: Real) -> Pose {
+    Pose::new(rng.in_unit_ball() * reach, rng.in_unit_ball() * 3.0)
+}
+
+fn intersection(a: &TriMesh, pose_a: &Pose, b: &TriMesh, pose_b: &Pose) -> MeshIntersection {
+    let mut out = MeshIntersection::default();
+    mesh_intersection(a, pose_a, b, pose_b, &mut out, &mut MeshIntersectionScratch::default());
+    out
+}
+
+#[test]
+fn intersection_finds_every_meeting_pair_of_the_brute_force() {
+    let a = icosphere(1.0, 2).expect("icosphere");
+    let b = box_mesh(&Vector::new(0.3, 1.2, 0.5)).expect("box");
+    let mut rng = Rng::new(3);
+    let mut crossing = 0;
+    for case in 0..60 {
+        let (pose_a, pose_b) = (random_pose(&mut rng, 0.5), random_pose(&mut rng, 1.5));
+        let mut found: Vec<(usize, usize)> = intersection(&a, &pose_a, &b, &pose_b)
+            .pairs
+            .iter()
+            .map(|p| (p.triangle_a, p.triangle_b))
+            .collect();
+        found.sort_unstable();
+        let expected = mesh_intersection_brute_force(&a, &pose_a, &b, &pose_b);
+        assert_eq!(found, expected, "case {case}");
+        crossing += usize::from(!expected.is_empty());
+    }
+    assert!(crossing > 20, "only {crossing} of 60 cases cross: the test is not testing");
+}
+
+/// A cube (half extent 1) through a plate (half extents 2, 2, 0.1),
+/// off-centre: its four side faces cross the plate's two faces along two
+/// squares of side 2, 16 long in all.
+#[test]
+fn a_cube_through_a_plate_crosses_along_two_squares() {
+    let cube = box_mesh(&Vector::new(1.0, 1.0, 1.0)).expect("cube");
+    let plate = box_mesh(&Vector::new(2.0, 2.0, 0.1)).expect("plate");
+    let found = intersection(&cube, &Pose::identity(), &plate, &Pose::translation(0.1, 0.2, 0.0));
+    approx::assert_relative_eq!(found.length(), 16.0, epsilon = 1e-12);
+    for [p, q] in found.segments() {
+        for end in [p, q] {
+            assert!((end.z.abs() - 0.1).abs() < 1e-15, "{end:?} off the plate's faces");
+            assert!((end.x.abs().max(end.y.abs()) - 1.0).abs() < 1e-15, "{end:?} off the cube's sides");
+        }
+    }
+    // Turned about z by a quarter, the same squares.
+    let turned = Pose::new(Vector::new(0.1, 0.2, 0.0), Vector::z() * std::f64::consts::FRAC_PI_2);
+    approx::assert_relative_eq!(
+        intersection(&cube, &Pose::identity(), &plate, &turned).length(),
+        16.0,
+        epsilon = 1e-12
+    );
+    // Apart: nothing.
+    assert!(intersection(&cube, &Pose::identity(), &plate, &Pose::translation(0.0, 0.0, 1.2)).is_empty());
+}
+
+#[test]
+fn a_mesh_that_is_not_convex_is_refused() {
+    let cube = box_mesh(&Vector::new(1.0, 1.0, 1.0)).expect("cube");
+    let open = nearmiss::mesh::single_triangle(
+        Point::origin(),
+        Point::new(1.0, 0.0, 0.0),
+        Point::new(0.0, 1.0, 0.0),
+    )
+    .expect("triangle");
+    let refused = convex_penetration(&cube, &Pose::identity(), &open, &Pose::identity());
+    assert_eq!(refused, Err(nearmiss::mesh::NotConvex { which: 'b' }));
+}
+
+#[test]
+fn boxes_overlapping_by_a_known_amount() {
+    let big = box_mesh(&Vector::new(1.0, 1.0, 1.0)).expect("box");
+    let small = box_mesh(&Vector::new(0.5, 0.5, 0.5)).expect("box");
+    // Along x they overlap by 1 + 0.5 - 1.3 = 0.2, along y by 1.3.
+    let found = convex_penetration(&big, &Pose::identity(), &small, &Pose::translation(1.3, 0.2, 0.0))
+        .expect("convex")
+        .expect("overlapping");
+    approx::assert_relative_eq!(found.depth, 0.2, epsilon = 1e-15);
+    approx::assert_relative_eq!(found.direction, Vector::x(), epsilon = 1e-15);
+    approx::assert_relative_eq!(found.point_a.x, 1.0, epsilon = 1e-15);
+    // Inside, surfaces apart: the solids still overlap (0.5 + 1 - 0.1 to
+    // leave by +x, the shortest way out).
+    let inside = convex_penetration(&big, &Pose::identity(), &small, &Pose::translation(0.1, 0.0, 0.0))
+        .expect("convex")
+        .expect("inside");
+    approx::assert_relative_eq!(inside.depth, 1.4, epsilon = 1e-15);
+    approx::assert_relative_eq!(inside.direction, Vector::x(), epsilon = 1e-15);
+    // Apart and touching.
+    assert_eq!(
+        convex_penetration(&big, &Pose::identity(), &small, &Pose::translation(1.6, 0.0, 0.0)),
+        Ok(None)
+    );
+    let touching = convex_penetration(&big, &Pose::identity(), &small, &Pose::translation(1.5, 0.0, 0.0))
+        .expect("convex");
+    assert_eq!(touching.map(|t| t.depth), Some(0.0));
+    // An edge into a face: the small box turned 45° about x reaches
+    // 0.5·√2 below its centre, its lowest edge 0.05 into the big box's top.
+    let r = std::f64::consts::FRAC_PI_4;
+    let rotation = nalgebra::UnitQuaternion::from_scaled_axis(Vector::x() * r);
+    let center = Vector::new(0.0, 0.0, 1.0 + 0.5 * std::f64::consts::SQRT_2 - 0.05);
+    let edge = Pose::from_parts(center.into(), rotation);
+    let found =
+        convex_penetration(&big, &Pose::identity(), &small, &edge).expect("convex").expect("edge in face");
+    approx::assert_relative_eq!(found.depth, 0.05, epsilon = 1e-14);
+    approx::assert_relative_eq!(found.direction, Vector::z(), epsilon = 1e-14);
+}
+
+/// Two boxes, turned at random, both ways: against parry's SAT to
+/// rounding, and against the definition.
+#[test]
+fn boxes_against_parry() {
+    let extents = [Vector::new(1.0, 0.4, 0.7), Vector::new(0.3, 1.2, 0.5)];
+    let [a, b] = extents.map(|e| box_mesh(&e).expect("box"));
+    let [shape_a, shape_b] = extents.map(|e| Cuboid::new(to_parry(&e.into())));
+    let worst = compare_with_parry(&a, &shape_a, &b, &shape_b, 1e-12, 200, 17);
+    println!("boxes: worst difference from parry {worst:.1e}");
+}
+
+/// An icosphere and a box as convex polyhedra: parry's GJK/EPA stops
+/// within its tolerance (it agreed to 1e-15 here when this was written).
+#[test]
+fn convex_polyhedra_against_parry() {
+    let a = icosphere(1.0, 1).expect("icosphere");
+    let b = box_mesh(&Vector::new(0.3, 1.2, 0.5)).expect("box");
+    let polyhedron = |m: &TriMesh| {
+        let points: Vec<_> = m.vertices().iter().map(to_parry).collect();
+        ConvexPolyhedron::from_convex_mesh(points, m.triangles()).expect("convex")
+    };
+    let worst = compare_with_parry(&a, &polyhedron(&a), &b, &polyhedron(&b), 1e-10, 200, 19);
+    println!("icosphere and box: worst difference from parry {worst:.1e}");
+}
+
+fn compare_with_parry(
+    a: &TriMesh,
+    shape_a: &dyn Shape,
+    b: &TriMesh,
+    shape_b: &dyn Shape,
+    tolerance: Real,
+    cases: usize,
+    seed: u64,
+) -> Real {
+    let mut rng = Rng::new(seed);
+    let (mut overlapping, mut worst) = (0, 0.0_f64);
+    let mut scratch = MeshDistanceScratch::default();
+    for case in 0..cases {
+        let (pose_a, pose_b) = (random_pose(&mut rng, 0.5), random_pose(&mut rng, 1.2));
+        let peer = contact(&pose_to_parry(&pose_a), shape_a, &pose_to_parry(&pose_b), shape_b, 0.0)
+            .expect("parry measures the pair");
+        let ours = convex_penetration(a, &pose_a, b, &pose_b).expect("convex");
+        match (ours, peer.filter(|c| c.dist <= 0.0)) {
+            (None, None) => continue,
+            (Some(found), Some(peer)) => {
+                overlapping += 1;
+                let difference = (found.depth + peer.dist).abs();
+                worst = worst.max(difference);
+                assert!(
+                    difference <= tolerance,
+                    "case {case}: depth {} vs parry {}",
+                    found.depth,
+                    -peer.dist
+                );
+                check_definition(a, &pose_a, b, &pose_b, &found, &mut scratch, case);
+            }
+            (ours, peer) => panic!("case {case}: nearmiss {ours:?}, parry {peer:?}"),
+        }
+    }
+    assert!(overlapping > cases / 4, "only {overlapping} of {cases} cases overlap: the test is not testing");
+    worst
+}
+
+/// Moving `b` a little past the depth leaves the solids apart (by about
+/// that little, and no longer overlapping); a little short of it, still
+/// overlapping.
+fn check_definition(
+    a: &TriMesh,
+    pose_a: &Pose,
+    b: &TriMesh,
+    pose_b: &Pose,
+    found: &nearmiss::mesh::MeshPenetration,
+    scratch: &mut MeshDistanceScratch,
+    case: usize,
+) {
+    let margin = 1e-9;
+    let moved =
+        |t: Real| Pose::from_parts((pose_b.translation.vector + found.direction * t).into(), pose_b.rotation);
+    let past = moved(found.depth + margin);
+    let apart = mesh_distance(a, pose_a, b, &past, &DistanceSearch::default(), scratch).distance;
+    assert!(apart > 0.0 && apart <= 2.0 * margin, "case {case}: moved past the depth, {apart:e} apart");
+    assert!(
+        convex_penetration(a, pose_a, b, &past).expect("convex").is_none(),
+        "case {case}: still overlapping past the depth"
+    );
+    if found.depth > margin {
+        let short = convex_penetration(a, pose_a, b, &moved(found.depth - margin)).expect("convex");
+        assert!(short.is_some(), "case {case}: apart before the depth");
+    }
+    // Independently of the method: along no sampled direction does a
+    // shorter move separate the solids (surfaces meet, or one holds a
+    // vertex of the other).
+    let mut rng = Rng::new(case as u64);
+    for _ in 0..16 {
+        let direction = rng.unit_vector();
+        let shorter = found.depth - margin;
+        if shorter <= 0.0 {
+            break;
+        }
+        let pose =
+            Pose::from_parts((pose_b.translation.vector + direction * shorter).into(), pose_b.rotation);
+        let touching =
+            mesh_distance(a, pose_a, b, &pose, &DistanceSearch::default(), scratch).distance == 0.0;
+        let held =
+            inside(a, pose_a, &(pose * b.vertices()[0])) || inside(b, &pose, &(pose_a * a.vertices()[0]));
+        assert!(
+            touching || held,
+            "case {case}: {direction:?} separates by {shorter:e} < depth {:e}",
+            found.depth
+        );
+    }
+}
+
+/// Whether `point` is inside the convex solid of `mesh` at `pose`: behind
+/// every triangle's plane (faces oriented outward).
+fn inside(mesh: &TriMesh, pose: &Pose, point: &Point) -> bool {
+    let local = pose.inverse_transform_point(point);
+    (0..mesh.triangles().len()).all(|t| {
+        let [p, q, r] = mesh.triangle(t);
+        (q - p).cross(&(r - p)).dot(&(local - p)) <= 0.0
+    })
+}
