@@ -64,6 +64,56 @@ pub struct Summary<'a> {
     /// distance without touching, nearest first.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub near_misses: Option<Vec<NearMissJson<'a>>>,
+    /// Bodies that overlap at time 0 (absent when none do).
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub initial_overlaps: Vec<OverlapJson<'a>>,
+}
+
+/// Two bodies overlapping at time 0, in `summary.json`.
+#[derive(Serialize)]
+pub struct OverlapJson<'a> {
+    /// The two bodies' names.
+    pub bodies: [&'a str; 2],
+    /// The penetration depth of the two solids, where both meshes are
+    /// convex (absent otherwise): `depth`, `direction` (the second body
+    /// moved by `depth` along it touches the first), `point_a`, `point_b`.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub depth: Option<DepthJson>,
+    /// Triangle pairs whose surfaces meet.
+    pub crossing_pairs: usize,
+    /// The intersection curve's length.
+    pub curve_length: Real,
+}
+
+/// A penetration depth in `summary.json`.
+#[derive(Serialize)]
+pub struct DepthJson {
+    /// The shortest move that separates the solids.
+    pub depth: Real,
+    /// Its direction (unit).
+    pub direction: [Real; 3],
+    /// Where it ends on the first body's surface.
+    pub point_a: [Real; 3],
+    /// The second body's deepest point.
+    pub point_b: [Real; 3],
+}
+
+impl<'a> OverlapJson<'a> {
+    fn of(scene: &'a Scene, overlap: &nearmiss::scene::InitialOverlap) -> OverlapJson<'a> {
+        let bodies = &scene.model().bodies;
+        let array = |v: &nearmiss::math::Vector| [v.x, v.y, v.z];
+        OverlapJson {
+            bodies: [&bodies[overlap.body_a].name, &bodies[overlap.body_b].name],
+            depth: overlap.depth.map(|d| DepthJson {
+                depth: d.depth,
+                direction: array(&d.direction),
+                point_a: array(&d.point_a.coords),
+                point_b: array(&d.point_b.coords),
+            }),
+            crossing_pairs: overlap.intersection.pairs.len(),
+            curve_length: overlap.intersection.length(),
+        }
+    }
 }
 
 /// A near miss in `summary.json`.
@@ -222,6 +272,7 @@ impl<'a> Summary<'a> {
             peer,
             rapier: None,
             near_misses: None,
+            initial_overlaps: Vec::new(),
         }
     }
 
@@ -235,6 +286,7 @@ impl<'a> Summary<'a> {
                 .near_misses
                 .is_some()
                 .then(|| result.near_misses.iter().map(|m| NearMissJson::of(result, m)).collect()),
+            initial_overlaps: scene.initial_overlaps().iter().map(|o| OverlapJson::of(scene, o)).collect(),
             ..Summary::with_peer(result, peers.parry)
         }
     }

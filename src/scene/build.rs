@@ -205,6 +205,17 @@ impl Builder<'_> {
             }
             Some(plot) => Some(super::PlotSpec { log_y: plot.log_y, contacts: plot.contacts.clone() }),
         };
+        if file.initial_overlap == super::InitialOverlapPolicy::Refuse {
+            if let Some(overlap) = super::initial_overlaps(&bodies).first() {
+                return self.invalid(
+                    format!("bodies[{}]", overlap.body_b),
+                    format!(
+                        "{} at t = 0, and the scene says `initial_overlap: Refuse`: move them apart",
+                        overlap.describe(&bodies)
+                    ),
+                );
+            }
+        }
         let near_misses = self.near_misses(&file, &names)?;
         let expect = self.expect(file.expect.as_ref(), &names, near_misses.as_ref())?;
         Ok(Scene {

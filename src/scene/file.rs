@@ -67,6 +67,10 @@ pub struct SceneFile {
     /// axis gravity pulls down along, else `Z`.
     #[serde(default)]
     pub up: Option<super::Axis>,
+    /// Bodies overlapping at time 0: `Warn` (run, and say how deep) or
+    /// `Refuse` (an error at load). Default: `Warn`.
+    #[serde(default)]
+    pub initial_overlap: super::InitialOverlapPolicy,
 }
 
 /// The pose record of a run (`poses.csv`: step, time, body, position,

@@ -31,6 +31,7 @@ mod build;
 mod build_body;
 mod error;
 pub mod file;
+mod overlap;
 pub mod record;
 
 use std::path::Path;
@@ -42,6 +43,7 @@ pub use build::{MAX_MAGNITUDE, MAX_NAME_BYTES, MAX_SOLVER_ITERATIONS, MIN_MAGNIT
 pub use error::SceneError;
 pub use file::OnContact;
 pub use file::PlotSettings;
+pub use overlap::{initial_overlaps, InitialOverlap};
 
 use crate::ccd::CcdOptions;
 use crate::math::{Pose, Real, Vector};
@@ -145,6 +147,18 @@ pub struct Material {
     pub restitution: Real,
     /// Give rapier the triangle mesh even where the mesh is convex.
     pub triangle_mesh: bool,
+}
+
+/// What a scene does with bodies that overlap at time 0
+/// (`initial_overlap`). Default: `Warn`.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, serde::Deserialize)]
+pub enum InitialOverlapPolicy {
+    /// Run, and say so (the terminal, with each pair's depth).
+    #[default]
+    Warn,
+    /// Refuse the scene at load: an error naming the bodies and the depth
+    /// (exit code 2).
+    Refuse,
 }
 
 /// A world axis: the scene's up direction (`up`).
@@ -286,6 +300,12 @@ impl Scene {
     /// and [`Scene::with_trace`] make changed copies).
     pub fn model(&self) -> &Model {
         &self.model
+    }
+
+    /// The pairs of bodies that overlap at time 0, with their depth where
+    /// both meshes are convex (see [`initial_overlaps`]).
+    pub fn initial_overlaps(&self) -> Vec<InitialOverlap> {
+        initial_overlaps(&self.model.bodies)
     }
 
     /// What a run of it covers and writes: its name, length, trace, plot,

@@ -170,22 +170,62 @@ fn pictures_of_contacts_the_run_did_not_have_are_named() {
 }
 
 #[test]
-fn meshes_intersecting_at_the_start_are_said_to() {
+fn meshes_overlapping_at_the_start_are_said_to_with_their_depth() {
     let dir = workspace("overlap");
-    // The box starts 0.25 deep in the floor.
-    std::fs::write(dir.join("o.ron"), falling("overlap", "").replace("(0.0, 0.0, 1.5)", "(0.0, 0.0, 0.25)"))
-        .unwrap();
+    // The box (half extent 0.5) starts at z = 0.25: its bottom 0.25 deep in
+    // the floor (top at 0). Lifting it 0.25 separates them; its four sides
+    // cross the floor's top along a unit square, 4 long.
+    let deep = falling("overlap", "").replace("(0.0, 0.0, 1.5)", "(0.0, 0.0, 0.25)");
+    std::fs::write(dir.join("o.ron"), &deep).unwrap();
     let output = nearmiss(&["run", "o.ron", "-o", "out"], &dir);
     let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
     assert!(
-        stderr
-            .contains("warning: at t = 0 these meshes already touch or intersect (distance 0): floor / box."),
+        stderr.contains(
+            "warning: at t = 0 \"floor\" and \"box\" overlap by 0.25 (the shortest move that separates them: \"box\" by 0.25 along (0, 0, 1)); surfaces crossing at "
+        ),
         "{stderr}"
     );
+    assert!(stderr.contains("along a curve 4 long. The run starts overlapped"), "{stderr}");
+    assert!(!stderr.contains("already touch"), "{stderr}");
+    // summary.json says the same.
+    let summary = std::fs::read_to_string(dir.join("out/overlap/summary.json")).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
+    let overlap = &summary["initial_overlaps"][0];
+    assert_eq!(overlap["bodies"], serde_json::json!(["floor", "box"]));
+    assert_eq!(overlap["depth"], 0.25);
+    assert_eq!(overlap["direction"], serde_json::json!([0.0, 0.0, 1.0]));
+    assert!((overlap["curve_length"].as_f64().unwrap() - 4.0).abs() < 1e-12, "{overlap}");
+    // Refused when the scene says so: exit 2, the bodies and depth named,
+    // nothing written.
+    let refuse = deep
+        .replace("    bodies:", "    initial_overlap: Refuse,\n    bodies:")
+        .replace("\"overlap\"", "\"refused\"");
+    std::fs::write(dir.join("r.ron"), refuse).unwrap();
+    let output = nearmiss(&["run", "r.ron", "-o", "out"], &dir);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("r.ron: `bodies[1]`: \"floor\" and \"box\" overlap by 0.25")
+            && stderr.contains("at t = 0, and the scene says `initial_overlap: Refuse`: move them apart"),
+        "{stderr}"
+    );
+    assert!(!dir.join("out/refused").exists());
+    // Resting on the floor (touching, not overlapping): said as touching.
+    std::fs::write(dir.join("t.ron"), falling("touch", "").replace("(0.0, 0.0, 1.5)", "(0.0, 0.0, 0.5)"))
+        .unwrap();
+    let output = nearmiss(&["run", "t.ron", "-o", "out"], &dir);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("warning: at t = 0 these meshes already touch (distance 0): floor / box."),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("overlap by"), "{stderr}");
     // Apart at the start: no such word.
     std::fs::write(dir.join("a.ron"), falling("apart", "")).unwrap();
     let output = nearmiss(&["run", "a.ron", "-o", "out"], &dir);
-    assert!(!String::from_utf8_lossy(&output.stderr).contains("already touch"));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("already touch") && !stderr.contains("overlap"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

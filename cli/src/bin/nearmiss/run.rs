@@ -192,16 +192,27 @@ fn print_result(scene: &Scene, result: &RunResult) {
             );
         }
     }
-    // Meshes in contact from the start: said, not only written as a status.
+    // Bodies overlapping at the start: each said with its depth; meshes
+    // only touching: said, not only written as a status.
+    let overlaps = scene.initial_overlaps();
+    let bodies = &scene.model().bodies;
+    for overlap in &overlaps {
+        eprintln!(
+            "warning: at t = 0 {}. The run starts overlapped; move them apart, or add `initial_overlap: Refuse` to refuse such scenes",
+            overlap.describe(bodies)
+        );
+    }
+    let overlapping =
+        |a: usize, b: usize| overlaps.iter().any(|o| (o.body_a, o.body_b) == (a.min(b), a.max(b)));
     let at_start: Vec<String> = result
         .contacts
         .iter()
-        .filter(|c| c.time == 0.0 && c.closest.distance == 0.0)
+        .filter(|c| c.time == 0.0 && c.closest.distance == 0.0 && !overlapping(c.body_a, c.body_b))
         .map(|c| format!("{} / {}", result.bodies[c.body_a], result.bodies[c.body_b]))
         .collect();
     if !at_start.is_empty() {
         eprintln!(
-            "warning: at t = 0 these meshes already touch or intersect (distance 0): {}. The run starts in contact; check the bodies' positions",
+            "warning: at t = 0 these meshes already touch (distance 0): {}. The run starts in contact; check the bodies' positions",
             at_start.join(", ")
         );
     }
