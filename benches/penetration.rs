@@ -57,12 +57,15 @@ fn polyhedron(mesh: &TriMesh) -> ConvexPolyhedron {
     ConvexPolyhedron::from_convex_mesh(points, mesh.triangles()).expect("a convex mesh")
 }
 
+/// A case: its name, then each mesh beside parry's shape of it.
+type Case = (&'static str, TriMesh, Box<dyn Shape>, TriMesh, Box<dyn Shape>);
+
 fn bench(c: &mut Criterion) {
     let box_a = Vector::new(1.0, 0.4, 0.7);
     let box_b = Vector::new(0.3, 1.2, 0.5);
     let small_sphere = icosphere(1.0, 1).expect("icosphere");
     let sphere = icosphere(1.0, 2).expect("icosphere");
-    let cases: Vec<(&str, TriMesh, Box<dyn Shape>, TriMesh, Box<dyn Shape>)> = vec![
+    let cases: Vec<Case> = vec![
         (
             "two boxes",
             box_mesh(&box_a).expect("box"),
