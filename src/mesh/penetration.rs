@@ -21,9 +21,13 @@
 //! maximum over finitely many candidates, unlike GJK/EPA's tolerance.
 //!
 //! Cost: every face of each mesh against the other's support (from its
-//! direction table) and every pair of non-flat edges through the Gauss-map
-//! test, `O(F_A + F_B + E_A·E_B)`. Edges between coplanar triangles (a
-//! box face's diagonal) are not edges of the solid and are skipped.
+//! direction table), and the edge pairs whose arcs can cross: each arc on
+//! the unit sphere lies in the triangle of its ends and the meeting point
+//! of their tangents, so in that triangle's box; `A`'s boxes are sorted
+//! once per mesh, `−B`'s each query, and a sweep along x hands only the
+//! pairs whose boxes overlap to the exact Gauss-map test (on fine meshes a
+//! few percent of `E_A·E_B`). Edges between coplanar triangles (a box
+//! face's diagonal) are not edges of the solid and are skipped.
 
 use super::trimesh::TriMesh;
 use crate::math::{Point, Pose, Real, Vector};
@@ -71,7 +75,66 @@ pub(crate) struct ConvexFeatures {
 struct FeatureEdge {
     point: Point,
     direction: Vector,
+    /// The outward normals of its two triangles: its arc's ends.
     normals: [Vector; 2],
+    /// `normals[1] × normals[0]`.
+    normals_cross: Vector,
+    /// The box of its arc on the unit sphere.
+    arc_box: ArcBox,
+}
+
+impl FeatureEdge {
+    fn new(point: Point, direction: Vector, normals: [Vector; 2]) -> FeatureEdge {
+        FeatureEdge {
+            point,
+            direction,
+            normals,
+            normals_cross: normals[1].cross(&normals[0]),
+            arc_box: ArcBox::of(&normals[0], &normals[1]),
+        }
+    }
+}
+
+/// Where a great-circle arc between unit vectors can be: the box of its
+/// ends and the meeting point of the tangents at its ends (the arc lies in
+/// that triangle), widened by [`ARC_BOX_SLACK`] for rounding.
+#[derive(Copy, Clone, Debug)]
+struct ArcBox {
+    low: Vector,
+    high: Vector,
+}
+
+/// How much an arc's box is widened, in absolute units on the unit
+/// sphere: far above the rounding of its corners (a few ulps), far below
+/// any arc that matters. Default `1e-9`.
+const ARC_BOX_SLACK: Real = 1e-9;
+
+impl ArcBox {
+    fn of(a: &Vector, b: &Vector) -> ArcBox {
+        let sum = a + b;
+        let length = sum.norm();
+        // Half the arc's angle is below 90° (its ends are not opposite):
+        // the tangents meet at the midpoint over the cosine of that half.
+        let cosine = if length > 0.0 { (sum / length).dot(a) } else { 0.0 };
+        if cosine <= 1e-6 {
+            return ArcBox {
+                low: Vector::repeat(-1.0 - ARC_BOX_SLACK),
+                high: Vector::repeat(1.0 + ARC_BOX_SLACK),
+            };
+        }
+        let apex = sum / (length * cosine);
+        let low = a.inf(b).inf(&apex) - Vector::repeat(ARC_BOX_SLACK);
+        let high = a.sup(b).sup(&apex) + Vector::repeat(ARC_BOX_SLACK);
+        ArcBox { low, high }
+    }
+
+    #[inline]
+    fn overlaps_in_y_z(&self, other: &ArcBox) -> bool {
+        self.low.y <= other.high.y
+            && other.low.y <= self.high.y
+            && self.low.z <= other.high.z
+            && other.low.z <= self.high.z
+    }
 }
 
 impl ConvexFeatures {
@@ -102,14 +165,22 @@ impl ConvexFeatures {
                         let normals = [faces[other].0, faces[t].0];
                         if (normals[0] - normals[1]).norm() > FLAT_EDGE_TOLERANCE {
                             let (p, q) = (vertices[from as usize], vertices[to as usize]);
-                            edges.push(FeatureEdge { point: p, direction: q - p, normals });
+                            edges.push(FeatureEdge::new(p, q - p, normals));
                         }
                     }
                 }
             }
         }
+        edges.sort_by(|e, f| e.arc_box.low.x.total_cmp(&f.arc_box.low.x));
         ConvexFeatures { interior, faces, edges }
     }
+}
+
+/// Reusable buffers of [`convex_penetration_with`]: `b`'s edges in `a`'s
+/// frame, so queries do not allocate once it has grown.
+#[derive(Clone, Debug, Default)]
+pub struct PenetrationScratch {
+    edges_b: Vec<FeatureEdge>,
 }
 
 /// A mesh is not convex ([`TriMesh::is_convex`]): its solid has no
@@ -140,16 +211,33 @@ pub fn convex_penetration(
     b: &TriMesh,
     pose_b: &Pose,
 ) -> Result<Option<MeshPenetration>, NotConvex> {
+    convex_penetration_with(a, pose_a, b, pose_b, &mut PenetrationScratch::default())
+}
+
+/// [`convex_penetration`] with reusable buffers.
+pub fn convex_penetration_with(
+    a: &TriMesh,
+    pose_a: &Pose,
+    b: &TriMesh,
+    pose_b: &Pose,
+    scratch: &mut PenetrationScratch,
+) -> Result<Option<MeshPenetration>, NotConvex> {
     for (mesh, which) in [(a, 'a'), (b, 'b')] {
         if !mesh.is_convex() {
             return Err(NotConvex { which });
         }
     }
-    Ok(separating_axes(a, pose_a, b, pose_b))
+    Ok(separating_axes(a, pose_a, b, pose_b, scratch))
 }
 
 /// The method of [`convex_penetration`] on meshes known to be convex.
-fn separating_axes(a: &TriMesh, pose_a: &Pose, b: &TriMesh, pose_b: &Pose) -> Option<MeshPenetration> {
+fn separating_axes(
+    a: &TriMesh,
+    pose_a: &Pose,
+    b: &TriMesh,
+    pose_b: &Pose,
+    scratch: &mut PenetrationScratch,
+) -> Option<MeshPenetration> {
     let (fa, fb) = (a.convex_features(), b.convex_features());
     // Work in a's frame: b's features moved by pos_ab.
     let pos_ab = pose_a.inv_mul(pose_b);
@@ -174,31 +262,55 @@ fn separating_axes(a: &TriMesh, pose_a: &Pose, b: &TriMesh, pose_b: &Pose) -> Op
             return None;
         }
     }
-    // Edge pairs that form a face of the Minkowski difference.
-    for eb in &fb.edges {
-        let (direction_b, point_b) = (pos_ab.rotation * eb.direction, pos_ab * eb.point);
-        // The Gauss arcs of A − B: b's normals negated.
-        let [c, d] = eb.normals.map(|m| -(pos_ab.rotation * m));
-        let d_x_c = d.cross(&c);
-        for ea in &fa.edges {
-            let [na, nb] = ea.normals;
-            if !is_minkowski_face(&na, &nb, &nb.cross(&na), &c, &d, &d_x_c) {
-                continue;
+    // Edge pairs that form a face of the Minkowski difference: b's edges
+    // in a's frame, their arcs those of −B (b's normals negated), swept
+    // against a's along x; only pairs whose arc boxes overlap are tested.
+    scratch.edges_b.clear();
+    scratch.edges_b.extend(fb.edges.iter().map(|e| {
+        let normals = e.normals.map(|m| -(pos_ab.rotation * m));
+        FeatureEdge::new(pos_ab * e.point, pos_ab.rotation * e.direction, normals)
+    }));
+    scratch.edges_b.sort_by(|e, f| e.arc_box.low.x.total_cmp(&f.arc_box.low.x));
+    let (edges_a, edges_b) = (&fa.edges, &scratch.edges_b);
+    let test = |best: &mut Axis, ea: &FeatureEdge, eb: &FeatureEdge| {
+        if !ea.arc_box.overlaps_in_y_z(&eb.arc_box) {
+            return;
+        }
+        let ([na, nb], [c, d]) = (ea.normals, eb.normals);
+        if !is_minkowski_face(&na, &nb, &ea.normals_cross, &c, &d, &eb.normals_cross) {
+            return;
+        }
+        let axis = ea.direction.cross(&eb.direction);
+        let length = axis.norm();
+        if length <= PARALLEL_EDGE_SINE * ea.direction.norm() * eb.direction.norm() {
+            return;
+        }
+        let mut u = axis / length;
+        if u.dot(&(ea.point - fa.interior)) < 0.0 {
+            u = -u;
+        }
+        let separation = u.dot(&(eb.point - ea.point));
+        best.offer(separation, u, closest_on_line(&eb.point, &eb.direction, &ea.point, &ea.direction));
+    };
+    // Each pair whose boxes overlap along x is met once: by whichever of
+    // the two starts first.
+    let (mut i, mut j) = (0, 0);
+    while i < edges_a.len() && j < edges_b.len() {
+        if edges_a[i].arc_box.low.x <= edges_b[j].arc_box.low.x {
+            let reach = edges_a[i].arc_box.high.x;
+            for eb in edges_b[j..].iter().take_while(|e| e.arc_box.low.x <= reach) {
+                test(&mut best, &edges_a[i], eb);
             }
-            let axis = ea.direction.cross(&direction_b);
-            let length = axis.norm();
-            if length <= PARALLEL_EDGE_SINE * ea.direction.norm() * direction_b.norm() {
-                continue;
+            i += 1;
+        } else {
+            let reach = edges_b[j].arc_box.high.x;
+            for ea in edges_a[i..].iter().take_while(|e| e.arc_box.low.x <= reach) {
+                test(&mut best, ea, &edges_b[j]);
             }
-            let mut u = axis / length;
-            if u.dot(&(ea.point - fa.interior)) < 0.0 {
-                u = -u;
-            }
-            let separation = u.dot(&(point_b - ea.point));
-            best.offer(separation, u, closest_on_line(&point_b, &direction_b, &ea.point, &ea.direction));
-            if best.separation > 0.0 {
-                return None;
-            }
+            j += 1;
+        }
+        if best.separation > 0.0 {
+            return None;
         }
     }
     let depth = (-best.separation).max(0.0);
