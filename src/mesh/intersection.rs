@@ -13,6 +13,7 @@
 
 use super::distance::node_lower_bound;
 use super::trimesh::TriMesh;
+use super::BVH_LEAF_SIZE;
 use crate::kernels::{triangle_intersection, TriangleIntersection};
 use crate::math::{Point, Pose, Real};
 
@@ -92,12 +93,16 @@ pub fn mesh_intersection(
             continue;
         }
         if na.is_leaf() && nb.is_leaf() {
+            // Exact on the world coordinates both meshes are posed to; a
+            // leaf's triangles posed once.
+            let mut posed_a = [[Point::origin(); 3]; BVH_LEAF_SIZE];
+            for (k, ta) in (na.first..na.first + na.count).enumerate() {
+                posed_a[k] = a.triangle(ta as usize).map(|p| pose_a * p);
+            }
             for tb in nb.first..nb.first + nb.count {
-                // Exact on the world coordinates both meshes are posed to.
                 let moved_b = b.triangle(tb as usize).map(|p| pose_b * p);
-                for ta in na.first..na.first + na.count {
-                    let moved_a = a.triangle(ta as usize).map(|p| pose_a * p);
-                    let shared = triangle_intersection(&moved_a, &moved_b);
+                for (k, ta) in (na.first..na.first + na.count).enumerate() {
+                    let shared = triangle_intersection(&posed_a[k], &moved_b);
                     if shared != TriangleIntersection::Disjoint {
                         out.pairs.push(CrossingPair {
                             triangle_a: ta as usize,

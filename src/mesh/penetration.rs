@@ -109,6 +109,11 @@ struct ArcBox {
 /// any arc that matters. Default `1e-9`.
 const ARC_BOX_SLACK: Real = 1e-9;
 
+/// An arc whose half angle has a cosine below this (ends all but
+/// opposite: the two triangles of a knife edge) gets the whole sphere's
+/// box: its tangents meet too far out to bound it usefully. Default `1e-6`.
+const WIDE_ARC_COSINE: Real = 1e-6;
+
 impl ArcBox {
     fn of(a: &Vector, b: &Vector) -> ArcBox {
         let sum = a + b;
@@ -116,7 +121,7 @@ impl ArcBox {
         // Half the arc's angle is below 90° (its ends are not opposite):
         // the tangents meet at the midpoint over the cosine of that half.
         let cosine = if length > 0.0 { (sum / length).dot(a) } else { 0.0 };
-        if cosine <= 1e-6 {
+        if cosine <= WIDE_ARC_COSINE {
             return ArcBox {
                 low: Vector::repeat(-1.0 - ARC_BOX_SLACK),
                 high: Vector::repeat(1.0 + ARC_BOX_SLACK),
