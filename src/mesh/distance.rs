@@ -23,7 +23,7 @@ const FLUSH_PAIRS: usize = 32;
 /// Rounding slack of the node lower bounds, in ulps of the relative
 /// frame's size: a node pair is pruned only if its bound beats the best
 /// distance by more than this, so rounding never prunes the true minimum.
-const PRUNE_SLACK_ULPS: Real = 32.0;
+pub(crate) const PRUNE_SLACK_ULPS: Real = 32.0;
 
 /// The triangle distance kernel that mesh queries use.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]

@@ -11,9 +11,11 @@
 mod bvh;
 pub(crate) mod distance;
 mod intersection;
+mod local_depth;
 mod mass;
 mod obj;
 mod penetration;
+mod point_query;
 mod primitives;
 mod support;
 mod trimesh;
@@ -27,11 +29,15 @@ pub use distance::{
 pub use intersection::{
     mesh_intersection, mesh_intersection_brute_force, CrossingPair, MeshIntersection, MeshIntersectionScratch,
 };
+pub use local_depth::{local_depths, LocalDepth, Side};
 pub use mass::MassProperties;
 pub use obj::{load_obj, parse_obj, ObjError};
 pub use penetration::{
     convex_penetration, MeshPenetration, NotConvex, FLAT_EDGE_TOLERANCE, PARALLEL_EDGE_SINE,
 };
-pub use primitives::{box_mesh, icosphere, needle, single_triangle, tetrahedron, MAX_ICOSPHERE_SUBDIVISIONS};
+pub use point_query::{point_signed_distance, PointQueryScratch, PointSignedDistance};
+pub use primitives::{
+    box_mesh, icosphere, needle, single_triangle, tetrahedron, torus, MAX_ICOSPHERE_SUBDIVISIONS,
+};
 pub use support::{SUPPORT_TABLE_MARGIN, SUPPORT_TABLE_MIN_VERTICES};
 pub use trimesh::{MeshError, TriMesh, CONVEX_SURFACE_TOLERANCE};

@@ -91,6 +91,36 @@ pub fn icosphere(radius: Real, subdivisions: u32) -> Result<TriMesh, MeshError> 
     TriMesh::new(vertices, triangles)
 }
 
+/// A torus about the z axis: its tube's centre circle of radius `major`
+/// in the plane z = 0, the tube of radius `minor` (`minor < major`),
+/// `around` segments along the centre circle and `across` around the tube
+/// (each at least 3), vertices on the true torus; `2 · around · across`
+/// triangles facing outward. Not convex: its hole is outside it.
+pub fn torus(major: Real, minor: Real, around: u32, across: u32) -> Result<TriMesh, MeshError> {
+    let (n, m) = (around.max(3), across.max(3));
+    let tau = std::f64::consts::TAU;
+    let mut vertices = Vec::with_capacity((n * m) as usize);
+    for i in 0..n {
+        let u = tau * Real::from(i) / Real::from(n);
+        for j in 0..m {
+            let w = tau * Real::from(j) / Real::from(m);
+            let ring = major + minor * w.cos();
+            vertices.push(Point::new(ring * u.cos(), ring * u.sin(), minor * w.sin()));
+        }
+    }
+    let index = |i: u32, j: u32| (i % n) * m + (j % m);
+    let mut triangles = Vec::with_capacity((2 * n * m) as usize);
+    for i in 0..n {
+        for j in 0..m {
+            // Outward: (along the circle) × (around the tube) points away
+            // from the tube's centre.
+            triangles.push([index(i, j), index(i + 1, j), index(i + 1, j + 1)]);
+            triangles.push([index(i, j), index(i + 1, j + 1), index(i, j + 1)]);
+        }
+    }
+    TriMesh::new(vertices, triangles)
+}
+
 /// One triangle with the given vertices (a surface with no volume).
 pub fn single_triangle(a: Point, b: Point, c: Point) -> Result<TriMesh, MeshError> {
     TriMesh::new(vec![a, b, c], vec![[0, 1, 2]])
@@ -153,6 +183,12 @@ mod tests {
         let tet = tetrahedron(Real::sqrt(3.0)).unwrap();
         // Edge 2√2: volume a³/(6√2) = 8/3.
         assert_relative_eq!(tet.mass_properties().unwrap().volume, 8.0 / 3.0, max_relative = 1e-14);
+        // A torus: volume 2π²Rr² for the true one, a little less inscribed.
+        let ring = torus(1.0, 0.25, 96, 48).unwrap();
+        assert!(ring.check_closed().is_ok() && !ring.is_convex());
+        let exact = 2.0 * std::f64::consts::PI.powi(2) * 0.0625;
+        let volume = ring.mass_properties().unwrap().volume;
+        assert!(volume < exact && volume > 0.99 * exact, "{volume} vs {exact}");
         let sphere = icosphere(1.0, 5).unwrap();
         let volume = sphere.mass_properties().unwrap().volume;
         assert!(

@@ -67,6 +67,9 @@ pub struct TriMesh {
     /// Faces and edges for the separating-axis depth of convex meshes,
     /// built at the first call.
     convex_features: std::sync::OnceLock<ConvexFeatures>,
+    /// `1` when the triangles face outward (positive enclosed volume),
+    /// `-1` when the mesh is inside out; decided at the first call.
+    orientation: std::sync::OnceLock<Real>,
 }
 
 /// How far a vertex may lie outside a triangle's plane, as a fraction of
@@ -137,6 +140,7 @@ impl TriMesh {
             bounds,
             convex: std::sync::OnceLock::new(),
             convex_features: std::sync::OnceLock::new(),
+            orientation: std::sync::OnceLock::new(),
         })
     }
 
@@ -214,6 +218,24 @@ impl TriMesh {
     /// [`convex_penetration`](super::convex_penetration), built once.
     pub(crate) fn convex_features(&self) -> &ConvexFeatures {
         self.convex_features.get_or_init(|| ConvexFeatures::of(self))
+    }
+
+    /// `1` when the triangles face outward (the signed volume they enclose
+    /// is not negative), `-1` when the mesh is inside out.
+    pub(crate) fn orientation(&self) -> Real {
+        *self.orientation.get_or_init(|| {
+            let volume: Real = (0..self.triangles.len())
+                .map(|t| {
+                    let [p, q, r] = self.triangle(t);
+                    p.coords.dot(&q.coords.cross(&r.coords))
+                })
+                .sum();
+            if volume < 0.0 {
+                -1.0
+            } else {
+                1.0
+            }
+        })
     }
 
     /// Whether the mesh is closed and every vertex lies on the same side of

@@ -6,8 +6,9 @@
 
 use nearmiss::math::{pose_to_parry, to_parry, Point, Pose, Real, Vector};
 use nearmiss::mesh::{
-    box_mesh, convex_penetration, icosphere, mesh_distance, mesh_intersection, mesh_intersection_brute_force,
-    DistanceSearch, MeshDistanceScratch, MeshIntersection, MeshIntersectionScratch, TriMesh,
+    box_mesh, convex_penetration, icosphere, local_depths, mesh_distance, mesh_intersection,
+    mesh_intersection_brute_force, point_signed_distance, torus, DistanceSearch, MeshDistanceScratch,
+    MeshIntersection, MeshIntersectionScratch, PointQueryScratch, TriMesh,
 };
 use nearmiss::samples::Rng;
 use parry3d_f64::query::contact;
@@ -246,4 +247,113 @@ fn inside(mesh: &TriMesh, pose: &Pose, point: &Point) -> bool {
         let [p, q, r] = mesh.triangle(t);
         (q - p).cross(&(r - p)).dot(&(local - p)) <= 0.0
     })
+}
+
+/// A box's signed distance is the nearest face's, negative inside; a
+/// torus's is its tube's (|distance to the centre circle| − r), to the
+/// inscribed mesh's sag.
+#[test]
+fn signed_distance_of_points_to_a_box_and_a_torus() {
+    let mut scratch = PointQueryScratch::default();
+    let cube = box_mesh(&Vector::new(1.0, 2.0, 3.0)).expect("box");
+    let inside = point_signed_distance(&cube, &Point::new(0.5, 0.0, 0.0), &mut scratch);
+    assert_eq!(inside.distance, -0.5);
+    let outside = point_signed_distance(&cube, &Point::new(2.0, 3.0, 0.0), &mut scratch);
+    approx::assert_relative_eq!(outside.distance, std::f64::consts::SQRT_2, epsilon = 1e-15);
+    // Nearest a vertex and an edge, outside and in.
+    assert!(point_signed_distance(&cube, &Point::new(1.5, 2.5, 3.5), &mut scratch).distance > 0.0);
+    assert!(point_signed_distance(&cube, &Point::new(0.99, 1.99, 2.99), &mut scratch).distance < 0.0);
+    let (major, minor) = (1.0, 0.25);
+    let ring = torus(major, minor, 256, 128).expect("torus");
+    // Sag of the inscribed mesh: at most about (π R / n)² / (2 r) along
+    // the circle and (π r / m)² / (2 r) across it.
+    let sag = (std::f64::consts::PI * (major + minor) / 256.0).powi(2) / (2.0 * minor);
+    let mut rng = Rng::new(41);
+    for _ in 0..200 {
+        let p = Point::from(rng.in_unit_ball() * 1.5);
+        let to_circle = (Vector::new(p.x, p.y, 0.0).norm() - major).hypot(p.z);
+        let expected = to_circle - minor;
+        let found = point_signed_distance(&ring, &p, &mut scratch);
+        assert!((found.distance - expected).abs() <= 2.0 * sag, "{p:?}: {} vs {expected}", found.distance);
+    }
+}
+
+/// Two unit spheres overlapping by δ: the point of one nearest the other's
+/// centre lies δ inside the other. The bracket closes on δ as the
+/// icospheres are refined.
+#[test]
+fn local_depth_of_two_spheres_converges_under_refinement() {
+    let delta = 0.2;
+    let direction = Vector::new(1.0, 2.0, 2.0) / 3.0;
+    let pose_b = Pose::new(direction * (2.0 - delta), Vector::zeros());
+    let mut widths = Vec::new();
+    for subdivisions in 2..=5 {
+        let sphere = icosphere(1.0, subdivisions).expect("icosphere");
+        let found = intersection(&sphere, &Pose::identity(), &sphere, &pose_b);
+        let depths = local_depths(&sphere, &Pose::identity(), &sphere, &pose_b, &found).expect("closed");
+        assert_eq!(depths.len(), 1, "one circle: {} components", depths.len());
+        let depth = &depths[0];
+        // The inscribed mesh's sag: its edge length squared over 2r.
+        let edge = 1.1 * std::f64::consts::PI / (5.0 * 2f64.powi(subdivisions as i32));
+        let sag = edge * edge;
+        assert!(
+            depth.lower <= delta + sag && depth.upper >= delta - sag,
+            "{subdivisions}: [{}, {}] misses {delta}",
+            depth.lower,
+            depth.upper
+        );
+        assert!(depth.curve_length > 0.0);
+        widths.push((depth.upper - depth.lower, (depth.lower - delta).abs()));
+    }
+    println!("two spheres overlapping by 0.2, subdivisions 2 to 5 (bracket width, |lower − δ|): {widths:?}");
+    // Each subdivision halves the edges: the bracket narrows, the deepest
+    // vertex comes closer to δ.
+    for w in widths.windows(2) {
+        assert!(w[1].0 < 0.6 * w[0].0, "{widths:?}");
+    }
+    assert!(widths[3].1 < 0.01, "{widths:?}");
+}
+
+/// A ring (not convex) dipped into a slab by 0.1, and into two slabs (one
+/// mesh of two boxes) by 0.05 and 0.1: one depth per place, each
+/// converging to its dip.
+#[test]
+fn local_depth_of_a_ring_in_slabs() {
+    let (major, minor) = (1.0, 0.25);
+    let slab = box_mesh(&Vector::new(3.0, 3.0, 0.5)).expect("slab");
+    // The slab's top at z = −r + 0.1: the tube's bottom circle 0.1 below it.
+    let pose_slab = Pose::translation(0.0, 0.0, -minor + 0.1 - 0.5);
+    for (around, across, tolerance) in [(64, 32, 0.01), (256, 128, 1e-3)] {
+        let ring = torus(major, minor, around, across).expect("torus");
+        assert!(convex_penetration(&ring, &Pose::identity(), &slab, &pose_slab).is_err());
+        let found = intersection(&ring, &Pose::identity(), &slab, &pose_slab);
+        let depths = local_depths(&ring, &Pose::identity(), &slab, &pose_slab, &found).expect("closed");
+        // The inner and outer circles where the slab's top cuts the tube.
+        assert_eq!(depths.len(), 2, "{around}: {} components", depths.len());
+        for depth in &depths {
+            assert!((depth.lower - 0.1).abs() <= tolerance, "{around}: {depth:?}");
+            // The slab is not refined: its triangles, 6 wide, bound its
+            // patch inside the ring only by the ring's half width, 0.25.
+            assert!(depth.upper >= 0.1 - tolerance && depth.upper <= 0.25, "{around}: {depth:?}");
+        }
+    }
+    // Two slabs in one mesh, standing at x = ±(R + r) − d: the tube's
+    // outermost points d deep, two separate places.
+    let mut vertices = Vec::new();
+    let mut triangles = Vec::new();
+    for (x, dip) in [(major + minor - 0.05 + 0.5, 0.05), (-(major + minor - 0.1 + 0.5), 0.1)] {
+        let block = box_mesh(&Vector::new(0.5, 3.0, 3.0)).expect("block");
+        let offset = vertices.len() as u32;
+        vertices.extend(block.vertices().iter().map(|v| v + Vector::new(x, 0.0, 0.0)));
+        triangles.extend(block.triangles().iter().map(|t| t.map(|i| i + offset)));
+        assert!((x.abs() - 0.5 - (major + minor - dip)).abs() < 1e-15);
+    }
+    let blocks = TriMesh::new(vertices, triangles).expect("two blocks");
+    let ring = torus(major, minor, 256, 128).expect("torus");
+    let found = intersection(&ring, &Pose::identity(), &blocks, &Pose::identity());
+    let depths = local_depths(&ring, &Pose::identity(), &blocks, &Pose::identity(), &found).expect("closed");
+    assert_eq!(depths.len(), 2, "{depths:?}");
+    // Deepest first: 0.1 on the −x side, then 0.05 on the +x side.
+    assert!((depths[0].lower - 0.1).abs() < 1e-3 && depths[0].deepest.x < 0.0, "{:?}", depths[0]);
+    assert!((depths[1].lower - 0.05).abs() < 1e-3 && depths[1].deepest.x > 0.0, "{:?}", depths[1]);
 }
