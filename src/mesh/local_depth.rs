@@ -140,6 +140,27 @@ pub fn local_depths(
     Ok(depths)
 }
 
+/// How deep closed mesh `inner` at `inner_pose`, wholly inside `outer`
+/// (surfaces apart), lies: its deepest vertex's depth and the bound above
+/// it, as [`LocalDepth`]'s `lower` and `upper` with the whole surface as
+/// the patch.
+pub(crate) fn whole_patch_depth(
+    inner: &TriMesh,
+    inner_pose: &Pose,
+    outer: &TriMesh,
+    outer_pose: &Pose,
+    scratch: &mut PointQueryScratch,
+) -> (Real, Real) {
+    let start = inner_pose * inner.vertices()[0];
+    let mut found = Deepest { depth: 0.0, vertex: start, side: Side::A, nearest: start, longest_edge: 0.0 };
+    let patch =
+        Patch { side: Side::A, mine: inner, my_pose: inner_pose, other: outer, other_pose: outer_pose };
+    patch.walk(0..inner.triangles().len(), scratch, &mut found);
+    let (low, high) = outer.bounds();
+    let half_width = (high - low).min() / 2.0;
+    (found.depth, (found.depth + found.longest_edge).min(half_width).max(found.depth))
+}
+
 /// The deepest vertex found so far (world frame) and the longest edge seen.
 #[derive(Copy, Clone, Debug)]
 struct Deepest {

@@ -17,6 +17,7 @@ mod obj;
 mod penetration;
 mod point_query;
 mod primitives;
+mod signed_distance;
 mod support;
 mod trimesh;
 
@@ -39,5 +40,6 @@ pub use point_query::{point_signed_distance, PointQueryScratch, PointSignedDista
 pub use primitives::{
     box_mesh, icosphere, needle, single_triangle, tetrahedron, torus, MAX_ICOSPHERE_SUBDIVISIONS,
 };
+pub use signed_distance::{overlap_of, signed_distance, Overlap, SignedDistance, SignedDistanceScratch};
 pub use support::{SUPPORT_TABLE_MARGIN, SUPPORT_TABLE_MIN_VERTICES};
 pub use trimesh::{MeshError, TriMesh, CONVEX_SURFACE_TOLERANCE};

@@ -7,8 +7,9 @@
 use nearmiss::math::{pose_to_parry, to_parry, Point, Pose, Real, Vector};
 use nearmiss::mesh::{
     box_mesh, convex_penetration, icosphere, local_depths, mesh_distance, mesh_intersection,
-    mesh_intersection_brute_force, point_signed_distance, torus, DistanceSearch, MeshDistanceScratch,
-    MeshIntersection, MeshIntersectionScratch, PointQueryScratch, TriMesh,
+    mesh_intersection_brute_force, point_signed_distance, signed_distance, torus, DistanceSearch,
+    MeshDistanceScratch, MeshIntersection, MeshIntersectionScratch, Overlap, PointQueryScratch,
+    SignedDistanceScratch, TriMesh,
 };
 use nearmiss::samples::Rng;
 use parry3d_f64::query::contact;
@@ -356,4 +357,65 @@ fn local_depth_of_a_ring_in_slabs() {
     // Deepest first: 0.1 on the −x side, then 0.05 on the +x side.
     assert!((depths[0].lower - 0.1).abs() < 1e-3 && depths[0].deepest.x < 0.0, "{:?}", depths[0]);
     assert!((depths[1].lower - 0.05).abs() < 1e-3 && depths[1].deepest.x > 0.0, "{:?}", depths[1]);
+}
+
+/// One number for every way two meshes stand: apart, touching, convex
+/// overlap (and containment), a ring in a slab, a box inside a ring's
+/// tube, an open surface through a box.
+#[test]
+fn signed_distance_in_every_case() {
+    let mut scratch = SignedDistanceScratch::default();
+    let big = box_mesh(&Vector::new(1.0, 1.0, 1.0)).expect("box");
+    let small = box_mesh(&Vector::new(0.5, 0.5, 0.5)).expect("box");
+    let at = |x: Real, y: Real, z: Real| Pose::translation(x, y, z);
+    let signed = |a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose, scratch: &mut SignedDistanceScratch| {
+        signed_distance(a, pa, b, pb, scratch)
+    };
+    let apart = signed(&big, &Pose::identity(), &small, &at(1.75, 0.0, 0.0), &mut scratch);
+    assert!(matches!(apart.overlap, Overlap::Apart(_)) && apart.value == 0.25, "{apart:?}");
+    let touching = signed(&big, &Pose::identity(), &small, &at(1.5, 0.0, 0.0), &mut scratch);
+    assert_eq!(touching.value, 0.0, "{touching:?}");
+    let overlapping = signed(&big, &Pose::identity(), &small, &at(1.3, 0.2, 0.0), &mut scratch);
+    assert!(matches!(overlapping.overlap, Overlap::Convex(_)), "{overlapping:?}");
+    approx::assert_relative_eq!(overlapping.value, -0.2, epsilon = 1e-15);
+    // Wholly inside, either way round.
+    let inside = signed(&big, &Pose::identity(), &small, &at(0.1, 0.0, 0.0), &mut scratch);
+    approx::assert_relative_eq!(inside.value, -1.4, epsilon = 1e-15);
+    let holding = signed(&small, &at(0.1, 0.0, 0.0), &big, &Pose::identity(), &mut scratch);
+    approx::assert_relative_eq!(holding.value, -1.4, epsilon = 1e-15);
+    // A ring dipped 0.1 into a slab: minus its local depth.
+    let (major, minor) = (1.0, 0.25);
+    let ring = torus(major, minor, 256, 128).expect("torus");
+    let slab = box_mesh(&Vector::new(3.0, 3.0, 0.5)).expect("slab");
+    let dipped = signed(&ring, &Pose::identity(), &slab, &at(0.0, 0.0, -minor + 0.1 - 0.5), &mut scratch);
+    assert!(matches!(dipped.overlap, Overlap::Local(_)), "{dipped:?}");
+    assert!((dipped.value + 0.1).abs() < 1e-3, "{dipped:?}");
+    // A small box inside the ring's tube: its deepest corner's depth,
+    // r less the corner's distance to the tube's centre circle.
+    let cube = box_mesh(&Vector::new(0.05, 0.05, 0.05)).expect("cube");
+    let pose = at(major, 0.0, 0.0);
+    let expected = cube
+        .vertices()
+        .iter()
+        .map(|v| {
+            let p = pose * v;
+            minor - (Vector::new(p.x, p.y, 0.0).norm() - major).hypot(p.z)
+        })
+        .fold(0.0, Real::max);
+    let held = signed(&ring, &Pose::identity(), &cube, &pose, &mut scratch);
+    let Overlap::Inside { which, lower, upper } = held.overlap else { panic!("{held:?}") };
+    assert_eq!(which, 'b');
+    assert!(
+        (lower - expected).abs() < 1e-3 && upper >= lower && held.value == -lower,
+        "{held:?} vs {expected}"
+    );
+    // An open surface (one triangle) through a box: no inside, no depth.
+    let sheet = nearmiss::mesh::single_triangle(
+        Point::new(-3.0, -3.0, 0.0),
+        Point::new(3.0, -3.0, 0.0),
+        Point::new(0.0, 3.0, 0.0),
+    )
+    .expect("triangle");
+    let through = signed(&big, &Pose::identity(), &sheet, &Pose::identity(), &mut scratch);
+    assert!(matches!(through.overlap, Overlap::OpenCrossing(_)) && through.value == 0.0, "{through:?}");
 }
