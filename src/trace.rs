@@ -20,8 +20,8 @@ use rayon::prelude::*;
 use crate::ccd::{convex_distance, first_within, hull_gap, ConvexDistance, WarmSimplex};
 use crate::math::{Pose, Real, Vector};
 use crate::mesh::{
-    mesh_distance_relative, triangle_pair_distance, DistanceKernel, DistanceSearch, MeshDistanceScratch,
-    TriMesh,
+    mesh_distance_relative, overlap_beyond, triangle_pair_distance, DistanceKernel, DistanceSearch,
+    MeshDistanceScratch, SignedDistanceScratch, TriMesh,
 };
 use crate::motion::StepMotion;
 use crate::scene::{Model, RunSpec, TraceSpec};
@@ -41,10 +41,14 @@ pub struct TraceRecord {
     pub time: Real,
     /// The pair (body indices).
     pub pair: (usize, usize),
-    /// The distance between the two meshes (by the scene's kernel).
+    /// The distance between the two meshes (by the scene's kernel); where
+    /// they overlap, minus the depth (see [`crate::mesh::signed_distance`]:
+    /// exact for convex pairs, the deepest local depth's lower end for
+    /// closed ones; 0 where an open mesh crosses).
     pub distance: Real,
     /// The exact distance (rational arithmetic on the closest triangle
-    /// pair, rounded), when the trace asks for it.
+    /// pair, rounded), when the trace asks for it: the surfaces' distance
+    /// (0 where the meshes overlap, whatever their depth).
     pub reference: Option<Real>,
 }
 
@@ -66,7 +70,7 @@ pub struct TraceObserver {
     /// (set for the traced bodies), the sequential path's search scratch,
     /// and the samples' results.
     rotations: Vec<UnitQuaternion<Real>>,
-    scratch: MeshDistanceScratch,
+    scratch: SampleScratch,
     samples: Vec<PairSample>,
     /// Samples settled without a search: by the convex meshes' GJK bounds
     /// or by the hulls' certificate (see [`TraceObserver::sample`]).
@@ -124,7 +128,7 @@ impl TraceObserver {
                 bodies
             },
             rotations: vec![UnitQuaternion::identity(); model.bodies.len()],
-            scratch: MeshDistanceScratch::default(),
+            scratch: SampleScratch::default(),
             samples: Vec::new(),
             certified: 0,
             model: Arc::clone(model),
@@ -232,7 +236,15 @@ pub const PARALLEL_TRACE_PAIRS: usize = 64;
 
 thread_local! {
     /// Each rayon thread's search scratch, kept between samples and runs.
-    static THREAD_SCRATCH: RefCell<MeshDistanceScratch> = RefCell::new(MeshDistanceScratch::default());
+    static THREAD_SCRATCH: RefCell<SampleScratch> = RefCell::new(SampleScratch::default());
+}
+
+/// A sample's reusable buffers: the distance search's, and the signed
+/// distance's where meshes overlap.
+#[derive(Debug, Default)]
+struct SampleScratch {
+    distance: MeshDistanceScratch,
+    signed: SignedDistanceScratch,
 }
 
 impl SampleAt<'_> {
@@ -241,7 +253,7 @@ impl SampleAt<'_> {
         &self,
         (a, b): (usize, usize),
         state: &mut PairTrace,
-        scratch: &mut MeshDistanceScratch,
+        scratch: &mut SampleScratch,
     ) -> PairSample {
         let model = self.model;
         let pos_ab = StepMotion::relative_pose_turned(
@@ -274,18 +286,22 @@ impl SampleAt<'_> {
             Some(distance) => (distance, true),
             None => {
                 let search = DistanceSearch::new(model.kernel, state.hint);
-                let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, scratch);
+                let d = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &search, &mut scratch.distance);
                 state.hint = Some((d.triangle_a, d.triangle_b));
                 (d.distance, false)
             }
         };
         let reference = self.reference.then(|| {
             let exact = DistanceSearch::new(DistanceKernel::Exact, state.hint);
-            let exact = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &exact, scratch);
+            let exact = mesh_distance_relative(mesh_a, mesh_b, &pos_ab, &exact, &mut scratch.distance);
             // The closest pair as the kernels see it: b in a's frame.
             let tb = mesh_b.triangle(exact.triangle_b).map(|p| pos_ab * p);
             crate::exact::triangle_distance_f64(&mesh_a.triangle(exact.triangle_a), &tb)
         });
+        // Overlapping meshes: minus the depth (see `mesh::signed_distance`).
+        let distance =
+            overlap_beyond(mesh_a, &Pose::identity(), mesh_b, &pos_ab, distance, &mut scratch.signed)
+                .map_or(distance, |(value, _)| value);
         PairSample { distance, reference, certified }
     }
 }

@@ -594,7 +594,9 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
     let (smallest, largest) =
         positive.fold((Real::INFINITY, 0.0 as Real), |(lo, hi), d| (lo.min(d), hi.max(d)));
     let chosen = log_y.is_none();
-    let log_y = log_y.unwrap_or(largest > LOG_AXIS_SPAN * smallest);
+    // Overlapping meshes trace minus their depth: a linear axis shows it.
+    let overlapping = samples.iter().flatten().any(|p| p.1 < 0.0);
+    let log_y = log_y.unwrap_or(!overlapping && largest > LOG_AXIS_SPAN * smallest);
     // On a log axis a distance of 0 (touching), or below
     // `LOG_AXIS_DECADES` decades under the largest, is drawn at the floor.
     let floor = smallest.max(largest * Real::powi(10.0, -LOG_AXIS_DECADES)).clamp(Real::MIN_POSITIVE, 1.0);
@@ -656,10 +658,15 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
     Chart {
         title,
         x_label,
-        y_label: if log_y {
-            format!("distance ({how}log scale; 0 and below {floor:.0e} drawn at it)")
-        } else {
-            format!("distance (scene length units{})", if chosen { ", linear: chosen" } else { "" })
+        y_label: match (log_y, overlapping) {
+            (true, false) => format!("distance ({how}log scale; 0 and below {floor:.0e} drawn at it)"),
+            (true, true) => {
+                format!("distance ({how}log scale; overlaps, 0 and below {floor:.0e} drawn at it)")
+            }
+            (false, false) => {
+                format!("distance (scene length units{})", if chosen { ", linear: chosen" } else { "" })
+            }
+            (false, true) => "signed distance (scene length units; below 0: overlap depth)".to_string(),
         },
         log_x: false,
         log_y,

@@ -113,8 +113,15 @@ const MARK_ROWS: usize = 4;
 /// A mark label's row height, a fraction of the padded data's height.
 const MARK_ROW_HEIGHT: Real = 0.07;
 
-/// A tick label.
-fn tick(v: Real, log: bool) -> String {
+/// Linear ticks nearer 0 than this fraction of the axis's span are
+/// rounding noise of the tick positions and written `0`. Default `1e-9`.
+const ZERO_TICK_FRACTION: Real = 1e-9;
+
+/// A tick label (`span`: the axis's length, in drawn units).
+fn tick(v: Real, log: bool, span: Real) -> String {
+    if !log && v.abs() <= ZERO_TICK_FRACTION * span {
+        return "0".into();
+    }
     if log {
         let power = 10f64.powf(v);
         if (v - v.round()).abs() < 1e-9 && !(0.0..=3.0).contains(&v.round()) {
@@ -151,6 +158,7 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
     if !y0.is_finite() {
         return Err(PlotError::Empty);
     }
+    let data_low = y0;
     let pad = |lo: &mut Real, hi: &mut Real| {
         let span = (*hi - *lo).max(if chart.log_y { 1.0 } else { 1e-12_f64.max(hi.abs() * 1e-3) });
         *lo -= span * 0.05;
@@ -200,10 +208,17 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
             .y_desc(&chart.y_label)
             .label_style(font(18))
             .axis_desc_style(font(22))
-            .x_label_formatter(&|v| tick(*v, log_x))
-            .y_label_formatter(&|v| tick(*v, log_y))
+            .x_label_formatter(&|v| tick(*v, log_x, x1 - x0))
+            .y_label_formatter(&|v| tick(*v, log_y, y1 - y0))
             .draw()
             .map_err(|e| error(&e))?;
+        // Values below 0 on a linear axis: the 0 line drawn across.
+        if !log_y && data_low < 0.0 {
+            let gray = RGBColor(90, 90, 90).stroke_width(1);
+            context
+                .draw_series([PathElement::new(vec![(x0, 0.0), (x1, 0.0)], gray)])
+                .map_err(|e| error(&e))?;
+        }
         let red = RGBColor(200, 30, 30);
         let tick_top = y0 + (y1 - y0) * TICK_HEIGHT;
         let ticks = chart.ticks.iter().filter_map(|t| axis_value(*t, log_x));

@@ -96,12 +96,20 @@ pub fn mesh_intersection(
             // Exact on the world coordinates both meshes are posed to; a
             // leaf's triangles posed once.
             let mut posed_a = [[Point::origin(); 3]; BVH_LEAF_SIZE];
+            let mut boxes_a = [(Point::origin(), Point::origin()); BVH_LEAF_SIZE];
             for (k, ta) in (na.first..na.first + na.count).enumerate() {
                 posed_a[k] = a.triangle(ta as usize).map(|p| pose_a * p);
+                boxes_a[k] = triangle_box(&posed_a[k]);
             }
             for tb in nb.first..nb.first + nb.count {
                 let moved_b = b.triangle(tb as usize).map(|p| pose_b * p);
+                let box_b = triangle_box(&moved_b);
                 for (k, ta) in (na.first..na.first + na.count).enumerate() {
+                    // Boxes of exact coordinates: apart boxes, disjoint triangles.
+                    let (low, high) = boxes_a[k];
+                    if (0..3).any(|i| high[i] < box_b.0[i] || box_b.1[i] < low[i]) {
+                        continue;
+                    }
                     let shared = triangle_intersection(&posed_a[k], &moved_b);
                     if shared != TriangleIntersection::Disjoint {
                         out.pairs.push(CrossingPair {
@@ -121,6 +129,11 @@ pub fn mesh_intersection(
             scratch.stack.extend([(i, nb.first), (i, nb.first + 1)]);
         }
     }
+}
+
+/// A triangle's axis-aligned box (its smallest and largest coordinates).
+fn triangle_box(t: &crate::math::Triangle) -> (Point, Point) {
+    (t[0].inf(&t[1]).inf(&t[2]), t[0].sup(&t[1]).sup(&t[2]))
 }
 
 /// Every meeting triangle pair by brute force (every pair, posed to the

@@ -84,8 +84,11 @@ pub fn local_depths(
     pose_b: &Pose,
     intersection: &MeshIntersection,
 ) -> Result<Vec<LocalDepth>, MeshError> {
-    a.check_closed()?;
-    b.check_closed()?;
+    for mesh in [a, b] {
+        if !mesh.is_closed() {
+            mesh.check_closed()?;
+        }
+    }
     let components = components(a, b, intersection);
     let mut scratch = PointQueryScratch::default();
     let mut depths: Vec<LocalDepth> = components
@@ -192,26 +195,24 @@ impl Patch<'_> {
             let [p, q, r] = mine.triangle(t);
             (q - p).norm().max((r - q).norm()).max((p - r).norm())
         };
-        let mut seen: HashMap<u32, bool> = HashMap::new();
+        let mut seen = vec![false; vertices.len()];
         let mut queue: Vec<u32> = Vec::new();
         for t in seeds {
             found.longest_edge = found.longest_edge.max(longest_edge(t));
             queue.extend(mine.triangles()[t]);
         }
         while let Some(v) = queue.pop() {
-            if seen.contains_key(&v) {
+            if std::mem::replace(&mut seen[v as usize], true) {
                 continue;
             }
             let at = point_signed_distance(self.other, &(to_other * vertices[v as usize]), scratch);
-            let inside = at.distance < 0.0;
-            seen.insert(v, inside);
-            if !inside {
+            if at.distance >= 0.0 {
                 continue;
             }
             let around = mine.triangles_at(v as usize);
             for &t in around {
                 found.longest_edge = found.longest_edge.max(longest_edge(t as usize));
-                queue.extend(mine.triangles()[t as usize].iter().filter(|w| !seen.contains_key(w)));
+                queue.extend(mine.triangles()[t as usize].iter().filter(|&&w| !seen[w as usize]));
             }
             if -at.distance > found.depth {
                 found.depth = -at.distance;

@@ -40,6 +40,7 @@ pub use point_query::{point_signed_distance, PointQueryScratch, PointSignedDista
 pub use primitives::{
     box_mesh, icosphere, needle, single_triangle, tetrahedron, torus, MAX_ICOSPHERE_SUBDIVISIONS,
 };
+pub(crate) use signed_distance::overlap_beyond;
 pub use signed_distance::{overlap_of, signed_distance, Overlap, SignedDistance, SignedDistanceScratch};
 pub use support::{SUPPORT_TABLE_MARGIN, SUPPORT_TABLE_MIN_VERTICES};
 pub use trimesh::{MeshError, TriMesh, CONVEX_SURFACE_TOLERANCE};

@@ -87,8 +87,25 @@ pub fn overlap_of(
     apart: MeshDistance,
     scratch: &mut SignedDistanceScratch,
 ) -> SignedDistance {
+    match overlap_beyond(a, pose_a, b, pose_b, apart.distance, scratch) {
+        Some((value, overlap)) => SignedDistance { value, overlap },
+        None => SignedDistance { value: apart.distance, overlap: Overlap::Apart(apart) },
+    }
+}
+
+/// The signed value and overlap of two meshes whose surfaces are
+/// `surface_distance` apart, or `None` when they do not overlap (the value
+/// is then that distance).
+pub(crate) fn overlap_beyond(
+    a: &TriMesh,
+    pose_a: &Pose,
+    b: &TriMesh,
+    pose_b: &Pose,
+    surface_distance: Real,
+    scratch: &mut SignedDistanceScratch,
+) -> Option<(Real, Overlap)> {
     let both_convex = a.is_convex() && b.is_convex();
-    if apart.distance > 0.0 {
+    if surface_distance > 0.0 {
         // Apart surfaces overlap only if one mesh holds the other: then a
         // vertex of it is inside the other (first inside its box, which
         // rules most pairs out at the cost of a transform).
@@ -99,7 +116,7 @@ pub fn overlap_of(
             let (low, high) = outer.bounds();
             let in_box = (0..3).all(|k| low[k] <= vertex[k] && vertex[k] <= high[k]);
             if !in_box
-                || outer.check_closed().is_err()
+                || !outer.is_closed()
                 || point_signed_distance(outer, &vertex, &mut scratch.points).distance >= 0.0
             {
                 continue;
@@ -108,31 +125,37 @@ pub fn overlap_of(
                 if let Ok(Some(depth)) =
                     convex_penetration_with(a, pose_a, b, pose_b, &mut scratch.penetration)
                 {
-                    return SignedDistance { value: -depth.depth, overlap: Overlap::Convex(depth) };
+                    return Some((negated(depth.depth), Overlap::Convex(depth)));
                 }
             }
             let (lower, upper) = whole_patch_depth(inner, inner_pose, outer, outer_pose, &mut scratch.points);
-            return SignedDistance { value: -lower, overlap: Overlap::Inside { which, lower, upper } };
+            return Some((negated(lower), Overlap::Inside { which, lower, upper }));
         }
-        return SignedDistance { value: apart.distance, overlap: Overlap::Apart(apart) };
+        return None;
     }
     if both_convex {
         return match convex_penetration_with(a, pose_a, b, pose_b, &mut scratch.penetration) {
-            Ok(Some(depth)) => SignedDistance { value: -depth.depth, overlap: Overlap::Convex(depth) },
-            _ => SignedDistance { value: 0.0, overlap: Overlap::Apart(apart) },
+            Ok(Some(depth)) if depth.depth > 0.0 => Some((negated(depth.depth), Overlap::Convex(depth))),
+            _ => None,
         };
     }
     let mut curve = MeshIntersection::default();
     mesh_intersection(a, pose_a, b, pose_b, &mut curve, &mut scratch.intersection);
     if curve.length() == 0.0 {
         // Touching without crossing.
-        return SignedDistance { value: 0.0, overlap: Overlap::Apart(apart) };
+        return None;
     }
-    match local_depths(a, pose_a, b, pose_b, &curve) {
-        Ok(depths) => {
-            let deepest = depths.first().map_or(0.0, |d| d.lower);
-            SignedDistance { value: -deepest, overlap: Overlap::Local(depths) }
-        }
-        Err(_) => SignedDistance { value: 0.0, overlap: Overlap::OpenCrossing(curve) },
+    Some(match local_depths(a, pose_a, b, pose_b, &curve) {
+        Ok(depths) => (negated(depths.first().map_or(0.0, |d| d.lower)), Overlap::Local(depths)),
+        Err(_) => (0.0, Overlap::OpenCrossing(curve)),
+    })
+}
+
+/// Minus a depth, 0 written as 0 (not −0).
+fn negated(depth: Real) -> Real {
+    if depth == 0.0 {
+        0.0
+    } else {
+        -depth
     }
 }

@@ -70,6 +70,8 @@ pub struct TriMesh {
     /// `1` when the triangles face outward (positive enclosed volume),
     /// `-1` when the mesh is inside out; decided at the first call.
     orientation: std::sync::OnceLock<Real>,
+    /// Whether [`TriMesh::check_closed`] passes, decided at the first call.
+    closed: std::sync::OnceLock<bool>,
 }
 
 /// How far a vertex may lie outside a triangle's plane, as a fraction of
@@ -141,6 +143,7 @@ impl TriMesh {
             convex: std::sync::OnceLock::new(),
             convex_features: std::sync::OnceLock::new(),
             orientation: std::sync::OnceLock::new(),
+            closed: std::sync::OnceLock::new(),
         })
     }
 
@@ -220,6 +223,12 @@ impl TriMesh {
         self.convex_features.get_or_init(|| ConvexFeatures::of(self))
     }
 
+    /// Whether the surface is closed and consistently oriented
+    /// ([`TriMesh::check_closed`] passes), decided once.
+    pub fn is_closed(&self) -> bool {
+        *self.closed.get_or_init(|| self.check_closed().is_ok())
+    }
+
     /// `1` when the triangles face outward (the signed volume they enclose
     /// is not negative), `-1` when the mesh is inside out.
     pub(crate) fn orientation(&self) -> Real {
@@ -244,7 +253,7 @@ impl TriMesh {
     /// a triangle whose normal rounds to zero is not convex. Decided by the
     /// farthest vertex along each triangle's normal and against it.
     pub fn convex_within(&self, fraction: Real) -> bool {
-        if self.check_closed().is_err() {
+        if !self.is_closed() {
             return false;
         }
         let slack = fraction * self.radius;

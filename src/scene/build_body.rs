@@ -17,6 +17,11 @@ use crate::mesh::{self, TriMesh, MAX_ICOSPHERE_SUBDIVISIONS};
 use crate::motion::classify::{needs_integration, spin_precesses, Influences};
 use crate::motion::{Dynamics, Spring, MAX_TURN_PER_STEP};
 
+/// The most segments a `Torus` mesh takes along either direction
+/// (4096 × 4096 × 2 triangles, about 33 million, is already too many to
+/// run). `4096`.
+pub const MAX_TORUS_SEGMENTS: u32 = 4096;
+
 impl Builder<'_> {
     /// `components` (finite, any size) divided by their largest magnitude,
     /// or `None` if all are zero.
@@ -341,6 +346,25 @@ impl Builder<'_> {
             ),
             MeshSettings::Needle { length, width } => {
                 mesh::needle(self.positive(&sub("length"), *length)?, self.positive(&sub("width"), *width)?)
+            }
+            MeshSettings::Torus { major, minor, around, across } => {
+                let major = self.positive(&sub("major"), *major)?;
+                let minor = self.positive(&sub("minor"), *minor)?;
+                if minor >= major {
+                    return self.invalid(
+                        sub("minor"),
+                        format!("the tube's radius must be below `major` ({major}), found {minor}"),
+                    );
+                }
+                for (name, segments) in [("around", *around), ("across", *across)] {
+                    if !(3..=MAX_TORUS_SEGMENTS).contains(&segments) {
+                        return self.invalid(
+                            sub(name),
+                            format!("3 to {MAX_TORUS_SEGMENTS} segments, found {segments}"),
+                        );
+                    }
+                }
+                mesh::torus(major, minor, *around, *across)
             }
             MeshSettings::Obj { path } => {
                 return mesh::load_obj(&base.join(path)).or_else(|e| self.invalid(field, e.to_string()));

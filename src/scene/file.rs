@@ -9,6 +9,14 @@ use crate::motion::{Gyroscopic, Integrator};
 /// Three numbers `(x, y, z)`.
 pub type Triple = [f64; 3];
 
+fn default_torus_around() -> u32 {
+    48
+}
+
+fn default_torus_across() -> u32 {
+    24
+}
+
 /// A scene file: `Scene(name: ..., dt: ..., bodies: [...], ...)`.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Scene")]
@@ -401,6 +409,19 @@ pub enum MeshSettings {
         length: f64,
         /// Height of the apex over the base.
         width: f64,
+    },
+    /// A torus about the body's z axis (not convex: its hole is outside it).
+    Torus {
+        /// The radius of the tube's centre circle.
+        major: f64,
+        /// The tube's radius (below `major`).
+        minor: f64,
+        /// Segments along the centre circle (3 to 4096). Default: 48.
+        #[serde(default = "default_torus_around")]
+        around: u32,
+        /// Segments around the tube (3 to 4096). Default: 24.
+        #[serde(default = "default_torus_across")]
+        across: u32,
     },
     /// An OBJ file, its path relative to the scene file.
     Obj {

@@ -40,6 +40,7 @@ use std::sync::Arc;
 use nalgebra::Matrix3;
 
 pub use build::{MAX_MAGNITUDE, MAX_NAME_BYTES, MAX_SOLVER_ITERATIONS, MIN_MAGNITUDE};
+pub use build_body::MAX_TORUS_SEGMENTS;
 pub use error::SceneError;
 pub use file::OnContact;
 pub use file::PlotSettings;

@@ -8,5 +8,6 @@ mod ball_rest;
 mod bounce;
 mod near_misses;
 mod parallel_and_broad_phase;
+mod past_contact;
 mod scene_analytic;
 mod trace_certificate;
