@@ -13,7 +13,9 @@
 //! 3. looking down n onto the closest points, zoomed alike.
 //!
 //! Body a is drawn in blue, body b in orange; the two closest triangles
-//! are filled, the closest points are dots and n a red arrow. The caption
+//! are filled, the closest points are dots and n a red arrow; where the
+//! bodies overlap, the curve where their surfaces cross is drawn in green
+//! (its length in the legend). The caption
 //! gives the time, the bodies, their triangles and features, the distance
 //! and the contact distance (a near miss: the certified lower bound).
 
@@ -24,7 +26,10 @@ use plotters::prelude::*;
 use crate::plot::{draw_png, PlotError, FAMILY};
 use crate::text;
 use nearmiss::math::{Point, Pose, Real, Vector};
-use nearmiss::mesh::{MeshDistance, TriMesh};
+use nearmiss::mesh::{
+    mesh_intersection, signed_distance, MeshDistance, MeshIntersection, MeshIntersectionScratch,
+    SignedDistanceScratch, TriMesh,
+};
 use nearmiss::near_miss::NearMiss;
 use nearmiss::stepper::Contact;
 
@@ -51,6 +56,8 @@ pub const ZOOM: Real = 10.0;
 const BLUE_BODY: RGBColor = RGBColor(31, 119, 180);
 const ORANGE_BODY: RGBColor = RGBColor(230, 120, 20);
 const NORMAL: RGBColor = RGBColor(200, 30, 30);
+/// The curve where two overlapping bodies' surfaces cross.
+const CROSSING: RGBColor = RGBColor(20, 150, 60);
 
 /// One orthographic view: the plane spanned by `right` and `up` (unit,
 /// orthogonal) through `center` (the contact), showing `half_width`
@@ -196,14 +203,37 @@ pub fn draw_encounter(
     let triangle_b = mesh_b.triangle(closest.triangle_b).map(|p| pose_b * p);
     let reach = |t: &[Point; 3]| t.iter().map(|p| (p - center).norm()).fold(0.0, Real::max);
     let small_triangle = reach(&triangle_a).min(reach(&triangle_b)) * 1.25;
-    let zoom = match encounter.zoom {
+    // Where the surfaces cross (bodies that overlap), drawn over both; the
+    // zoomed views then hold the whole curve.
+    let mut crossing = MeshIntersection::default();
+    mesh_intersection(
+        mesh_a,
+        &pose_a,
+        mesh_b,
+        &pose_b,
+        &mut crossing,
+        &mut MeshIntersectionScratch::default(),
+    );
+    let curve: Vec<[Point; 2]> = crossing.segments().copied().collect();
+    // Zoomed views of an overlap are centred on the curve and hold it whole.
+    let curve_center = (!curve.is_empty()).then(|| {
+        Point::from(curve.iter().flatten().map(|p| p.coords).sum::<Vector>() / (2 * curve.len()) as Real)
+    });
+    let zoom_center = curve_center.unwrap_or(center);
+    let curve_reach = curve.iter().flatten().map(|p| (p - zoom_center).norm()).fold(0.0, Real::max) * 1.1;
+    let overlap_depth = (!curve.is_empty())
+        .then(|| {
+            signed_distance(mesh_a, &pose_a, mesh_b, &pose_b, &mut SignedDistanceScratch::default()).value
+        })
+        .filter(|v| *v < 0.0);
+    let zoom = curve_reach.min(whole).max(match encounter.zoom {
         // On the gap: both closest points, the gap a quarter of the view.
         Zoom::Gap(distance) => (4.0 * distance).min(whole),
         Zoom::Contact(contact_distance) => (spread(&right).max(spread(&normal)) / ZOOM)
             .max(small_triangle)
             .min(whole)
             .max(4.0 * contact_distance),
-    };
+    });
     let views = [
         View {
             title: "side view (normal up)".into(),
@@ -220,7 +250,7 @@ pub fn draw_encounter(
             right,
             up: normal,
             half_width: zoom,
-            offset: (0.0, 0.0),
+            offset: ((zoom_center - center).dot(&right), (zoom_center - center).dot(&normal)),
             up_name: "along the normal",
         },
         View {
@@ -229,7 +259,7 @@ pub fn draw_encounter(
             right,
             up: depth,
             half_width: zoom,
-            offset: (0.0, 0.0),
+            offset: ((zoom_center - center).dot(&right), (zoom_center - center).dot(&depth)),
             up_name: "across the normal",
         },
     ];
@@ -243,17 +273,29 @@ pub fn draw_encounter(
         names.1,
         closest.triangle_b,
         closest.feature_b,
-        encounter.detail
+        match overlap_depth {
+            Some(v) => format!("{}; overlapping, depth {}", encounter.detail, text::approx(-v, 3)),
+            None => encounter.detail.clone(),
+        }
     );
 
     draw_png(path, |root| {
         let error = |e: &dyn std::fmt::Display| e.to_string();
         let (top, rest) = root.split_vertically(70);
         top.draw(&Text::new(caption, (20, 12), (FAMILY, 18).into_font())).map_err(|e| error(&e))?;
-        let legend = format!(
+        let mut legend = format!(
             "blue: {}   orange: {}   red: {}, from {} towards {}   grey: the world's axes   lengths in scene units, from the midpoint",
             names.0, names.1, encounter.arrow, names.0, names.1
         );
+        if !curve.is_empty() {
+            legend = format!(
+                "blue: {}   orange: {}   green: where their surfaces cross ({} long)   red: {}   grey: the world's axes",
+                names.0,
+                names.1,
+                text::approx(crossing.length(), 3),
+                encounter.arrow
+            );
+        }
         top.draw(&Text::new(legend, (20, 42), (FAMILY, 16).into_font())).map_err(|e| error(&e))?;
         let panels = rest.split_evenly((1, 3));
         for (view, panel) in views.iter().zip(panels.iter()) {
@@ -297,6 +339,11 @@ pub fn draw_encounter(
                     .draw_series([Polygon::new(t.to_vec(), color.mix(0.45).filled())])
                     .map_err(|e| error(&e))?;
             }
+            chart
+                .draw_series(curve.iter().map(|[p, q]| {
+                    PathElement::new(vec![view.project(p), view.project(q)], CROSSING.stroke_width(3))
+                }))
+                .map_err(|e| error(&e))?;
             let (a, b) = (view.project(&pa), view.project(&pb));
             chart
                 .draw_series([Circle::new(a, 5, BLUE_BODY.filled()), Circle::new(b, 5, ORANGE_BODY.filled())])

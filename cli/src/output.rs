@@ -564,16 +564,20 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
     let samples: Vec<Vec<(Real, Real)>> = pairs
         .iter()
         .map(|&pair| {
-            let mut points: Vec<(Real, Real)> = result
-                .trace
+            let sampled: Vec<(Real, Real)> =
+                result.trace.iter().filter(|r| r.pair == pair).map(|r| (r.time, r.distance)).collect();
+            // A contact at a sample's time is that sample (which, where the
+            // meshes overlap, is signed: the contact's surface distance, 0,
+            // would draw a spike).
+            let mut points: Vec<(Real, Real)> = sampled
                 .iter()
-                .filter(|r| r.pair == pair)
-                .map(|r| (r.time, r.distance))
+                .copied()
                 .chain(
                     result
                         .contacts
                         .iter()
                         .filter(|c| contact_pair(c) == (pair.0.min(pair.1), pair.0.max(pair.1)))
+                        .filter(|c| !sampled.iter().any(|s| s.0 == c.time))
                         .map(|c| (c.time, c.closest.distance)),
                 )
                 .collect();

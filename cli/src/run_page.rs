@@ -55,6 +55,37 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
             verdict.obtained
         );
     }
+    let overlaps = scene.initial_overlaps();
+    if !overlaps.is_empty() {
+        let _ = writeln!(
+            page,
+            "## Overlapping at the start\n\nBodies whose solids overlap at t = 0: the depth is the shortest move that separates them (both meshes convex); the curve is where their surfaces cross (green in the contact pictures).\n"
+        );
+        let _ = writeln!(page, "| bodies | depth | moving the second body along | curve | crossing triangle pairs |\n|---|---|---|---|---|");
+        for overlap in &overlaps {
+            let (depth, along) = match &overlap.depth {
+                Some(d) => (
+                    text::approx(d.depth, 6),
+                    format!(
+                        "({}, {}, {})",
+                        text::approx(d.direction.x, 3),
+                        text::approx(d.direction.y, 3),
+                        text::approx(d.direction.z, 3)
+                    ),
+                ),
+                None => ("— (a mesh is not convex)".to_string(), "—".to_string()),
+            };
+            let _ = writeln!(
+                page,
+                "| {} / {} | {depth} | {along} | {} long | {} |",
+                name(overlap.body_a),
+                name(overlap.body_b),
+                text::approx(overlap.intersection.length(), 6),
+                overlap.intersection.pairs.len()
+            );
+        }
+        page.push('\n');
+    }
     if !result.contacts.is_empty() {
         let _ = writeln!(page, "## Contacts\n");
         if result.contacts.len() > LISTED_CONTACTS {

@@ -50,9 +50,15 @@ fn every_picture_of_a_run_is_whole() {
     let out = std::env::temp_dir().join(format!("nearmiss-pictures-{}", std::process::id()));
     // Linear and log distance axes, many and few contacts, contact pictures
     // of boxes, balls, triangles and a turning blade, a near miss.
-    for name in
-        ["ball_between_walls", "falling_box", "ball_rest", "two_triangles", "spinning_blade", "bar_clearance"]
-    {
+    for name in [
+        "ball_between_walls",
+        "falling_box",
+        "ball_rest",
+        "two_triangles",
+        "spinning_blade",
+        "bar_clearance",
+        "ring_through_slab",
+    ] {
         let scene = scene(name);
         let result = nearmiss::stepper::run(&scene);
         let written = nearmiss_cli::output::write_outputs(&out, &result, &scene).unwrap();
@@ -65,6 +71,36 @@ fn every_picture_of_a_run_is_whole() {
             check(picture);
         }
     }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// A ball starting 0.15 deep in a floor and moving up: its contact
+/// picture draws the curve where the surfaces cross (green), the page
+/// lists the overlap with its depth, and the chart goes below 0.
+#[test]
+fn an_overlap_is_pictured_with_its_curve_and_listed_on_the_page() {
+    let out = std::env::temp_dir().join(format!("nearmiss-overlap-picture-{}", std::process::id()));
+    let scene = Scene::from_ron_str(
+        r#"Scene(name: "overlap", dt: 0.01, duration: 0.5, on_contact: Record, trace: (pairs: All), plot: (),
+        bodies: [
+            (name: "floor", mesh: Box(half_extents: (1.0, 1.0, 0.5)), position: (0.0, 0.0, -0.5), fixed: true),
+            (name: "ball", mesh: Icosphere(radius: 0.5, subdivisions: 1), position: (0.3, 0.2, 0.35), velocity: (0.0, 0.0, 1.0)),
+        ])"#,
+    )
+    .unwrap();
+    let result = nearmiss::stepper::run(&scene);
+    // The icosphere has a vertex at its bottom: 0.15 deep exactly.
+    assert!((result.trace[0].distance + 0.15).abs() < 1e-12, "{:?}", result.trace[0]);
+    let written = nearmiss_cli::output::write_outputs(&out, &result, &scene).unwrap();
+    let picture = written.iter().find(|p| p.ends_with("contact_1.png")).expect("a contact picture");
+    check(picture);
+    let (_, _, rgb) = pixels(picture);
+    let green = rgb.iter().filter(|p| **p == [20, 150, 60]).count();
+    assert!(green > 200, "{green} pixels of the crossing curve's green");
+    check(written.iter().find(|p| p.ends_with("distance.png")).expect("a chart"));
+    let page = std::fs::read_to_string(written.iter().find(|p| p.ends_with("report.md")).unwrap()).unwrap();
+    assert!(page.contains("## Overlapping at the start"), "{page}");
+    assert!(page.contains("| floor / ball | 0.15 | (0, 0, 1) |"), "{page}");
     let _ = std::fs::remove_dir_all(&out);
 }
 
