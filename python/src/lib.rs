@@ -17,7 +17,10 @@ use nearmiss::ccd::{
 use nearmiss::kernels::batch::TrianglesSoa;
 use nearmiss::kernels::{self, Feature, PointEdgeFormula};
 use nearmiss::math::{Point, Pose, Triangle, Vector};
-use nearmiss::mesh::{mesh_distance, DistanceKernel, DistanceSearch, MeshDistance, TriMesh};
+use nearmiss::mesh::{
+    mesh_distance, mesh_intersection, signed_distance, DistanceKernel, DistanceSearch, MeshDistance,
+    MeshIntersection, Overlap, TriMesh,
+};
 use nearmiss::motion::StepMotion;
 use nearmiss::scene::Scene;
 use numpy::ndarray::Array2;
@@ -780,6 +783,99 @@ fn run_scene_json<'py>(
     ))
 }
 
+/// What two triangles share: `(kind, points)`, kind `"disjoint"`,
+/// `"point"`, `"segment"` or `"polygon"`, the points (k, 3) spanning it.
+#[pyfunction]
+fn triangle_intersection<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArrayDyn<'py, f64>,
+    b: PyReadonlyArrayDyn<'py, f64>,
+) -> PyResult<(&'static str, Bound<'py, PyArray2<f64>>)> {
+    let (ta, tb) = (triangle("a", &a)?, triangle("b", &b)?);
+    let shared = kernels::triangle_intersection(&ta, &tb);
+    let kind = match shared {
+        kernels::TriangleIntersection::Disjoint => "disjoint",
+        kernels::TriangleIntersection::Point(_) => "point",
+        kernels::TriangleIntersection::Segment(_) => "segment",
+        kernels::TriangleIntersection::Polygon(_) => "polygon",
+    };
+    Ok((kind, rows(py, shared.points().to_vec())))
+}
+
+/// The shortest translation that separates two triangles: `(depth,
+/// direction)`, or `None` when they do not meet.
+#[pyfunction]
+fn triangle_penetration<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArrayDyn<'py, f64>,
+    b: PyReadonlyArrayDyn<'py, f64>,
+) -> PyResult<Option<(f64, Bound<'py, PyArray1<f64>>)>> {
+    let (ta, tb) = (triangle("a", &a)?, triangle("b", &b)?);
+    Ok(kernels::triangle_penetration(&ta, &tb).map(|p| (p.depth, array3(py, &Point::from(p.direction)))))
+}
+
+/// Every triangle pair of two posed meshes that meets, without the GIL:
+/// `(pairs (k, 2), segments (m, 6): each segment's two ends, length)`.
+#[allow(clippy::type_complexity)]
+#[pyfunction]
+fn mesh_intersection_between<'py>(
+    py: Python<'py>,
+    mesh_a: &Mesh,
+    pose_a: Arrays<'py>,
+    mesh_b: &Mesh,
+    pose_b: Arrays<'py>,
+) -> PyResult<(Bound<'py, PyArray2<u64>>, Bound<'py, PyArray2<f64>>, f64)> {
+    let pa = pose("pose_a", &pose_a.0, &pose_a.1)?;
+    let pb = pose("pose_b", &pose_b.0, &pose_b.1)?;
+    let (a, b) = (mesh_a.inner.clone(), mesh_b.inner.clone());
+    let found = py.detach(|| {
+        let mut found = MeshIntersection::default();
+        mesh_intersection(&a, &pa, &b, &pb, &mut found, &mut Default::default());
+        found
+    });
+    let pairs: Vec<u64> =
+        found.pairs.iter().flat_map(|p| [p.triangle_a as u64, p.triangle_b as u64]).collect();
+    let segments: Vec<f64> = found.segments().flat_map(|[p, q]| [p.x, p.y, p.z, q.x, q.y, q.z]).collect();
+    let (k, m) = (found.pairs.len(), segments.len() / 6);
+    Ok((
+        Array2::from_shape_vec((k, 2), pairs).expect("k rows of 2").into_pyarray(py),
+        Array2::from_shape_vec((m, 6), segments).expect("m rows of 6").into_pyarray(py),
+        found.length(),
+    ))
+}
+
+/// The signed distance of two posed meshes, without the GIL: `(value,
+/// kind, lower, upper, direction)`; kind `"apart"`, `"convex"`,
+/// `"local"`, `"inside"` or `"open_crossing"`; `lower`/`upper` the depth's
+/// bracket (None apart or open), `direction` the separating move's (convex
+/// only).
+#[allow(clippy::type_complexity)]
+#[pyfunction]
+fn signed_distance_between<'py>(
+    py: Python<'py>,
+    mesh_a: &Mesh,
+    pose_a: Arrays<'py>,
+    mesh_b: &Mesh,
+    pose_b: Arrays<'py>,
+) -> PyResult<(f64, &'static str, Option<f64>, Option<f64>, Option<Bound<'py, PyArray1<f64>>>)> {
+    let pa = pose("pose_a", &pose_a.0, &pose_a.1)?;
+    let pb = pose("pose_b", &pose_b.0, &pose_b.1)?;
+    let (a, b) = (mesh_a.inner.clone(), mesh_b.inner.clone());
+    let found = py.detach(|| signed_distance(&a, &pa, &b, &pb, &mut Default::default()));
+    Ok(match &found.overlap {
+        Overlap::Apart(_) => (found.value, "apart", None, None, None),
+        Overlap::Convex(d) => {
+            (found.value, "convex", Some(d.depth), Some(d.depth), Some(array3(py, &Point::from(d.direction))))
+        }
+        Overlap::Local(depths) => {
+            let deepest = depths.first();
+            (found.value, "local", deepest.map(|d| d.lower), deepest.map(|d| d.upper), None)
+        }
+        Overlap::Inside { lower, upper, .. } => (found.value, "inside", Some(*lower), Some(*upper), None),
+        Overlap::OpenCrossing(_) => (found.value, "open_crossing", None, None, None),
+    })
+}
+
 /// The extension module.
 #[pymodule]
 fn _nearmiss(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -794,6 +890,10 @@ fn _nearmiss(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mesh_distance_between, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_time_of_impact, m)?)?;
     m.add_function(wrap_pyfunction!(closest_approach_between, m)?)?;
+    m.add_function(wrap_pyfunction!(triangle_intersection, m)?)?;
+    m.add_function(wrap_pyfunction!(triangle_penetration, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_intersection_between, m)?)?;
+    m.add_function(wrap_pyfunction!(signed_distance_between, m)?)?;
     m.add_function(wrap_pyfunction!(load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(run_scene_json, m)?)?;
     Ok(())

@@ -34,22 +34,30 @@ __all__ = [
     "ClosestApproach",
     "Mesh",
     "MeshDistance",
+    "MeshIntersection",
+    "SignedDistance",
     "SceneError",
     "SceneInfo",
     "TimeOfImpact",
     "TriangleDistance",
     "TriangleClosestPoints",
+    "TriangleIntersection",
+    "TrianglePenetration",
     "closest_approach",
     "dyop_distance",
     "load_scene",
     "mesh_distance",
+    "mesh_intersection",
     "mesh_time_of_impact",
     "point_segment_distance",
     "point_segment_distances",
     "run_scene",
+    "signed_distance",
     "triangle_closest_points",
     "triangle_distance",
     "triangle_distances",
+    "triangle_intersection",
+    "triangle_penetration",
 ]
 
 #: The names of the feature codes of :func:`triangle_closest_points`:
@@ -106,6 +114,57 @@ class MeshDistance(NamedTuple):
     triangle_b: int
     feature_a: str
     feature_b: str
+
+
+class TriangleIntersection(NamedTuple):
+    """What two triangles share (:func:`triangle_intersection`)."""
+
+    #: ``"disjoint"``, ``"point"``, ``"segment"`` or ``"polygon"`` (coplanar
+    #: triangles overlapping with area), decided with exact predicates.
+    kind: str
+    #: The points spanning it, (k, 3): none, the point, the segment's two
+    #: ends, or the polygon's vertices in order.
+    points: np.ndarray
+
+
+class TrianglePenetration(NamedTuple):
+    """The shortest translation that separates two triangles."""
+
+    #: Its length (0 when they only touch, or are coplanar).
+    depth: float
+    #: Its unit direction: the second triangle moved by ``depth`` along it
+    #: touches the first.
+    direction: np.ndarray
+
+
+class MeshIntersection(NamedTuple):
+    """Where two posed meshes' surfaces meet (:func:`mesh_intersection`)."""
+
+    #: The triangle pairs that meet, (k, 2) face indices (first mesh, second).
+    pairs: np.ndarray
+    #: The intersection curve's segments, (m, 2, 3), world frame.
+    segments: np.ndarray
+    #: The curve's length.
+    length: float
+
+
+class SignedDistance(NamedTuple):
+    """How two posed meshes stand (:func:`signed_distance`)."""
+
+    #: The distance apart (0 touching); minus the depth where they overlap.
+    value: float
+    #: ``"apart"``; ``"convex"`` (two convex solids: the exact shortest
+    #: separating move); ``"local"`` (closed meshes crossing: the deepest
+    #: local depth at a component of their intersection curve); ``"inside"``
+    #: (a closed mesh wholly inside another); ``"open_crossing"`` (an open
+    #: mesh crosses: no inside, no depth, ``value`` 0).
+    kind: str
+    #: The depth is at least this (None apart or open).
+    lower: Optional[float]
+    #: The depth is at most this (None apart or open).
+    upper: Optional[float]
+    #: ``"convex"``: the direction to move the second mesh by the depth.
+    direction: Optional[np.ndarray]
 
 
 class TimeOfImpact(NamedTuple):
@@ -253,6 +312,53 @@ def mesh_distance(mesh_a: Mesh, pose_a: Pose, mesh_b: Mesh, pose_b: Pose) -> Mes
         _mesh("mesh_a", mesh_a), _pose("pose_a", pose_a), _mesh("mesh_b", mesh_b), _pose("pose_b", pose_b)
     )
     return MeshDistance(*raw)
+
+
+def triangle_intersection(a: ArrayLike, b: ArrayLike) -> TriangleIntersection:
+    """What triangles ``a`` and ``b`` (each (3, 3)) share.
+
+    A segment of the line where their planes cross, a point, or (coplanar)
+    the polygon they overlap in; every configuration decided with exact
+    predicates, only the points rounded.
+    """
+    kind, points = _nearmiss.triangle_intersection(_floats("a", a), _floats("b", b))
+    return TriangleIntersection(kind, points)
+
+
+def triangle_penetration(a: ArrayLike, b: ArrayLike) -> Optional[TrianglePenetration]:
+    """The shortest translation that separates triangles ``a`` and ``b``.
+
+    None when they do not meet. Exact to the rounding of dot products: the
+    least reach of their Minkowski difference over its candidate facets.
+    """
+    found = _nearmiss.triangle_penetration(_floats("a", a), _floats("b", b))
+    return None if found is None else TrianglePenetration(*found)
+
+
+def mesh_intersection(mesh_a: Mesh, pose_a: Pose, mesh_b: Mesh, pose_b: Pose) -> MeshIntersection:
+    """Every triangle pair of two posed meshes that meets, and the curve.
+
+    Runs without the GIL.
+    """
+    pairs, segments, length = _nearmiss.mesh_intersection_between(
+        _mesh("mesh_a", mesh_a), _pose("pose_a", pose_a), _mesh("mesh_b", mesh_b), _pose("pose_b", pose_b)
+    )
+    return MeshIntersection(pairs, segments.reshape(-1, 2, 3), length)
+
+
+def signed_distance(mesh_a: Mesh, pose_a: Pose, mesh_b: Mesh, pose_b: Pose) -> SignedDistance:
+    """The distance between two posed meshes, or minus how deep they overlap.
+
+    Convex meshes get the exact penetration depth (the shortest move that
+    separates the solids); closed meshes that are not both convex the local
+    depth of the deepest place where their surfaces cross, as a certified
+    bracket ``[lower, upper]`` (``value`` is minus ``lower``). Runs without
+    the GIL.
+    """
+    raw = _nearmiss.signed_distance_between(
+        _mesh("mesh_a", mesh_a), _pose("pose_a", pose_a), _mesh("mesh_b", mesh_b), _pose("pose_b", pose_b)
+    )
+    return SignedDistance(*raw)
 
 
 def mesh_time_of_impact(
