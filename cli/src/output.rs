@@ -79,6 +79,10 @@ pub struct OverlapJson<'a> {
     /// moved by `depth` along it touches the first), `point_a`, `point_b`.
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     pub depth: Option<DepthJson>,
+    /// Closed meshes not both convex: the deepest local depth where their
+    /// surfaces cross, `[lower, upper]` (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub local_depth: Option<[Real; 2]>,
     /// Triangle pairs whose surfaces meet.
     pub crossing_pairs: usize,
     /// The intersection curve's length.
@@ -110,6 +114,7 @@ impl<'a> OverlapJson<'a> {
                 point_a: array(&d.point_a.coords),
                 point_b: array(&d.point_b.coords),
             }),
+            local_depth: overlap.local_depth.map(|(lower, upper)| [lower, upper]),
             crossing_pairs: overlap.intersection.pairs.len(),
             curve_length: overlap.intersection.length(),
         }

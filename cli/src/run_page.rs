@@ -59,7 +59,7 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
     if !overlaps.is_empty() {
         let _ = writeln!(
             page,
-            "## Overlapping at the start\n\nBodies whose solids overlap at t = 0: the depth is the shortest move that separates them (both meshes convex); the curve is where their surfaces cross (green in the contact pictures).\n"
+            "## Overlapping at the start\n\nBodies whose solids overlap at t = 0: the depth is the shortest move that separates them (both meshes convex), or the deepest local depth where their surfaces cross (closed meshes, not both convex); the curve is where their surfaces cross (green in the contact pictures).\n"
         );
         let _ = writeln!(page, "| bodies | depth | moving the second body along | curve | crossing triangle pairs |\n|---|---|---|---|---|");
         for overlap in &overlaps {
@@ -73,7 +73,17 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
                         text::approx(d.direction.z, 3)
                     ),
                 ),
-                None => ("— (a mesh is not convex)".to_string(), "—".to_string()),
+                None => match overlap.local_depth {
+                    Some((lower, upper)) => (
+                        format!(
+                            "{} to {} (local: a mesh is not convex)",
+                            text::approx(lower, 6),
+                            text::approx(upper, 6)
+                        ),
+                        "—".to_string(),
+                    ),
+                    None => ("— (a mesh is not closed)".to_string(), "—".to_string()),
+                },
             };
             let _ = writeln!(
                 page,

@@ -14,7 +14,8 @@
 use super::{Body, BodyMotion};
 use crate::math::{Point, Real};
 use crate::mesh::{
-    convex_penetration, mesh_intersection, MeshIntersection, MeshIntersectionScratch, MeshPenetration,
+    convex_penetration, local_depths, mesh_intersection, MeshIntersection, MeshIntersectionScratch,
+    MeshPenetration,
 };
 
 /// Two bodies that overlap at time 0.
@@ -27,6 +28,10 @@ pub struct InitialOverlap {
     /// The penetration depth of the two solids (both meshes convex);
     /// `None` for pairs with a non-convex mesh.
     pub depth: Option<MeshPenetration>,
+    /// For closed meshes that are not both convex: the deepest local depth
+    /// at a component of the intersection curve, as `(lower, upper)` (see
+    /// [`crate::mesh::local_depths`]); `None` otherwise.
+    pub local_depth: Option<(Real, Real)>,
     /// Where the surfaces cross (empty for a convex mesh wholly inside
     /// another).
     pub intersection: MeshIntersection,
@@ -47,8 +52,8 @@ impl InitialOverlap {
                 short(self.intersection.length())
             )
         };
-        match &self.depth {
-            Some(depth) => format!(
+        match (&self.depth, self.local_depth) {
+            (Some(depth), _) => format!(
                 "{names} overlap by {} (the shortest move that separates them: \"{}\" by {} along ({}, {}, {})); {curve}",
                 short(depth.depth),
                 bodies[self.body_b].name,
@@ -57,7 +62,12 @@ impl InitialOverlap {
                 short(depth.direction.y),
                 short(depth.direction.z)
             ),
-            None => format!("{names} overlap (no depth: a mesh is not convex); {curve}"),
+            (None, Some((lower, upper))) => format!(
+                "{names} overlap by at least {} and at most {} (the deepest place where their surfaces cross, a local depth: a mesh is not convex); {curve}",
+                short(lower),
+                short(upper)
+            ),
+            (None, None) => format!("{names} overlap (no depth: a mesh is not closed); {curve}"),
         }
     }
 }
@@ -96,7 +106,20 @@ pub fn initial_overlaps(bodies: &[Body]) -> Vec<InitialOverlap> {
             // crossing curve) is contact, not overlap.
             let deep = depth.is_some_and(|d| d.depth > 0.0);
             let crossing = depth.is_none() && intersection.length() > 0.0;
-            (deep || crossing).then_some(InitialOverlap { body_a: i, body_b: j, depth, intersection })
+            let local_depth = if crossing {
+                local_depths(&a.mesh, &a.pose, &b.mesh, &b.pose, &intersection)
+                    .ok()
+                    .and_then(|depths| depths.first().map(|d| (d.lower, d.upper)))
+            } else {
+                None
+            };
+            (deep || crossing).then_some(InitialOverlap {
+                body_a: i,
+                body_b: j,
+                depth,
+                local_depth,
+                intersection,
+            })
         })
         .collect()
 }

@@ -211,6 +211,23 @@ fn meshes_overlapping_at_the_start_are_said_to_with_their_depth() {
         "{stderr}"
     );
     assert!(!dir.join("out/refused").exists());
+    // A ring (not convex) dipped 0.1 into a slab: its local depth, a
+    // bracket (the slab's big triangles bound their side by the ring's
+    // half width, 0.25).
+    std::fs::write(
+        dir.join("ring.ron"),
+        r#"Scene(name: "ring", dt: 0.01, duration: 0.1, bodies: [
+            (name: "slab", mesh: Box(half_extents: (2.0, 2.0, 0.25)), fixed: true),
+            (name: "ring", mesh: Torus(major: 1.0, minor: 0.25, around: 96, across: 48), position: (0.0, 0.0, 0.4), velocity: (0.0, 0.0, 1.0)),
+        ])"#,
+    )
+    .unwrap();
+    let output = nearmiss(&["run", "ring.ron", "-o", "out"], &dir);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("\"slab\" and \"ring\" overlap by at least 0.1 and at most 0.25 (the deepest place where their surfaces cross, a local depth: a mesh is not convex)"),
+        "{stderr}"
+    );
     // Resting on the floor (touching, not overlapping): said as touching.
     std::fs::write(dir.join("t.ron"), falling("touch", "").replace("(0.0, 0.0, 1.5)", "(0.0, 0.0, 0.5)"))
         .unwrap();
