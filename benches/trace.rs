@@ -10,6 +10,12 @@
 //!   Cuboid), at the 256 poses of the fall. The trace's own cost per sample
 //!   is the difference of the two runs above over 256.
 //!
+//! - The same bunny tumbling as it falls (spin (2, 3, 1) rad/s, 211
+//!   samples, `benches/scenes/bunny_tumble.ron`): the run untraced and
+//!   traced at every step, and parry3d-f64's `query::distance` at the 211
+//!   recorded poses (issue 30 §3: a sample at most parry's distance on the
+//!   same poses).
+//!
 //! - Fifty tumbling convex bodies in a closed box
 //!   (`benches/scenes/tumbling_convex.ron`), every pair (1,525) traced every
 //!   10 steps (25 samples): the run untraced and traced, with one thread
@@ -115,6 +121,89 @@ fn bunny_fall(c: &mut Criterion) {
     group.finish();
 }
 
+const TUMBLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/scenes/bunny_tumble.ron");
+
+fn bunny_tumble(c: &mut Criterion) {
+    let Ok(traced) = Scene::load(TUMBLE) else {
+        eprintln!("trace bench skipped: no scenes/meshes/bunny.obj (run scripts/fetch-bunny.sh)");
+        return;
+    };
+    let untraced = traced.with_trace(None).expect("no trace");
+    let serial = RunOptions { parallel: false, ..RunOptions::default() };
+    let result = run_with(&traced, serial, &mut |_| {});
+    let samples = result.trace.len();
+    // The floor's and the bunny's recorded poses at each sample's step.
+    let pose_of = |step: u64, body: usize| {
+        let r = result.poses.iter().find(|r| r.step == step && r.body == body).expect("a pose record");
+        nalgebra::Isometry3::from_parts(nalgebra::Translation3::from(r.position.coords), r.orientation)
+    };
+    let poses: Vec<_> = result.trace.iter().map(|r| (pose_of(r.step, 0), pose_of(r.step, 1))).collect();
+    let bunny = &traced.model().bodies[1];
+    let floor_shape = parry3d_f64::shape::Cuboid::new(to_parry(&nalgebra::Point3::new(10.0, 0.5, 10.0)));
+    let bunny_shape = bunny.mesh.to_parry().expect("a parry mesh");
+    // The two agree on every pose (to parry's rounding).
+    let worst = result
+        .trace
+        .iter()
+        .zip(&poses)
+        .map(|(r, (pf, pb))| {
+            let peer = parry3d_f64::query::distance(
+                &pose_to_parry(pf),
+                &floor_shape,
+                &pose_to_parry(pb),
+                &bunny_shape,
+            )
+            .expect("supported")
+            .distance;
+            (r.distance - peer).abs()
+        })
+        .fold(0.0, Real::max);
+    println!("tumbling bunny: {samples} samples, largest difference from parry's distance {worst:.1e}");
+    let mut group = c.benchmark_group(format!("bunny tumbles onto a box floor, {samples} samples"));
+    group.sample_size(20).measurement_time(Duration::from_secs(8));
+    group
+        .bench_function("untraced", |b| b.iter(|| run_with(black_box(&untraced), serial, &mut |_| {}).steps));
+    group.bench_function("traced every step", |b| {
+        b.iter(|| run_with(black_box(&traced), serial, &mut |_| {}).trace.len())
+    });
+    group.bench_function("parry3d-f64 query::distance at the same poses", |b| {
+        b.iter(|| {
+            poses
+                .iter()
+                .map(|(pf, pb)| {
+                    parry3d_f64::query::distance(
+                        &pose_to_parry(pf),
+                        &floor_shape,
+                        &pose_to_parry(pb),
+                        &bunny_shape,
+                    )
+                    .expect("supported")
+                    .distance
+                })
+                .sum::<Real>()
+        })
+    });
+    // The shapes the other way round, in case parry's dispatch favours it.
+    group.bench_function("parry3d-f64 query::distance, the bunny first", |b| {
+        b.iter(|| {
+            poses
+                .iter()
+                .map(|(pf, pb)| {
+                    parry3d_f64::query::distance(
+                        &pose_to_parry(pb),
+                        &bunny_shape,
+                        &pose_to_parry(pf),
+                        &floor_shape,
+                    )
+                    .expect("supported")
+                    .distance
+                })
+                .sum::<Real>()
+        })
+    });
+    group.finish();
+}
+
 const CONVEX: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/scenes/tumbling_convex.ron");
 
 fn tumbling_convex(c: &mut Criterion) {
@@ -187,5 +276,5 @@ fn tumbling_convex(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bunny_fall, tumbling_convex);
+criterion_group!(benches, bunny_fall, bunny_tumble, tumbling_convex);
 criterion_main!(benches);

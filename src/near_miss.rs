@@ -35,8 +35,8 @@
 use std::collections::{HashMap, HashSet};
 
 use crate::ccd::{
-    closest_approach, distance_at, screen_approach, ApproachRun, ApproachStatus, ClosestApproach,
-    ClosestApproachQuery, MeshCcdScratch, MovingMesh,
+    closest_approach, distance_at, hull_gap_from, screen_approach, ApproachRun, ApproachStatus,
+    ClosestApproach, ClosestApproachQuery, MeshCcdScratch, MovingMesh, WarmSimplex,
 };
 use crate::math::{Pose, Real};
 use crate::mesh::MeshDistance;
@@ -299,16 +299,34 @@ impl PairRecord {
         }
         let mut held = std::mem::take(&mut self.held);
         let (mesh_a, mesh_b) = (&model.bodies[self.miss.body_a].mesh, &model.bodies[self.miss.body_b].mesh);
-        let mut hint = Some((self.miss.closest.triangle_a, self.miss.closest.triangle_b));
-        let mut end_distance = |k: usize| {
+        // The step whose end is nearest, ranked by the vertex hulls' gap at
+        // the ends (GJK, warm from end to end; exact for convex meshes, a
+        // lower bound otherwise, the exact distance where the hulls
+        // overlap): the order only decides which step is bracketed first,
+        // every step is bracketed or proved farther all the same.
+        let hint = Some((self.miss.closest.triangle_a, self.miss.closest.triangle_b));
+        let (mut warm, mut axis) = (WarmSimplex::default(), None);
+        let mut end_gap = |k: usize| {
             let step = &held[k];
+            let pos_ab = StepMotion::relative_pose(&step.a, &step.b, step.duration);
+            let gap = hull_gap_from(mesh_a, mesh_b, &pos_ab, axis, (0.0, Real::INFINITY), &mut warm);
+            axis = gap.axis.or(axis);
+            if gap.lower > 0.0 {
+                return gap.lower;
+            }
             let a = MovingMesh { mesh: mesh_a, motion: &step.a };
             let b = MovingMesh { mesh: mesh_b, motion: &step.b };
-            let found = distance_at(&a, &b, step.duration, hint, scratch);
-            hint = Some((found.triangle_a, found.triangle_b));
-            found.distance
+            distance_at(&a, &b, step.duration, hint, scratch).distance
         };
-        let nearest = nearest_index(held.len(), &mut end_distance);
+        let nearest = nearest_index(held.len(), &mut end_gap);
+        // Its end, measured: that step's bracket starts from it (a steady
+        // approach's minimum is there, and one run then closes it).
+        let end = {
+            let step = &held[nearest];
+            let a = MovingMesh { mesh: mesh_a, motion: &step.a };
+            let b = MovingMesh { mesh: mesh_b, motion: &step.b };
+            distance_at(&a, &b, step.duration, hint, scratch)
+        };
         let mut apart = true;
         for k in outwards(nearest, held.len()) {
             let step = &held[k];
@@ -316,6 +334,7 @@ impl PairRecord {
             let b = MovingMesh { mesh: mesh_b, motion: &step.b };
             let mut query = approach_query(model, (&a, &b), step.duration, tolerance);
             query.within = self.miss.distance;
+            query.reached = (k == nearest).then_some((step.duration, end));
             let approach = closest_approach(&query, scratch);
             if !self.keep(step, &approach) {
                 apart = false;
