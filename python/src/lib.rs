@@ -568,6 +568,17 @@ fn mesh_distance_tuple<'py>(py: Python<'py>, d: &MeshDistance) -> MeshDistanceTu
     )
 }
 
+/// Two meshes (shared, for a query without the GIL) and their poses, the
+/// poses checked.
+fn posed_pair(
+    (mesh_a, pose_a): (&Mesh, Arrays<'_>),
+    (mesh_b, pose_b): (&Mesh, Arrays<'_>),
+) -> PyResult<(Arc<TriMesh>, Pose, Arc<TriMesh>, Pose)> {
+    let pa = pose("pose_a", &pose_a.0, &pose_a.1)?;
+    let pb = pose("pose_b", &pose_b.0, &pose_b.1)?;
+    Ok((mesh_a.inner.clone(), pa, mesh_b.inner.clone(), pb))
+}
+
 /// The distance between two posed meshes (exact), without the GIL.
 #[pyfunction]
 fn mesh_distance_between<'py>(
@@ -577,9 +588,7 @@ fn mesh_distance_between<'py>(
     mesh_b: &Mesh,
     pose_b: Arrays<'py>,
 ) -> PyResult<MeshDistanceTuple<'py>> {
-    let pa = pose("pose_a", &pose_a.0, &pose_a.1)?;
-    let pb = pose("pose_b", &pose_b.0, &pose_b.1)?;
-    let (a, b) = (mesh_a.inner.clone(), mesh_b.inner.clone());
+    let (a, pa, b, pb) = posed_pair((mesh_a, pose_a), (mesh_b, pose_b))?;
     let found = py.detach(|| {
         let search = DistanceSearch::new(DistanceKernel::Exact, None);
         mesh_distance(&a, &pa, &b, &pb, &search, &mut Default::default())
@@ -825,9 +834,7 @@ fn mesh_intersection_between<'py>(
     mesh_b: &Mesh,
     pose_b: Arrays<'py>,
 ) -> PyResult<(Bound<'py, PyArray2<u64>>, Bound<'py, PyArray2<f64>>, f64)> {
-    let pa = pose("pose_a", &pose_a.0, &pose_a.1)?;
-    let pb = pose("pose_b", &pose_b.0, &pose_b.1)?;
-    let (a, b) = (mesh_a.inner.clone(), mesh_b.inner.clone());
+    let (a, pa, b, pb) = posed_pair((mesh_a, pose_a), (mesh_b, pose_b))?;
     let found = py.detach(|| {
         let mut found = MeshIntersection::default();
         mesh_intersection(&a, &pa, &b, &pb, &mut found, &mut Default::default());
@@ -858,9 +865,7 @@ fn signed_distance_between<'py>(
     mesh_b: &Mesh,
     pose_b: Arrays<'py>,
 ) -> PyResult<(f64, &'static str, Option<f64>, Option<f64>, Option<Bound<'py, PyArray1<f64>>>)> {
-    let pa = pose("pose_a", &pose_a.0, &pose_a.1)?;
-    let pb = pose("pose_b", &pose_b.0, &pose_b.1)?;
-    let (a, b) = (mesh_a.inner.clone(), mesh_b.inner.clone());
+    let (a, pa, b, pb) = posed_pair((mesh_a, pose_a), (mesh_b, pose_b))?;
     let found = py.detach(|| signed_distance(&a, &pa, &b, &pb, &mut Default::default()));
     Ok(match &found.overlap {
         Overlap::Apart(_) => (found.value, "apart", None, None, None),
