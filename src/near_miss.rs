@@ -135,9 +135,7 @@ impl NearMissObserver {
     ///
     /// Each pair is screened (one CCD run: does it come closer than both
     /// the distance and its best so far?); a step that does is held, with
-    /// the distance measured where it came closer. A pair whose last step
-    /// was held measures the distance at this step's end first: while it
-    /// keeps approaching, that is all a step costs. The held steps are
+    /// the distance measured where it first came closer. The held steps are
     /// bracketed when the pair stops coming closer, every
     /// [`MAX_HELD_STEPS`], and at the run's end, nearest first, so that
     /// most of them are settled by one run that proves them farther than
