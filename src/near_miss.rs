@@ -36,7 +36,7 @@ use std::collections::{HashMap, HashSet};
 
 use crate::ccd::{
     closest_approach, distance_at, hull_gap_from, screen_approach, ApproachRun, ApproachStatus,
-    ClosestApproach, ClosestApproachQuery, MeshCcdScratch, MovingMesh, WarmSimplex,
+    ClosestApproach, ClosestApproachQuery, MeshCcdScratch, MovingMesh, WarmSimplex, WarmStart,
 };
 use crate::math::{Pose, Real};
 use crate::mesh::MeshDistance;
@@ -86,6 +86,13 @@ pub(crate) struct NearMissObserver {
     touched: HashSet<(usize, usize)>,
     /// Each body's horizon in the current step (buffer).
     horizons: Vec<Real>,
+    /// Steps observed.
+    steps: u64,
+    /// Where each pair's last screen left off, and in which step: its
+    /// closest triangles, hull axis and simplex, and (where nothing cut
+    /// that step short) its certified bound at the step's end, which is the
+    /// next step's start.
+    screens: HashMap<(usize, usize), (u64, WarmStart)>,
     scratch: MeshCcdScratch,
 }
 
@@ -125,6 +132,8 @@ impl NearMissObserver {
             pairs: HashMap::new(),
             touched: HashSet::new(),
             horizons: Vec::new(),
+            steps: 0,
+            screens: HashMap::new(),
             scratch: MeshCcdScratch::default(),
         }
     }
@@ -148,6 +157,7 @@ impl NearMissObserver {
         motions: &[StepMotion],
         contacts: impl Iterator<Item = ((usize, usize), Real)>,
     ) {
+        self.steps += 1;
         self.horizons.clear();
         self.horizons.resize(motions.len(), model.dt);
         for ((a, b), time) in contacts {
@@ -183,7 +193,31 @@ impl NearMissObserver {
         let record = self.pairs.get_mut(&key);
         let mut query = approach_query(model, (&a, &b), step.duration, self.tolerance);
         query.within = record.as_ref().map_or(self.within, |record| record.miss.distance.min(self.within));
-        let (run, hint) = screen_approach(&query, &mut self.scratch);
+        // From the pair's last screen: its bound only if that screen was of
+        // the step before (a bound at this step's start, less what the
+        // motion closes over the step, bounds the whole step).
+        let warm = match self.screens.get(&key) {
+            Some(&(screened, warm)) => {
+                WarmStart { lower_bound: warm.lower_bound.filter(|_| screened + 1 == self.steps), ..warm }
+            }
+            None => WarmStart::default(),
+        };
+        let (run, result) = screen_approach(&query, warm, &mut self.scratch);
+        let hint = result.hint;
+        let whole_step = step.duration == model.dt;
+        let bound = matches!(run, ApproachRun::Beyond { .. }) && whole_step;
+        self.screens.insert(
+            key,
+            (
+                self.steps,
+                WarmStart {
+                    lower_bound: bound.then_some(result.end_lower_bound),
+                    hint: result.hint,
+                    axis: result.axis,
+                    simplex: result.simplex,
+                },
+            ),
+        );
         match run {
             ApproachRun::Beyond { lower } => match record {
                 Some(record) => {

@@ -325,11 +325,10 @@ impl Runs {
 /// brackets only those that may hold its closest approach.
 pub(crate) fn screen(
     query: &ClosestApproachQuery<'_>,
+    warm: WarmStart,
     scratch: &mut MeshCcdScratch,
-) -> (Run, Option<(usize, usize)>) {
-    let runs = Runs::of(query);
-    let (run, result) = runs.below(query, query.within, WarmStart::default(), scratch);
-    (run, result.hint)
+) -> (Run, MeshCcdResult) {
+    Runs::of(query).below(query, query.within, warm, scratch)
 }
 
 impl ClosestApproach {
