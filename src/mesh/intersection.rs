@@ -11,15 +11,11 @@
 //! curve: closed loops for closed meshes in general position, each segment
 //! labelled with the two triangles it lies on.
 
-use super::distance::node_lower_bound;
+use super::distance::{node_lower_bound, PRUNE_SLACK_ULPS};
 use super::trimesh::TriMesh;
 use super::BVH_LEAF_SIZE;
 use crate::kernels::{triangle_intersection, TriangleIntersection};
 use crate::math::{Point, Pose, Real};
-
-/// Rounding slack of the node test, in ulps of the relative frame's size
-/// (as the distance query's): node boxes nearer than this are descended.
-const PRUNE_SLACK_ULPS: Real = 32.0;
 
 /// One triangle pair that meets, in world coordinates.
 #[derive(Copy, Clone, Debug, PartialEq)]
