@@ -231,8 +231,11 @@ impl NearMissObserver {
                     Some(record) => record,
                     None => {
                         // A new near miss: a first distance reached, for the
-                        // record (the bracket at the flush finds the best).
-                        let found = distance_at(&a, &b, time, hint, &mut self.scratch);
+                        // record (the bracket at the flush finds the best):
+                        // the triangle pair that stopped the screen there.
+                        let found = result
+                            .closest
+                            .unwrap_or_else(|| distance_at(&a, &b, time, hint, &mut self.scratch));
                         self.pairs.entry(key).or_insert(PairRecord::new(key, &step, time, found))
                     }
                 };

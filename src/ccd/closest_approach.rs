@@ -11,8 +11,10 @@
 //! so none means `d* ≥ S + τ/2`, a certified lower bound), or stops at a
 //! time where the meshes are within `S + τ` (where their exact distance,
 //! measured there, is an upper bound that is reached). From such a time the
-//! distance is falling; a descent (Brent's) on the exact distance
-//! finds its local minimum after it, the best upper bound `u` so far. The
+//! distance is falling; a descent (Brent's; on two convex meshes it probes
+//! with GJK on their hulls, warm from probe to probe) finds its local
+//! minimum after it, measured there exactly: the best upper bound `u` so
+//! far. The
 //! next run asks whether anything comes closer than `u` less three
 //! quarters of the tolerance: if not, the bracket is closed (one run, the
 //! usual case); if so, the descent starts again from there. The first run
@@ -25,6 +27,7 @@
 //! contact is then what a caller wants.
 
 use super::contact::{ContactRule, TARGET_FRACTION};
+use super::hull_gap::{convex_distance, ConvexDistance, WarmSimplex};
 use super::mesh_pair::{
     mesh_time_of_impact, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart,
 };
@@ -353,7 +356,9 @@ const DESCENT_STEPS: usize = 48;
 /// distance cannot change by `precision` across it (the distance moves at
 /// most at the head-on speed `|v_a − v_b| + |ω_a| r_a + |ω_b| r_b`), a
 /// parabola's step gains less than `precision`, or [`DESCENT_STEPS`]
-/// steps. Any measured distance is reached, so this only makes the upper
+/// steps. The probes are [`Probe`]'s (for two convex meshes, GJK on their
+/// hulls, warm from probe to probe); the best time is measured exactly at
+/// the end. Any measured distance is reached, so this only makes the upper
 /// bound good, never wrong (a minimum missed by more than the proof's
 /// margin is found by the next proving run).
 fn descend(
@@ -367,23 +372,22 @@ fn descend(
     let speed = (a.motion.velocity - b.motion.velocity).norm()
         + a.motion.angular_velocity.norm() * a.mesh.radius()
         + b.motion.angular_velocity.norm() * b.mesh.radius();
-    let mut best = (start, measure(a, b, start, hint, scratch));
-    let at =
-        |s: Real, hint: Option<(usize, usize)>, scratch: &mut MeshCcdScratch| measure(a, b, s, hint, scratch);
+    let mut probe = Probe::new(a, b, hint);
+    let mut best = (start, probe.at(start, scratch));
     // March: (previous, best, next) with the distance falling to best.
     let mut previous = start;
     let mut step = (duration - start) * DESCENT_FIRST_STEP_FRACTION;
     let mut next = start;
     while step > 0.0 {
         next = (best.0 + step).min(duration);
-        let found = at(next, Some((best.1.triangle_a, best.1.triangle_b)), scratch);
-        if found.distance >= best.1.distance {
+        let found = probe.at(next, scratch);
+        if found >= best.1 {
             break;
         }
         previous = best.0;
         best = (next, found);
         if next >= duration {
-            return best;
+            return (best.0, probe.measure(best.0, scratch));
         }
         step *= 2.0;
     }
@@ -405,9 +409,9 @@ fn descend(
         } else {
             best.0 + (1.0 - ratio) * (hi - best.0)
         };
-        let parabolic = parabola_vertex(best.0, best.1.distance, second, third)
+        let parabolic = parabola_vertex(best.0, best.1, second, third)
             .filter(|&x| x > lo && x < hi && (x - best.0).abs() < 0.5 * step_before_last);
-        let (probe, by_parabola) = match parabolic {
+        let (probe_time, by_parabola) = match parabolic {
             // Not closer to best than the time can tell apart.
             Some(x) => {
                 let least = Real::EPSILON.sqrt() * best.0.abs().max(duration * 1e-6);
@@ -417,29 +421,29 @@ fn descend(
             None => (golden, false),
         };
         step_before_last = last_step;
-        last_step = (probe - best.0).abs();
-        let found = at(probe, Some((best.1.triangle_a, best.1.triangle_b)), scratch);
-        let gain = best.1.distance - found.distance;
-        if found.distance < best.1.distance {
-            if probe < best.0 {
+        last_step = (probe_time - best.0).abs();
+        let found = probe.at(probe_time, scratch);
+        let gain = best.1 - found;
+        if found < best.1 {
+            if probe_time < best.0 {
                 hi = best.0;
             } else {
                 lo = best.0;
             }
             third = second;
-            second = (best.0, best.1.distance);
-            best = (probe, found);
+            second = best;
+            best = (probe_time, found);
         } else {
-            if probe < best.0 {
-                lo = probe;
+            if probe_time < best.0 {
+                lo = probe_time;
             } else {
-                hi = probe;
+                hi = probe_time;
             }
-            if found.distance <= second.1 {
+            if found <= second.1 {
                 third = second;
-                second = (probe, found.distance);
-            } else if found.distance <= third.1 {
-                third = (probe, found.distance);
+                second = (probe_time, found);
+            } else if found <= third.1 {
+                third = (probe_time, found);
             }
         }
         // A parabola's step that gains less than the precision: the
@@ -448,7 +452,62 @@ fn descend(
             break;
         }
     }
-    best
+    (best.0, probe.measure(best.0, scratch))
+}
+
+/// The distance probes of a descent. For two convex meshes (exact kernel),
+/// GJK on their vertex hulls, warm from the last probe (the closest
+/// features move little between probes): certified to
+/// [`PROBE_CERTIFICATE_ULPS`] ulps of the pair's scale, a few GJK
+/// iterations instead of a BVH search. Otherwise, or where GJK does not
+/// certify, the exact mesh distance. [`Probe::measure`] gives the exact
+/// distance with its points and features (kept from the last exact probe
+/// when it was at that time).
+struct Probe<'q, 'm> {
+    a: &'q MovingMesh<'m>,
+    b: &'q MovingMesh<'m>,
+    convex: bool,
+    warm: WarmSimplex,
+    hint: Option<(usize, usize)>,
+    /// The last exact probe and its time.
+    last: Option<(Real, MeshDistance)>,
+}
+
+/// A descent's GJK probe is certified once its bounds agree to this many
+/// ulps of the pair's scale (its centres' distance plus both radii): `64`.
+pub const PROBE_CERTIFICATE_ULPS: Real = 64.0;
+
+impl<'q, 'm> Probe<'q, 'm> {
+    fn new(a: &'q MovingMesh<'m>, b: &'q MovingMesh<'m>, hint: Option<(usize, usize)>) -> Probe<'q, 'm> {
+        let convex = a.mesh.is_convex() && b.mesh.is_convex();
+        Probe { a, b, convex, warm: WarmSimplex::default(), hint, last: None }
+    }
+
+    /// The distance at `s`.
+    fn at(&mut self, s: Real, scratch: &mut MeshCcdScratch) -> Real {
+        if self.convex {
+            let relative = StepMotion::relative_pose(self.a.motion, self.b.motion, s);
+            let scale = relative.translation.vector.norm() + self.a.mesh.radius() + self.b.mesh.radius();
+            let slack = PROBE_CERTIFICATE_ULPS * Real::EPSILON * scale;
+            if let ConvexDistance::Certified(upper) =
+                convex_distance(self.a.mesh, self.b.mesh, &relative, &mut self.warm, slack)
+            {
+                return upper;
+            }
+        }
+        self.measure(s, scratch).distance
+    }
+
+    /// The exact distance at `s`, with its points and features.
+    fn measure(&mut self, s: Real, scratch: &mut MeshCcdScratch) -> MeshDistance {
+        if let Some((_, found)) = self.last.filter(|&(at, _)| at == s) {
+            return found;
+        }
+        let found = measure(self.a, self.b, s, self.hint, scratch);
+        self.hint = Some((found.triangle_a, found.triangle_b));
+        self.last = Some((s, found));
+        found
+    }
 }
 
 /// The time at the vertex of the parabola through `(x, fx)` and the two

@@ -113,7 +113,7 @@ impl Items<'_> {
     fn exact(&self, i: u32, j: u32, work: &mut StepWork) -> FrontItem {
         work.triangle_pairs += 1;
         let pair = PosedPair::new(self.meshes.a, i as usize, self.meshes.b, j as usize, self.frame);
-        let bound = pair.exact_time(self.frame, self.limits.target, self.meshes.kernel);
+        let bound = pair.exact_time(self.frame, self.limits.target, self.meshes.kernel, self.limits.horizon);
         self.item(bound, i, j, ItemKind::Triangles)
     }
 }

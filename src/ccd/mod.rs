@@ -17,7 +17,8 @@
 //! [`mesh_time_of_impact`] takes two triangle meshes, each moving with
 //! constant linear and angular velocity over a step, and advances by a
 //! second-order bound of each triangle pair's motion along its own
-//! separating direction (`mesh_bound.rs`), the smallest over all pairs found
+//! separating direction, in the world and in a frame turning with its
+//! closest features (`mesh_bound.rs`), the smallest over all pairs found
 //! on a front through both BVHs that is kept between the steps
 //! (`mesh_search.rs`); `mesh_pair.rs` is the front door and the loop.
 //!
