@@ -3,11 +3,11 @@
 //! the stepper's broad phase all agree with it.
 
 use nearmiss::ccd::{
-    box_margin, mesh_time_of_impact, vertex_face_time_of_impact_detailed, CcdOptions, ContactContract,
-    ContactRule, MeshCcdQuery, MeshCcdScratch, MovingMesh, WarmStart,
+    box_margin, mesh_time_of_impact, vertex_face_time_of_impact_detailed, CcdOptions, CcdStatus,
+    ContactContract, ContactRule, MeshCcdQuery, MeshCcdScratch, MovingMesh, WarmStart,
 };
 use nearmiss::math::{Point, Pose, Real, Vector};
-use nearmiss::mesh::icosphere;
+use nearmiss::mesh::{box_mesh, icosphere};
 use nearmiss::motion::StepMotion;
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{run_with, RunOptions};
@@ -61,6 +61,41 @@ fn mesh_ccd_uses_the_contract_for_both_rules() {
     assert!(result.closest.expect("they meet").distance <= 0.25);
     // A larger contact distance is reached no later.
     assert!(result.time_of_impact.unwrap() <= relative.time_of_impact.unwrap());
+}
+
+#[test]
+fn a_pair_within_the_contact_distance_at_the_start_touches_at_the_start_whatever_its_motion() {
+    // A cube a hair (a tenth of the contact distance) above a plate: at rest,
+    // receding, sliding and spinning about the plate's normal it is in
+    // contact at t = 0 (a bound that lets a receding pair skip its step
+    // must not skip one that already touches).
+    let plate = box_mesh(&Vector::new(2.0, 2.0, 0.1)).unwrap();
+    let cube = box_mesh(&Vector::new(0.1, 0.1, 0.1)).unwrap();
+    let options = CcdOptions::default();
+    let contact =
+        ContactContract::of(&options, ContactRule::ScaleRelative, cube.radius(), 0.0).contact_distance;
+    let fixed = StepMotion::fixed(Pose::translation(0.0, 0.0, -0.1));
+    let at = Pose::translation(0.0, 0.0, 0.1 + contact / 10.0);
+    for (velocity, spin) in [
+        (Vector::zeros(), Vector::zeros()),
+        (Vector::new(0.0, 0.0, 1.0), Vector::zeros()),
+        (Vector::new(1.0, 0.0, 0.0), Vector::zeros()),
+        (Vector::zeros(), Vector::new(0.0, 0.0, 5.0)),
+    ] {
+        let moving = StepMotion::new(at, velocity, spin);
+        let query = MeshCcdQuery::new(
+            MovingMesh { mesh: &plate, motion: &fixed },
+            MovingMesh { mesh: &cube, motion: &moving },
+            0.01,
+            options,
+        );
+        let result = mesh_time_of_impact(&query, WarmStart::default(), &mut MeshCcdScratch::default());
+        assert_eq!(
+            (result.time_of_impact, result.status),
+            (Some(0.0), CcdStatus::InitiallyTouching),
+            "velocity {velocity:?}, spin {spin:?}"
+        );
+    }
 }
 
 /// Body `a` slides past `b` with a closest gap of 1e-4 (below the

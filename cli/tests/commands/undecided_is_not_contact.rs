@@ -41,9 +41,9 @@ fn a_fast_spin_that_reaches_the_wall_is_not_late() {
 fn a_query_out_of_iterations_ends_the_run_undecided() {
     // Too few iterations to decide: a spin of 0.9 rad a step (under the
     // radian from which the spin-swept cylinder is tried) whose corners
-    // (√2 from the axis) pass 8.6e-5 from the wall's face at 1.4143 takes
+    // (√2 from the axis) pass 6.4e-6 from the wall's face at 1.41422 takes
     // many rate-bounded steps (with 10,000 it completes, no contact).
-    let result = run(&scene(1.5143, 5, 90.0));
+    let result = run(&scene(1.51422, 5, 90.0));
     match result.termination {
         Termination::Undecided { pair, time, step, iterations } => {
             assert_eq!((pair, step, iterations), ((0, 1), 0, 5));
