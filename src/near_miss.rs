@@ -32,11 +32,16 @@
 //! there; under `Record` it moves on), where a pair's approach is not
 //! bracketed.
 
+use std::cell::RefCell;
+use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
+use std::time::Instant;
+
+use rayon::prelude::*;
 
 use crate::ccd::{
     closest_approach, distance_at, hull_gap_from, screen_approach, ApproachRun, ApproachStatus,
-    ClosestApproach, ClosestApproachQuery, MeshCcdScratch, MovingMesh, WarmSimplex, WarmStart,
+    ClosestApproach, ClosestApproachQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmSimplex, WarmStart,
 };
 use crate::math::{Pose, Real};
 use crate::mesh::MeshDistance;
@@ -82,8 +87,8 @@ pub(crate) struct NearMissObserver {
     tolerance: Option<Real>,
     /// The pairs asked for, sorted (`None`: every pair).
     only: Option<Vec<(usize, usize)>>,
-    pairs: HashMap<(usize, usize), PairRecord>,
-    touched: HashSet<(usize, usize)>,
+    pairs: HashMap<(usize, usize), PairRecord, PairHash>,
+    touched: HashSet<(usize, usize), PairHash>,
     /// Each body's horizon in the current step (buffer).
     horizons: Vec<Real>,
     /// Steps observed.
@@ -92,8 +97,117 @@ pub(crate) struct NearMissObserver {
     /// closest triangles, hull axis and simplex, and (where nothing cut
     /// that step short) its certified bound at the step's end, which is the
     /// next step's start.
-    screens: HashMap<(usize, usize), (u64, WarmStart)>,
+    screens: HashMap<(usize, usize), (u64, WarmStart), PairHash>,
+    /// Whether the screens, and the brackets, go on rayon's threads.
+    screens_parallel: Threads,
+    brackets_parallel: Threads,
     scratch: MeshCcdScratch,
+    /// Buffers of a step, kept between steps: the screens asked and their
+    /// answers, the pairs to bracket, the records being bracketed and
+    /// whether each stays apart.
+    jobs: Vec<ScreenJob>,
+    screened: Vec<(ApproachRun, MeshCcdResult)>,
+    flushing: Vec<(usize, usize)>,
+    batch: Vec<((usize, usize), PairRecord)>,
+    apart: Vec<bool>,
+}
+
+/// The observer's maps hash their pairs of body indices by one multiply
+/// and rotate per index (the standard library's SipHash, made to resist
+/// crafted keys, cost a tenth of the near misses' time on the 1,000-body
+/// box; these keys are the run's own).
+type PairHash = std::hash::BuildHasherDefault<PairHasher>;
+
+/// See [`PairHash`].
+#[derive(Default)]
+struct PairHasher(u64);
+
+impl std::hash::Hasher for PairHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
+            self.write_u64(u64::from(byte));
+        }
+    }
+
+    fn write_u64(&mut self, value: u64) {
+        self.0 = (self.0.rotate_left(5) ^ value).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+
+    fn write_usize(&mut self, value: usize) {
+        self.write_u64(value as u64);
+    }
+}
+
+/// A screen of one pair's step: the step and what it asks (anything closer
+/// than `within`?), started from `warm`.
+#[derive(Copy, Clone, Debug)]
+struct ScreenJob {
+    key: (usize, usize),
+    step: HeldStep,
+    within: Real,
+    warm: WarmStart,
+}
+
+impl ScreenJob {
+    /// The pair's two moving meshes over the step.
+    fn bodies<'j>(&'j self, model: &'j Model) -> (MovingMesh<'j>, MovingMesh<'j>) {
+        let (a, b) = self.key;
+        (
+            MovingMesh { mesh: &model.bodies[a].mesh, motion: &self.step.a },
+            MovingMesh { mesh: &model.bodies[b].mesh, motion: &self.step.b },
+        )
+    }
+}
+
+/// Whether a batch of independent jobs (a step's screens, or its
+/// brackets) goes on rayon's threads: when the run is parallel, there are
+/// several threads, and the batch, at the mean time per job seen so far,
+/// takes longer on one thread than handing it over costs (the narrow
+/// phase's rule, with its [`parallel_narrow_phase_seconds`]: a batch of a
+/// tenth of a millisecond gains nothing on two threads).
+///
+/// [`parallel_narrow_phase_seconds`]: crate::stepper::StepParameters::parallel_narrow_phase_seconds
+#[derive(Copy, Clone, Debug)]
+struct Threads {
+    /// `false`: never (the run is not parallel, or one thread).
+    allowed: bool,
+    threads: Real,
+    handing_over: Real,
+    /// Seconds on one thread and jobs, over the batches so far.
+    seconds: Real,
+    jobs: usize,
+}
+
+impl Threads {
+    fn new(parallel: bool, handing_over: Real) -> Threads {
+        let threads = rayon::current_num_threads() as Real;
+        Threads { allowed: parallel && threads > 1.0, threads, handing_over, seconds: 0.0, jobs: 0 }
+    }
+
+    /// Whether a batch of `jobs` goes on the threads (the first batches,
+    /// with nothing seen yet, do not).
+    fn choose(&self, jobs: usize) -> bool {
+        let on_one_thread = self.seconds / self.jobs.max(1) as Real * jobs as Real;
+        self.allowed && jobs > 1 && on_one_thread > self.handing_over * self.threads / (self.threads - 1.0)
+    }
+
+    /// A batch of `jobs` took `seconds` (on the threads if `parallel`).
+    fn took(&mut self, seconds: Real, jobs: usize, parallel: bool) {
+        let on_one_thread =
+            if parallel { self.threads * (seconds - self.handing_over).max(0.0) } else { seconds };
+        self.seconds += on_one_thread;
+        self.jobs += jobs;
+    }
+}
+
+thread_local! {
+    /// Each rayon thread's CCD scratch for the screens and brackets, kept
+    /// between steps and runs.
+    static THREAD_SCRATCH: RefCell<MeshCcdScratch> = RefCell::new(MeshCcdScratch::default());
 }
 
 /// A pair that came within the distance: its closest approach so far, and
@@ -120,7 +234,7 @@ struct HeldStep {
 }
 
 impl NearMissObserver {
-    pub(crate) fn new(spec: &NearMissSpec) -> NearMissObserver {
+    pub(crate) fn new(spec: &NearMissSpec, parallel: bool, handing_over: Real) -> NearMissObserver {
         let only = spec.pairs.clone().map(|mut pairs| {
             pairs.sort_unstable();
             pairs
@@ -129,12 +243,19 @@ impl NearMissObserver {
             within: spec.within,
             tolerance: spec.tolerance,
             only,
-            pairs: HashMap::new(),
-            touched: HashSet::new(),
+            pairs: HashMap::default(),
+            touched: HashSet::default(),
             horizons: Vec::new(),
             steps: 0,
-            screens: HashMap::new(),
+            screens: HashMap::default(),
+            screens_parallel: Threads::new(parallel, handing_over),
+            brackets_parallel: Threads::new(parallel, handing_over),
             scratch: MeshCcdScratch::default(),
+            jobs: Vec::new(),
+            screened: Vec::new(),
+            flushing: Vec::new(),
+            batch: Vec::new(),
+            apart: Vec::new(),
         }
     }
 
@@ -148,7 +269,10 @@ impl NearMissObserver {
     /// bracketed when the pair stops coming closer, every
     /// [`MAX_HELD_STEPS`], and at the run's end, nearest first, so that
     /// most of them are settled by one run that proves them farther than
-    /// the best.
+    /// the best. The screens, and then the brackets, are independent from
+    /// pair to pair: on rayon's threads when the run is parallel and there
+    /// are enough of them, their results kept in pair order (the same
+    /// answers whatever the threads).
     pub(crate) fn observe_step(
         &mut self,
         model: &Model,
@@ -166,6 +290,9 @@ impl NearMissObserver {
             self.touched.insert((a, b));
             self.pairs.remove(&(a, b));
         }
+        // 1. What each pair's screen asks, in pair order.
+        let mut jobs = std::mem::take(&mut self.jobs);
+        jobs.clear();
         for pair in pairs {
             let key = (pair.a.min(pair.b), pair.a.max(pair.b));
             if self.touched.contains(&key)
@@ -178,32 +305,54 @@ impl NearMissObserver {
                 continue;
             }
             let step = HeldStep { t0, duration, a: motions[key.0], b: motions[key.1] };
-            if !self.observe_pair(model, key, step) {
-                self.touched.insert(key);
-                self.pairs.remove(&key);
-            }
+            let within =
+                self.pairs.get(&key).map_or(self.within, |record| record.miss.distance.min(self.within));
+            // From the pair's last screen: its bound only if that screen was
+            // of the step before (a bound at this step's start, less what
+            // the motion closes over the step, bounds the whole step).
+            let warm = match self.screens.get(&key) {
+                Some(&(screened, warm)) => {
+                    WarmStart { lower_bound: warm.lower_bound.filter(|_| screened + 1 == self.steps), ..warm }
+                }
+                None => WarmStart::default(),
+            };
+            jobs.push(ScreenJob { key, step, within, warm });
         }
+        // 2. The screens.
+        let tolerance = self.tolerance;
+        let screen = |job: &ScreenJob, scratch: &mut MeshCcdScratch| {
+            let (a, b) = job.bodies(model);
+            let mut query = approach_query(model, (&a, &b), job.step.duration, tolerance);
+            query.within = job.within;
+            screen_approach(&query, job.warm, scratch)
+        };
+        let mut screened = std::mem::take(&mut self.screened);
+        let clock = Instant::now();
+        let parallel = self.screens_parallel.choose(jobs.len());
+        if parallel {
+            jobs.par_iter()
+                .map(|job| THREAD_SCRATCH.with(|scratch| screen(job, &mut scratch.borrow_mut())))
+                .collect_into_vec(&mut screened);
+        } else {
+            screened.clear();
+            let scratch = &mut self.scratch;
+            screened.extend(jobs.iter().map(|job| screen(job, scratch)));
+        }
+        self.screens_parallel.took(clock.elapsed().as_secs_f64(), jobs.len(), parallel);
+        // 3. Their outcomes, in pair order; the pairs to bracket.
+        self.flushing.clear();
+        for (job, (run, result)) in jobs.iter().zip(&screened) {
+            self.keep_screen(model, job, *run, result);
+        }
+        (self.jobs, self.screened) = (jobs, screened);
+        // 4. The brackets.
+        self.flush_pending(model);
     }
 
-    /// One pair's step; `false` if the pair touches.
-    fn observe_pair(&mut self, model: &Model, key: (usize, usize), step: HeldStep) -> bool {
-        let (mesh_a, mesh_b) = (&model.bodies[key.0].mesh, &model.bodies[key.1].mesh);
-        let a = MovingMesh { mesh: mesh_a, motion: &step.a };
-        let b = MovingMesh { mesh: mesh_b, motion: &step.b };
-        let record = self.pairs.get_mut(&key);
-        let mut query = approach_query(model, (&a, &b), step.duration, self.tolerance);
-        query.within = record.as_ref().map_or(self.within, |record| record.miss.distance.min(self.within));
-        // From the pair's last screen: its bound only if that screen was of
-        // the step before (a bound at this step's start, less what the
-        // motion closes over the step, bounds the whole step).
-        let warm = match self.screens.get(&key) {
-            Some(&(screened, warm)) => {
-                WarmStart { lower_bound: warm.lower_bound.filter(|_| screened + 1 == self.steps), ..warm }
-            }
-            None => WarmStart::default(),
-        };
-        let (run, result) = screen_approach(&query, warm, &mut self.scratch);
-        let hint = result.hint;
+    /// What a pair's screen found: its warm start for the next step, and
+    /// its record (a held step, a bound, or a contact that ends it).
+    fn keep_screen(&mut self, model: &Model, job: &ScreenJob, run: ApproachRun, result: &MeshCcdResult) {
+        let ScreenJob { key, step, .. } = *job;
         let whole_step = step.duration == model.dt;
         let bound = matches!(run, ApproachRun::Beyond { .. }) && whole_step;
         self.screens.insert(
@@ -218,37 +367,46 @@ impl NearMissObserver {
                 },
             ),
         );
+        let hint = result.hint;
         match run {
-            ApproachRun::Beyond { lower } => match record {
-                Some(record) => {
+            ApproachRun::Beyond { lower } => {
+                if let Some(record) = self.pairs.get_mut(&key) {
                     record.miss.lower = record.miss.lower.min(lower);
-                    record.flush(model, self.tolerance, &mut self.scratch)
+                    if !record.held.is_empty() {
+                        self.flushing.push(key);
+                    }
                 }
-                None => true,
-            },
+            }
             ApproachRun::Closer { time } => {
-                let record = match record {
-                    Some(record) => record,
-                    None => {
+                let record = match self.pairs.entry(key) {
+                    Entry::Occupied(entry) => entry.into_mut(),
+                    Entry::Vacant(entry) => {
                         // A new near miss: a first distance reached, for the
                         // record (the bracket at the flush finds the best):
                         // the triangle pair that stopped the screen there.
-                        let found = result
-                            .closest
-                            .unwrap_or_else(|| distance_at(&a, &b, time, hint, &mut self.scratch));
-                        self.pairs.entry(key).or_insert(PairRecord::new(key, &step, time, found))
+                        let found = result.closest.unwrap_or_else(|| {
+                            let (a, b) = job.bodies(model);
+                            distance_at(&a, &b, time, hint, &mut self.scratch)
+                        });
+                        entry.insert(PairRecord::new(key, &step, time, found))
                     }
                 };
                 record.held.push(step);
-                record.held.len() < MAX_HELD_STEPS || record.flush(model, self.tolerance, &mut self.scratch)
+                if record.held.len() >= MAX_HELD_STEPS {
+                    self.flushing.push(key);
+                }
             }
-            ApproachRun::Touching { .. } => false,
+            ApproachRun::Touching { .. } => {
+                self.touched.insert(key);
+                self.pairs.remove(&key);
+            }
             // Undecided: the CCD could not tell how close the pair comes in
             // this step; it is listed (undecided, certified no farther than
             // 0) if the step's end is within the distance.
             ApproachRun::Undecided => {
+                let (a, b) = job.bodies(model);
                 let end = distance_at(&a, &b, step.duration, hint, &mut self.scratch);
-                if record.is_some() || end.distance <= self.within {
+                if self.pairs.contains_key(&key) || end.distance <= self.within {
                     let record = self
                         .pairs
                         .entry(key)
@@ -259,20 +417,58 @@ impl NearMissObserver {
                         record.miss.reach(&step, step.duration, end);
                     }
                 }
-                true
             }
         }
+    }
+
+    /// Brackets the held steps of the pairs in `flushing` (see
+    /// [`PairRecord::flush`]); a pair found touching is dropped.
+    fn flush_pending(&mut self, model: &Model) {
+        if self.flushing.is_empty() {
+            return;
+        }
+        let mut batch = std::mem::take(&mut self.batch);
+        batch.clear();
+        batch.extend(self.flushing.iter().filter_map(|key| self.pairs.remove_entry(key)));
+        let tolerance = self.tolerance;
+        let mut apart = std::mem::take(&mut self.apart);
+        let clock = Instant::now();
+        let parallel = self.brackets_parallel.choose(batch.len());
+        if parallel {
+            batch
+                .par_iter_mut()
+                .map(|(_, record)| {
+                    THREAD_SCRATCH.with(|scratch| record.flush(model, tolerance, &mut scratch.borrow_mut()))
+                })
+                .collect_into_vec(&mut apart);
+        } else {
+            apart.clear();
+            let scratch = &mut self.scratch;
+            apart.extend(batch.iter_mut().map(|(_, record)| record.flush(model, tolerance, scratch)));
+        }
+        self.brackets_parallel.took(clock.elapsed().as_secs_f64(), batch.len(), parallel);
+        for ((key, record), &apart) in batch.drain(..).zip(&apart) {
+            if apart {
+                self.pairs.insert(key, record);
+            } else {
+                self.touched.insert(key);
+            }
+        }
+        (self.batch, self.apart) = (batch, apart);
     }
 
     /// Every pair that came within the distance, nearest first (the steps
     /// still held bracketed first).
     pub(crate) fn finish(mut self, model: &Model) -> Vec<NearMiss> {
-        let (within, tolerance) = (self.within, self.tolerance);
-        let scratch = &mut self.scratch;
+        self.flushing.clear();
+        self.flushing
+            .extend(self.pairs.iter().filter(|(_, record)| !record.held.is_empty()).map(|(&key, _)| key));
+        self.flush_pending(model);
+        let within = self.within;
         let mut list: Vec<NearMiss> = self
             .pairs
             .into_values()
-            .filter_map(|mut record| record.flush(model, tolerance, scratch).then_some(record.miss))
+            .map(|record| record.miss)
             .filter(|miss| miss.distance <= within)
             .collect();
         list.sort_by(|x, y| {

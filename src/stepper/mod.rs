@@ -276,7 +276,15 @@ impl Stepper {
             trace: run.and_then(|run| TraceObserver::of(&model, run, options.parallel)),
             poses: run
                 .and_then(|run| run.poses.as_ref().map(|spec| PoseObserver::new(spec.every, run.steps))),
-            near_misses: run.and_then(|run| run.near_misses.as_ref().map(NearMissObserver::new)),
+            near_misses: run.and_then(|run| {
+                run.near_misses.as_ref().map(|spec| {
+                    NearMissObserver::new(
+                        spec,
+                        options.parallel,
+                        model.parameters.parallel_narrow_phase_seconds,
+                    )
+                })
+            }),
             scratch: Scratch::default(),
             counters: Counters::default(),
             // The near misses' pairs must be candidates: boxes grown by half
