@@ -18,6 +18,11 @@
 //! pair that approaches over many steps improved its best, and paid a
 //! whole bracket, every step.)
 //!
+//! The screens run before the narrow phase, which takes a screen that
+//! proves its pair farther than the contact distance as its own answer: a
+//! far pair costs one CCD run, not two. A pair whose body touches anything
+//! in the step is screened again after the response, up to that contact.
+//!
 //! A pair's motion is taken up to the first contact of either body in the
 //! step (what follows a contact is the response's, not the integrated
 //! motion), and a pair that touches is a contact (`contacts`), never a
@@ -107,6 +112,10 @@ pub(crate) struct NearMissObserver {
     /// whether each stays apart.
     jobs: Vec<ScreenJob>,
     screened: Vec<(ApproachRun, MeshCcdResult)>,
+    /// For each candidate pair of the step (by index), where its screen
+    /// proved it apart over the whole step: the certified distance and the
+    /// screen (its index in `screened`).
+    beyond: Vec<Option<(Real, usize)>>,
     flushing: Vec<(usize, usize)>,
     batch: Vec<((usize, usize), PairRecord)>,
     apart: Vec<bool>,
@@ -146,6 +155,8 @@ impl std::hash::Hasher for PairHasher {
 /// than `within`?), started from `warm`.
 #[derive(Copy, Clone, Debug)]
 struct ScreenJob {
+    /// The pair's index among the step's candidates.
+    index: usize,
     key: (usize, usize),
     step: HeldStep,
     within: Real,
@@ -160,6 +171,20 @@ impl ScreenJob {
             MovingMesh { mesh: &model.bodies[a].mesh, motion: &self.step.a },
             MovingMesh { mesh: &model.bodies[b].mesh, motion: &self.step.b },
         )
+    }
+
+    /// The screen: one CCD run, brackets `tolerance` wide (`None`: the
+    /// closest approach's default).
+    fn screen(
+        &self,
+        model: &Model,
+        tolerance: Option<Real>,
+        scratch: &mut MeshCcdScratch,
+    ) -> (ApproachRun, MeshCcdResult) {
+        let (a, b) = self.bodies(model);
+        let mut query = approach_query(model, (&a, &b), self.step.duration, tolerance);
+        query.within = self.within;
+        screen_approach(&query, self.warm, scratch)
     }
 }
 
@@ -253,58 +278,44 @@ impl NearMissObserver {
             scratch: MeshCcdScratch::default(),
             jobs: Vec::new(),
             screened: Vec::new(),
+            beyond: Vec::new(),
             flushing: Vec::new(),
             batch: Vec::new(),
             apart: Vec::new(),
         }
     }
 
-    /// The closest approaches of step starting at `t0`, for the candidate
-    /// `pairs`, before the response; `contacts` are the step's contacts
-    /// (pair, time into the step).
+    /// The first half of a step's near misses, before the narrow phase:
+    /// each candidate pair of the step starting at `t0` is screened over
+    /// the whole step, its bodies moving by `motions` (one CCD run: does it
+    /// come closer than both the distance and its best so far?). A pair
+    /// screened farther is one the narrow phase need not ask again
+    /// ([`NearMissObserver::screened_apart`]); the rest of the step is
+    /// [`NearMissObserver::observe_step`]'s, once the step's contacts are
+    /// known.
     ///
-    /// Each pair is screened (one CCD run: does it come closer than both
-    /// the distance and its best so far?); a step that does is held, with
-    /// the distance measured where it first came closer. The held steps are
-    /// bracketed when the pair stops coming closer, every
-    /// [`MAX_HELD_STEPS`], and at the run's end, nearest first, so that
-    /// most of them are settled by one run that proves them farther than
-    /// the best. The screens, and then the brackets, are independent from
-    /// pair to pair: on rayon's threads when the run is parallel and there
-    /// are enough of them, their results kept in pair order (the same
-    /// answers whatever the threads).
-    pub(crate) fn observe_step(
+    /// The screens are independent from pair to pair: on rayon's threads
+    /// when the run is parallel and there are enough of them, their results
+    /// kept in pair order (the same answers whatever the threads).
+    pub(crate) fn screen_step(
         &mut self,
         model: &Model,
         t0: Real,
         pairs: &[PairState],
         motions: &[StepMotion],
-        contacts: impl Iterator<Item = ((usize, usize), Real)>,
     ) {
         self.steps += 1;
-        self.horizons.clear();
-        self.horizons.resize(motions.len(), model.dt);
-        for ((a, b), time) in contacts {
-            self.horizons[a] = self.horizons[a].min(time);
-            self.horizons[b] = self.horizons[b].min(time);
-            self.touched.insert((a, b));
-            self.pairs.remove(&(a, b));
-        }
         // 1. What each pair's screen asks, in pair order.
         let mut jobs = std::mem::take(&mut self.jobs);
         jobs.clear();
-        for pair in pairs {
+        for (index, pair) in pairs.iter().enumerate() {
             let key = (pair.a.min(pair.b), pair.a.max(pair.b));
             if self.touched.contains(&key)
                 || self.only.as_ref().is_some_and(|only| only.binary_search(&key).is_err())
             {
                 continue;
             }
-            let duration = self.horizons[key.0].min(self.horizons[key.1]);
-            if duration <= 0.0 {
-                continue;
-            }
-            let step = HeldStep { t0, duration, a: motions[key.0], b: motions[key.1] };
+            let step = HeldStep { t0, duration: model.dt, a: motions[key.0], b: motions[key.1] };
             let within =
                 self.pairs.get(&key).map_or(self.within, |record| record.miss.distance.min(self.within));
             // From the pair's last screen: its bound only if that screen was
@@ -316,35 +327,91 @@ impl NearMissObserver {
                 }
                 None => WarmStart::default(),
             };
-            jobs.push(ScreenJob { key, step, within, warm });
+            jobs.push(ScreenJob { index, key, step, within, warm });
         }
         // 2. The screens.
         let tolerance = self.tolerance;
-        let screen = |job: &ScreenJob, scratch: &mut MeshCcdScratch| {
-            let (a, b) = job.bodies(model);
-            let mut query = approach_query(model, (&a, &b), job.step.duration, tolerance);
-            query.within = job.within;
-            screen_approach(&query, job.warm, scratch)
-        };
         let mut screened = std::mem::take(&mut self.screened);
         let clock = Instant::now();
         let parallel = self.screens_parallel.choose(jobs.len());
         if parallel {
             jobs.par_iter()
-                .map(|job| THREAD_SCRATCH.with(|scratch| screen(job, &mut scratch.borrow_mut())))
+                .map(|job| {
+                    THREAD_SCRATCH.with(|scratch| job.screen(model, tolerance, &mut scratch.borrow_mut()))
+                })
                 .collect_into_vec(&mut screened);
         } else {
             screened.clear();
             let scratch = &mut self.scratch;
-            screened.extend(jobs.iter().map(|job| screen(job, scratch)));
+            screened.extend(jobs.iter().map(|job| job.screen(model, tolerance, scratch)));
         }
         self.screens_parallel.took(clock.elapsed().as_secs_f64(), jobs.len(), parallel);
-        // 3. Their outcomes, in pair order; the pairs to bracket.
-        self.flushing.clear();
-        for (job, (run, result)) in jobs.iter().zip(&screened) {
-            self.keep_screen(model, job, *run, result);
+        self.beyond.clear();
+        self.beyond.resize(pairs.len(), None);
+        for (k, (job, (run, _))) in jobs.iter().zip(&screened).enumerate() {
+            if let ApproachRun::Beyond { lower } = *run {
+                self.beyond[job.index] = Some((lower, k));
+            }
         }
         (self.jobs, self.screened) = (jobs, screened);
+    }
+
+    /// Pair `index` of the step's candidates (as [`Self::screen_step`]
+    /// had them), if its screen proved it never closer than a distance
+    /// over the whole step: that distance, and the screen's CCD result.
+    pub(crate) fn screened_apart(&self, index: usize) -> Option<(Real, &MeshCcdResult)> {
+        let (lower, k) = self.beyond.get(index).copied().flatten()?;
+        Some((lower, &self.screened[k].1))
+    }
+
+    /// The second half of a step's near misses, after the response:
+    /// `contacts` are the step's contacts (pair, time into the step). A
+    /// pair whose body touched anything in the step is screened again up
+    /// to that contact (what follows is the response's motion); a pair
+    /// that touched is a contact, never a near miss.
+    ///
+    /// A step that comes closer is held, with the distance measured where
+    /// it first came closer. The held steps are bracketed when the pair
+    /// stops coming closer, every [`MAX_HELD_STEPS`], and at the run's end,
+    /// nearest first, so that most of them are settled by one run that
+    /// proves them farther than the best. The brackets are independent from
+    /// pair to pair, on rayon's threads as the screens.
+    pub(crate) fn observe_step(
+        &mut self,
+        model: &Model,
+        contacts: impl Iterator<Item = ((usize, usize), Real)>,
+    ) {
+        self.horizons.clear();
+        self.horizons.resize(model.bodies.len(), model.dt);
+        for ((a, b), time) in contacts {
+            self.horizons[a] = self.horizons[a].min(time);
+            self.horizons[b] = self.horizons[b].min(time);
+            self.touched.insert((a, b));
+            self.pairs.remove(&(a, b));
+        }
+        // 3. The screens' outcomes, in pair order; the pairs to bracket.
+        let (jobs, screened) = (std::mem::take(&mut self.jobs), std::mem::take(&mut self.screened));
+        self.flushing.clear();
+        for (job, (run, result)) in jobs.iter().zip(&screened) {
+            let key = job.key;
+            if self.touched.contains(&key) {
+                continue;
+            }
+            let duration = self.horizons[key.0].min(self.horizons[key.1]);
+            if duration <= 0.0 {
+                continue;
+            }
+            if duration < job.step.duration {
+                let mut job = *job;
+                job.step.duration = duration;
+                let (run, result) = job.screen(model, self.tolerance, &mut self.scratch);
+                self.keep_screen(model, &job, run, &result);
+            } else {
+                self.keep_screen(model, job, *run, result);
+            }
+        }
+        (self.jobs, self.screened) = (jobs, screened);
+        self.beyond.clear();
         // 4. The brackets.
         self.flush_pending(model);
     }

@@ -172,6 +172,14 @@ impl<'a> MeshCcdQuery<'a> {
             kernel: DistanceKernel::Exact,
         }
     }
+
+    /// The contract the query is decided under (its contact distance, from
+    /// its rule, the smaller radius and the rounding floor of its motions):
+    /// a pair certified farther than `contract().contact_distance` over the
+    /// interval by any other means is one this query finds apart.
+    pub fn contract(&self) -> ContactContract {
+        PairMotion::of(&self.a, &self.b, self.duration).contract(&self.options, self.contact)
+    }
 }
 
 /// What a query may start from, carried over from the pair's previous
@@ -241,8 +249,7 @@ pub fn mesh_time_of_impact(
     let MeshCcdQuery { a, b, duration, ref options, contact, kernel } = *query;
     let WarmStart { lower_bound, hint, axis, simplex } = warm;
     let pair = PairMotion::of(&a, &b, duration);
-    // The scale where the contact happens: the smaller body.
-    let contract = ContactContract::of(options, contact, pair.ra.min(pair.rb), pair.floor);
+    let contract = pair.contract(options, contact);
     let mut result = MeshCcdResult {
         time_of_impact: None,
         status: CcdStatus::Filtered,
@@ -473,6 +480,13 @@ impl<'a> PairMotion<'a> {
             .sum::<Real>();
         let floor = Real::EPSILON * (ROUNDING_FLOOR_ULPS * relative_size + INTEGRATED_JUMP_ULPS * jumps);
         PairMotion { a: *a, b: *b, duration, ra, rb, speed, floor }
+    }
+
+    /// The pair's contact contract under `options` and `rule`: scaled by
+    /// the smaller body (where the contact happens), floored by the
+    /// rounding of the pair's coordinates.
+    fn contract(&self, options: &CcdOptions, rule: ContactRule) -> ContactContract {
+        ContactContract::of(options, rule, self.ra.min(self.rb), self.floor)
     }
 
     /// The distance between the bounding spheres at `s` (negative where

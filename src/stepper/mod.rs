@@ -7,9 +7,13 @@
 //!    (scenes of more than two bodies; with two, the one pair is queried);
 //! 3. **narrow phase** (`narrow.rs`): the CCD of every pair in play, on
 //!    rayon's threads when it is long enough to gain from them, results in
-//!    pair order (a run is the same whatever the threads);
+//!    pair order (a run is the same whatever the threads); with
+//!    `near_misses`, each pair's screen ([`crate::near_miss`]) runs first,
+//!    and a pair it proves farther than the contact distance over the step
+//!    is not asked again;
 //! 4. **respond** ([`crate::response`]): what the scene's `on_contact` does
-//!    with the contacts found (stop, record, bounce);
+//!    with the contacts found (stop, record, bounce), then the near misses'
+//!    screens up to the contacts and their brackets;
 //! 5. **re-arm** (`rearm.rs`): touching pairs that separated are armed again;
 //! 6. **observe** ([`crate::trace`]): the distance trace, when asked for.
 //!
@@ -254,8 +258,6 @@ struct Scratch {
     found: Vec<Found>,
     /// The integrated states of a step.
     advanced: integrate::Advanced,
-    /// The step's motions before the response (for the near misses).
-    motions: Vec<crate::motion::StepMotion>,
 }
 
 impl Stepper {
@@ -317,22 +319,25 @@ impl Stepper {
         world.held.clear();
         world.rewind = None;
         self.broad_phase(world);
+        // The near misses screen the integrated motions first: a pair they
+        // prove apart over the step the narrow phase need not ask again.
+        if let Some(near_misses) = self.near_misses.as_mut() {
+            let clock = Instant::now();
+            near_misses.screen_step(&self.model, t0, &world.pairs, &world.motions);
+            self.counters.seconds.near_misses += clock.elapsed().as_secs_f64();
+        }
         let mut found = std::mem::take(&mut self.scratch.found);
         self.narrow_phase(world, t0, &mut found);
-        // The near misses take the integrated motions, up to the step's
-        // contacts (known after the response, which may find more).
+        // The rest of their step goes up to the step's contacts (known
+        // after the response, which may find more).
         let contacts_before = world.contacts.len();
-        if self.near_misses.is_some() {
-            self.scratch.motions.clear();
-            self.scratch.motions.extend_from_slice(&world.motions);
-        }
         let contact = self.respond(world, t0, &mut found);
         self.scratch.found = found;
         if let Some(near_misses) = self.near_misses.as_mut() {
             let clock = Instant::now();
             let contacts =
                 world.contacts[contacts_before..].iter().map(|c| ((c.body_a, c.body_b), c.time - t0));
-            near_misses.observe_step(&self.model, t0, &world.pairs, &self.scratch.motions, contacts);
+            near_misses.observe_step(&self.model, contacts);
             self.counters.seconds.near_misses += clock.elapsed().as_secs_f64();
         }
         if let Some(undecided) = world.undecided {

@@ -131,10 +131,19 @@ impl Stepper {
         work.clear();
         work.extend((0..world.pairs.len()).filter(|&k| touching_too || world.pairs[k].touching.is_none()));
         let (motions, pairs) = (&world.motions, &world.pairs);
+        let near_misses = self.near_misses.as_ref();
         let query = |k: usize, scratch: &mut MeshCcdScratch| {
             let pair = &pairs[k];
             let motions = [&motions[pair.a], &motions[pair.b]];
             let query = pair_query(model, pair, motions, model.dt, response.contact_rule(pair));
+            // A pair the near misses' screen proved farther than this
+            // query's contact distance over the step: that run's answer
+            // (apart) is this one's.
+            if let Some((lower, screen)) = near_misses.and_then(|near| near.screened_apart(k)) {
+                if lower > query.contract().contact_distance {
+                    return PairOutcome::from(*screen);
+                }
+            }
             let mut result = mesh_time_of_impact(&query, pair.warm_start(), scratch);
             if result.status == CcdStatus::InitiallyTouching && t0 > 0.0 {
                 // A pair new to the broad phase, touching at the step's start.

@@ -84,6 +84,33 @@ fn a_pair_that_touches_is_a_contact_not_a_near_miss() {
     assert_eq!(listed, ["passer"], "{:?}", result.near_misses);
 }
 
+/// The narrow phase takes a near-miss screen's "apart" only where it
+/// proves the pair farther than the contact distance: with `within` far
+/// inside a 0.3 minimum separation, the passer (0.25 from the fixed cube's
+/// face, edges closing) still touches where the analysis says, when its
+/// edge comes within 0.3: `√(0.3² − 0.25²)` from the fixed cube's face
+/// plane along x, at `t = (2 − √0.0275) / 3`.
+#[test]
+fn a_distance_inside_the_contact_distance_hides_no_contact() {
+    let scene = |near_misses: &str| {
+        Scene::from_ron_str(&format!(
+            r#"Scene(name: "inside", dt: 0.01, duration: 1.0, near_misses: {near_misses}, ccd: (minimum_separation: 0.3),
+                bodies: [
+                    (name: "fixed", mesh: Box(half_extents: (0.5, 0.5, 0.5)), fixed: true),
+                    (name: "passer", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (-3.0, 1.25, 0.2), velocity: (3.0, 0.0, 0.0)),
+                ])"#
+        ))
+        .unwrap()
+    };
+    let analytic = (2.0 - (0.3_f64 * 0.3 - 0.25 * 0.25).sqrt()) / 3.0;
+    for near_misses in ["(within: 0.01)", "(within: 0.29)", "(within: 0.5)"] {
+        let result = run(&scene(near_misses));
+        let contact = result.first_contact.as_ref().unwrap_or_else(|| panic!("{near_misses}: no contact"));
+        assert!(contact.time <= analytic && analytic - contact.time < 1e-4, "{near_misses}: {contact:?}");
+        assert!(result.near_misses.is_empty(), "{near_misses}: {:?}", result.near_misses);
+    }
+}
+
 #[test]
 fn only_the_pairs_asked_for_and_nothing_farther_than_asked() {
     let only = run(&pass_by(r#"(within: 0.5, pairs: Only([("passer", "fixed")]))"#, 2.0));
