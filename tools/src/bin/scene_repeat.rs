@@ -22,8 +22,20 @@ fn main() {
         .filter(|&(k, a)| !a.starts_with("--") && (k == 0 || args[k - 1] != "--repeats"))
         .map(|(_, a)| a)
         .collect();
-    let scenes: Vec<Scene> =
-        paths.iter().map(|p| Scene::load(std::path::Path::new(p)).expect("a valid scene")).collect();
+    if paths.is_empty() || repeats == 0 {
+        eprintln!("usage: scene_repeat SCENE.ron... [--repeats N] (N at least 1)");
+        std::process::exit(2);
+    }
+    let mut scenes = Vec::with_capacity(paths.len());
+    for path in &paths {
+        match Scene::load(std::path::Path::new(path)) {
+            Ok(scene) => scenes.push(scene),
+            Err(error) => {
+                eprintln!("{error}");
+                std::process::exit(2);
+            }
+        }
+    }
     let mut times = vec![Vec::with_capacity(repeats); scenes.len()];
     for _ in 0..repeats {
         for (scene, times) in scenes.iter().zip(&mut times) {
