@@ -598,6 +598,17 @@ mod tests {
     use crate::motion::StepMotion;
     use crate::samples::Rng;
 
+    /// The frame of two bodies at the start of their motions.
+    fn frame_at_start(a: &StepMotion, b: &StepMotion) -> PairFrame {
+        PairFrame::new(
+            StepMotion::relative_pose(a, b, 0.0),
+            &a.rotation_at(0.0),
+            &(b.velocity - a.velocity),
+            &a.angular_velocity,
+            &b.angular_velocity,
+        )
+    }
+
     /// Random spinning, moving bodies near each other, and the frame at 0.
     fn random_pair(rng: &mut Rng) -> (StepMotion, StepMotion, PairFrame) {
         let a = StepMotion::new(
@@ -610,13 +621,7 @@ mod tests {
             rng.in_unit_ball() * 3.0,
             rng.in_unit_ball() * 20.0,
         );
-        let frame = PairFrame::new(
-            StepMotion::relative_pose(&a, &b, 0.0),
-            &a.rotation_at(0.0),
-            &(b.velocity - a.velocity),
-            &a.angular_velocity,
-            &b.angular_velocity,
-        );
+        let frame = frame_at_start(&a, &b);
         (a, b, frame)
     }
 
@@ -709,13 +714,7 @@ mod tests {
                 rng.in_unit_ball() * 2.0,
                 rng.in_unit_ball() * 20.0,
             );
-            let frame = PairFrame::new(
-                StepMotion::relative_pose(&ma, &mb, 0.0),
-                &ma.rotation_at(0.0),
-                &(mb.velocity - ma.velocity),
-                &ma.angular_velocity,
-                &mb.angular_velocity,
-            );
+            let frame = frame_at_start(&ma, &mb);
             let posed = |ta: usize, tb: usize| PosedPair::new(mesh_a, ta, mesh_b, tb, &frame);
             let (mut best, mut d) = ((0, 0), Real::INFINITY);
             for ta in 0..mesh_a.triangles().len() {
@@ -787,13 +786,7 @@ mod tests {
                 rng.in_unit_ball(),
                 spin(&mut rng, case % 3 == 2),
             );
-            let frame = PairFrame::new(
-                StepMotion::relative_pose(&ma, &mb, 0.0),
-                &ma.rotation_at(0.0),
-                &(mb.velocity - ma.velocity),
-                &ma.angular_velocity,
-                &mb.angular_velocity,
-            );
+            let frame = frame_at_start(&ma, &mb);
             let (nodes_a, nodes_b) = (mesh_a.bvh().nodes(), mesh_b.bvh().nodes());
             let na = nodes_a[rng.next_u64() as usize % nodes_a.len()];
             let nb = nodes_b[rng.next_u64() as usize % nodes_b.len()];
