@@ -5,8 +5,8 @@
 //! `upper − lower` is at most the query's tolerance.
 //!
 //! Built on the CCD's own conservative machinery, nothing else: a
-//! [`mesh_time_of_impact`] run with a minimum separation `S` either proves
-//! that the meshes stay farther than its guaranteed distance over the whole
+//! [`mesh_time_of_impact`](crate::ccd::mesh_time_of_impact) run with a
+//! minimum separation `S` either proves that the meshes stay farther than its guaranteed distance over the whole
 //! interval (the contract: every approach closer than `S + τ/2` is reported,
 //! so none means `d* ≥ S + τ/2`, a certified lower bound), or stops at a
 //! time where the meshes are within `S + τ` (where their exact distance,
@@ -29,7 +29,7 @@
 use super::contact::{ContactRule, TARGET_FRACTION};
 use super::hull_gap::{convex_distance, ConvexDistance, WarmSimplex};
 use super::mesh_pair::{
-    mesh_time_of_impact, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart,
+    mesh_time_of_impact_with, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, Touching, WarmStart,
 };
 use super::options::{CcdOptions, CcdStatus};
 use crate::math::Pose;
@@ -72,7 +72,7 @@ pub const DESCENT_PRECISION_FRACTION: Real = 0.125;
 pub const DESCENT_FIRST_STEP_FRACTION: Real = 1.0 / 256.0;
 
 /// A closest-approach query: two meshes moving as in
-/// [`mesh_time_of_impact`] over `[0, duration]`.
+/// [`mesh_time_of_impact`](crate::ccd::mesh_time_of_impact) over `[0, duration]`.
 #[derive(Copy, Clone, Debug)]
 pub struct ClosestApproachQuery<'a> {
     /// The first body.
@@ -310,7 +310,7 @@ impl Runs {
             contact: ContactRule::Separation(separation),
             kernel: query.kernel,
         };
-        let result = mesh_time_of_impact(&ccd, warm, scratch);
+        let result = mesh_time_of_impact_with(&ccd, warm, scratch, Touching::Named);
         let run = match (result.status, result.time_of_impact) {
             (CcdStatus::OutOfIterations, _) => Run::Undecided,
             // Never within the run's guaranteed distance: certified.
@@ -561,7 +561,7 @@ pub(crate) fn measure(
 /// meshes' distance (no pair can be closer than GJK's lower bound). `None`
 /// for other meshes, overlapping hulls, or where GJK does not certify (the
 /// caller searches).
-fn convex_measure(a: &TriMesh, b: &TriMesh, pos_ab: &Pose) -> Option<MeshDistance> {
+pub(crate) fn convex_measure(a: &TriMesh, b: &TriMesh, pos_ab: &Pose) -> Option<MeshDistance> {
     if !(a.is_convex() && b.is_convex()) {
         return None;
     }
