@@ -37,7 +37,6 @@
 //! there; under `Record` it moves on), where a pair's approach is not
 //! bracketed.
 
-use std::cell::RefCell;
 use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
@@ -52,7 +51,7 @@ use crate::math::{Pose, Real};
 use crate::mesh::MeshDistance;
 use crate::motion::StepMotion;
 use crate::scene::{Model, NearMissSpec};
-use crate::stepper::PairState;
+use crate::stepper::{gains_from_threads, one_thread_seconds, PairState, THREAD_SCRATCH};
 
 /// A pair's closest approach over a run.
 #[derive(Clone, Debug, PartialEq)]
@@ -217,22 +216,33 @@ impl Threads {
     /// with nothing seen yet, do not).
     fn choose(&self, jobs: usize) -> bool {
         let on_one_thread = self.seconds / self.jobs.max(1) as Real * jobs as Real;
-        self.allowed && jobs > 1 && on_one_thread > self.handing_over * self.threads / (self.threads - 1.0)
+        self.allowed && jobs > 1 && gains_from_threads(on_one_thread, self.threads, self.handing_over)
     }
 
-    /// A batch of `jobs` took `seconds` (on the threads if `parallel`).
-    fn took(&mut self, seconds: Real, jobs: usize, parallel: bool) {
-        let on_one_thread =
-            if parallel { self.threads * (seconds - self.handing_over).max(0.0) } else { seconds };
-        self.seconds += on_one_thread;
-        self.jobs += jobs;
+    /// `f` of each of `jobs`, in order, into `out`: on rayon's threads
+    /// (each with its own scratch) where [`Threads::choose`] says so,
+    /// otherwise on this one with `scratch`.
+    fn run<J: Send, R: Send>(
+        &mut self,
+        jobs: &mut [J],
+        out: &mut Vec<R>,
+        scratch: &mut MeshCcdScratch,
+        f: impl Fn(&mut J, &mut MeshCcdScratch) -> R + Sync,
+    ) {
+        let clock = Instant::now();
+        let parallel = self.choose(jobs.len());
+        if parallel {
+            jobs.par_iter_mut()
+                .map(|job| THREAD_SCRATCH.with(|scratch| f(job, &mut scratch.borrow_mut())))
+                .collect_into_vec(out);
+        } else {
+            out.clear();
+            out.extend(jobs.iter_mut().map(|job| f(job, scratch)));
+        }
+        let seconds = clock.elapsed().as_secs_f64();
+        self.seconds += one_thread_seconds(seconds, parallel, self.threads, self.handing_over);
+        self.jobs += jobs.len();
     }
-}
-
-thread_local! {
-    /// Each rayon thread's CCD scratch for the screens and brackets, kept
-    /// between steps and runs.
-    static THREAD_SCRATCH: RefCell<MeshCcdScratch> = RefCell::new(MeshCcdScratch::default());
 }
 
 /// A pair that came within the distance: its closest approach so far, and
@@ -332,20 +342,9 @@ impl NearMissObserver {
         // 2. The screens.
         let tolerance = self.tolerance;
         let mut screened = std::mem::take(&mut self.screened);
-        let clock = Instant::now();
-        let parallel = self.screens_parallel.choose(jobs.len());
-        if parallel {
-            jobs.par_iter()
-                .map(|job| {
-                    THREAD_SCRATCH.with(|scratch| job.screen(model, tolerance, &mut scratch.borrow_mut()))
-                })
-                .collect_into_vec(&mut screened);
-        } else {
-            screened.clear();
-            let scratch = &mut self.scratch;
-            screened.extend(jobs.iter().map(|job| job.screen(model, tolerance, scratch)));
-        }
-        self.screens_parallel.took(clock.elapsed().as_secs_f64(), jobs.len(), parallel);
+        self.screens_parallel.run(&mut jobs, &mut screened, &mut self.scratch, |job, scratch| {
+            job.screen(model, tolerance, scratch)
+        });
         self.beyond.clear();
         self.beyond.resize(pairs.len(), None);
         for (k, (job, (run, _))) in jobs.iter().zip(&screened).enumerate() {
@@ -499,21 +498,9 @@ impl NearMissObserver {
         batch.extend(self.flushing.iter().filter_map(|key| self.pairs.remove_entry(key)));
         let tolerance = self.tolerance;
         let mut apart = std::mem::take(&mut self.apart);
-        let clock = Instant::now();
-        let parallel = self.brackets_parallel.choose(batch.len());
-        if parallel {
-            batch
-                .par_iter_mut()
-                .map(|(_, record)| {
-                    THREAD_SCRATCH.with(|scratch| record.flush(model, tolerance, &mut scratch.borrow_mut()))
-                })
-                .collect_into_vec(&mut apart);
-        } else {
-            apart.clear();
-            let scratch = &mut self.scratch;
-            apart.extend(batch.iter_mut().map(|(_, record)| record.flush(model, tolerance, scratch)));
-        }
-        self.brackets_parallel.took(clock.elapsed().as_secs_f64(), batch.len(), parallel);
+        self.brackets_parallel.run(&mut batch, &mut apart, &mut self.scratch, |(_, record), scratch| {
+            record.flush(model, tolerance, scratch)
+        });
         for ((key, record), &apart) in batch.drain(..).zip(&apart) {
             if apart {
                 self.pairs.insert(key, record);

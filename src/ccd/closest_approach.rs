@@ -6,16 +6,16 @@
 //!
 //! Built on the CCD's own conservative machinery, nothing else: a
 //! [`mesh_time_of_impact`](crate::ccd::mesh_time_of_impact) run with a
-//! minimum separation `S` either proves that the meshes stay farther than its guaranteed distance over the whole
-//! interval (the contract: every approach closer than `S + τ/2` is reported,
-//! so none means `d* ≥ S + τ/2`, a certified lower bound), or stops at a
-//! time where the meshes are within `S + τ` (where their exact distance,
-//! measured there, is an upper bound that is reached). From such a time the
-//! distance is falling; a descent (Brent's; on two convex meshes it probes
-//! with GJK on their hulls, warm from probe to probe) finds its local
-//! minimum after it, measured there exactly: the best upper bound `u` so
-//! far. The
-//! next run asks whether anything comes closer than `u` less three
+//! minimum separation `S` either proves that the meshes stay farther than
+//! its guaranteed distance over the whole interval (the contract: every
+//! approach closer than `S + τ/2` is reported, so none means
+//! `d* ≥ S + τ/2`, a certified lower bound), or stops at a time where the
+//! meshes are within `S + τ` (where their exact distance, measured there,
+//! is an upper bound that is reached). From such a time the distance is
+//! falling; a descent (Brent's; on two convex meshes it probes with GJK on
+//! their hulls, warm from probe to probe) finds its local minimum after
+//! it, measured there exactly: the best upper bound `u` so far. The next
+//! run asks whether anything comes closer than `u` less three
 //! quarters of the tolerance: if not, the bracket is closed (one run, the
 //! usual case); if so, the descent starts again from there. The first run
 //! asks for the query's `within` distance: a pair that never comes that
@@ -32,8 +32,7 @@ use super::mesh_pair::{
     mesh_time_of_impact_with, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, Touching, WarmStart,
 };
 use super::options::{CcdOptions, CcdStatus};
-use crate::math::Pose;
-use crate::math::Real;
+use crate::math::{Pose, Real};
 use crate::mesh::distance::triangle_pair_distance;
 use crate::mesh::{mesh_distance_relative, DistanceKernel, DistanceSearch, MeshDistance, TriMesh};
 use crate::motion::StepMotion;
@@ -489,8 +488,7 @@ impl<'q, 'm> Probe<'q, 'm> {
     fn at(&mut self, s: Real, scratch: &mut MeshCcdScratch) -> Real {
         if self.convex {
             let relative = StepMotion::relative_pose(self.a.motion, self.b.motion, s);
-            let scale = relative.translation.vector.norm() + self.a.mesh.radius() + self.b.mesh.radius();
-            let slack = PROBE_CERTIFICATE_ULPS * Real::EPSILON * scale;
+            let slack = certificate_slack(self.a.mesh, self.b.mesh, &relative);
             if let ConvexDistance::Certified(upper) =
                 convex_distance(self.a.mesh, self.b.mesh, &relative, &mut self.warm, slack)
             {
@@ -565,8 +563,7 @@ pub(crate) fn convex_measure(a: &TriMesh, b: &TriMesh, pos_ab: &Pose) -> Option<
     if !(a.is_convex() && b.is_convex()) {
         return None;
     }
-    let scale = pos_ab.translation.vector.norm() + a.radius() + b.radius();
-    let slack = PROBE_CERTIFICATE_ULPS * Real::EPSILON * scale;
+    let slack = certificate_slack(a, b, pos_ab);
     let mut warm = WarmSimplex::default();
     let ConvexDistance::Certified(upper) = convex_distance(a, b, pos_ab, &mut warm, slack) else {
         return None;
@@ -574,6 +571,14 @@ pub(crate) fn convex_measure(a: &TriMesh, b: &TriMesh, pos_ab: &Pose) -> Option<
     let (i, j) = warm.triangles(a, b)?;
     let found = triangle_pair_distance(a, i, b, j, pos_ab);
     (found.distance <= upper + slack).then_some(found)
+}
+
+/// How closely GJK's bounds must agree to certify the distance of `a`
+/// and `b` (at `pos_ab`): [`PROBE_CERTIFICATE_ULPS`] ulps of the pair's
+/// scale, its centres' distance plus both radii.
+fn certificate_slack(a: &TriMesh, b: &TriMesh, pos_ab: &Pose) -> Real {
+    let scale = pos_ab.translation.vector.norm() + a.radius() + b.radius();
+    PROBE_CERTIFICATE_ULPS * Real::EPSILON * scale
 }
 
 #[cfg(test)]
@@ -615,7 +620,7 @@ mod tests {
             }
             let Some(found) = convex_measure(a, b, &pos_ab) else { continue };
             certified += 1;
-            let ulps = 64.0 * Real::EPSILON * (pos_ab.translation.vector.norm() + a.radius() + b.radius());
+            let ulps = certificate_slack(a, b, &pos_ab);
             assert!(
                 (found.distance - searched.distance).abs() <= 2.0 * ulps,
                 "case {case}: {} vs {}",

@@ -41,7 +41,9 @@ mod world;
 use std::sync::Arc;
 use std::time::Instant;
 
-pub(crate) use narrow::{pair_query, CcdVerdict, Found};
+pub(crate) use narrow::{
+    gains_from_threads, one_thread_seconds, pair_query, CcdVerdict, Found, THREAD_SCRATCH,
+};
 pub use parameters::StepParameters;
 pub use result::{Contact, Counters, RunResult, Solver, StageSeconds, Termination, Work};
 #[cfg(feature = "rapier")]

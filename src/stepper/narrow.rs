@@ -23,8 +23,27 @@ use crate::motion::StepMotion;
 use crate::scene::Model;
 
 thread_local! {
-    /// Each rayon thread's CCD scratch, kept between steps and runs.
-    static THREAD_SCRATCH: RefCell<MeshCcdScratch> = RefCell::new(MeshCcdScratch::default());
+    /// Each rayon thread's CCD scratch, kept between steps and runs (the
+    /// narrow phase's and the near misses' batches).
+    pub(crate) static THREAD_SCRATCH: RefCell<MeshCcdScratch> = RefCell::new(MeshCcdScratch::default());
+}
+
+/// What a batch that took `seconds` would have taken on one thread: the
+/// time itself, or, where it ran on `threads` threads, what they spent
+/// after handing it over (`handing_over` seconds).
+pub(crate) fn one_thread_seconds(seconds: Real, parallel: bool, threads: Real, handing_over: Real) -> Real {
+    if parallel {
+        threads * (seconds - handing_over).max(0.0)
+    } else {
+        seconds
+    }
+}
+
+/// Whether a batch of `on_one_thread` seconds gains from `threads`
+/// threads, handing it over costing `handing_over` seconds
+/// ([`StepParameters::parallel_narrow_phase_seconds`](super::StepParameters)).
+pub(crate) fn gains_from_threads(on_one_thread: Real, threads: Real, handing_over: Real) -> bool {
+    threads > 1.0 && on_one_thread > handing_over * threads / (threads - 1.0)
 }
 
 /// What a pair's CCD result means to the stepper (the narrow phase's and
@@ -183,9 +202,8 @@ impl Stepper {
         let seconds = clock.elapsed().as_secs_f64();
         let threads = rayon::current_num_threads() as Real;
         let handing_over = self.parameters.parallel_narrow_phase_seconds;
-        let on_one_thread = if parallel { threads * (seconds - handing_over) } else { seconds };
-        self.scratch.narrow_parallel =
-            threads > 1.0 && on_one_thread > handing_over * threads / (threads - 1.0);
+        let on_one_thread = one_thread_seconds(seconds, parallel, threads, handing_over);
+        self.scratch.narrow_parallel = gains_from_threads(on_one_thread, threads, handing_over);
         self.counters.seconds.ccd += seconds;
     }
 }
