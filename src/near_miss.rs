@@ -46,6 +46,7 @@ use rayon::prelude::*;
 use crate::ccd::{
     closest_approach, distance_at, hull_gap_from, screen_approach, ApproachRun, ApproachStatus,
     ClosestApproach, ClosestApproachQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmSimplex, WarmStart,
+    PROOF_MARGIN_FRACTION,
 };
 use crate::math::{Pose, Real};
 use crate::mesh::MeshDistance;
@@ -158,7 +159,9 @@ struct ScreenJob {
     index: usize,
     key: (usize, usize),
     step: HeldStep,
+    /// The run's distance `D`, and the pair's best so far if it has one.
     within: Real,
+    best: Option<Real>,
     warm: WarmStart,
 }
 
@@ -182,7 +185,7 @@ impl ScreenJob {
     ) -> (ApproachRun, MeshCcdResult) {
         let (a, b) = self.bodies(model);
         let mut query = approach_query(model, (&a, &b), self.step.duration, tolerance);
-        query.within = self.within;
+        query.within = self.best.map_or(self.within, |best| self.within.min(beats(best, &query)));
         screen_approach(&query, self.warm, scratch)
     }
 }
@@ -326,8 +329,7 @@ impl NearMissObserver {
                 continue;
             }
             let step = HeldStep { t0, duration: model.dt, a: motions[key.0], b: motions[key.1] };
-            let within =
-                self.pairs.get(&key).map_or(self.within, |record| record.miss.distance.min(self.within));
+            let best = self.pairs.get(&key).map(|record| record.miss.distance);
             // From the pair's last screen: its bound only if that screen was
             // of the step before (a bound at this step's start, less what
             // the motion closes over the step, bounds the whole step).
@@ -337,7 +339,7 @@ impl NearMissObserver {
                 }
                 None => WarmStart::default(),
             };
-            jobs.push(ScreenJob { index, key, step, within, warm });
+            jobs.push(ScreenJob { index, key, step, within: self.within, best, warm });
         }
         // 2. The screens.
         let tolerance = self.tolerance;
@@ -546,6 +548,14 @@ fn approach_query<'a>(
     query
 }
 
+/// What a step of a pair must come closer than to matter, where its best
+/// so far is `best`: that less [`PROOF_MARGIN_FRACTION`] of the bracket's
+/// width. A step proved no closer is within that of the best, so the
+/// pair's bracket stays within its width however close the step comes.
+fn beats(best: Real, query: &ClosestApproachQuery<'_>) -> Real {
+    best - PROOF_MARGIN_FRACTION * query.width()
+}
+
 impl NearMiss {
     /// The pair is `found.distance` apart (reached) at `s` into `step`.
     fn reach(&mut self, step: &HeldStep, s: Real, found: MeshDistance) {
@@ -618,7 +628,7 @@ impl PairRecord {
             let a = MovingMesh { mesh: mesh_a, motion: &step.a };
             let b = MovingMesh { mesh: mesh_b, motion: &step.b };
             let mut query = approach_query(model, (&a, &b), step.duration, tolerance);
-            query.within = self.miss.distance;
+            query.within = beats(self.miss.distance, &query);
             query.reached = (k == nearest).then_some((step.duration, end));
             let approach = closest_approach(&query, scratch);
             if !self.keep(step, &approach) {

@@ -103,6 +103,20 @@ pub struct ClosestApproachQuery<'a> {
     pub reached: Option<(Real, MeshDistance)>,
 }
 
+impl ClosestApproachQuery<'_> {
+    /// The bracket's largest width, absolute: the query's tolerance, or
+    /// [`DEFAULT_APPROACH_TOLERANCE`] × the smaller mesh's radius.
+    pub fn width(&self) -> Real {
+        self.tolerance.unwrap_or(DEFAULT_APPROACH_TOLERANCE * smaller_radius(self))
+    }
+}
+
+/// The smaller of the two meshes' radii (at least the smallest positive
+/// number).
+fn smaller_radius(query: &ClosestApproachQuery<'_>) -> Real {
+    query.a.mesh.radius().min(query.b.mesh.radius()).max(Real::MIN_POSITIVE)
+}
+
 impl<'a> ClosestApproachQuery<'a> {
     /// Brackets the closest approach over `[0, duration]` to the default
     /// tolerance, whatever the distance.
@@ -282,8 +296,7 @@ struct Runs {
 
 impl Runs {
     fn of(query: &ClosestApproachQuery<'_>) -> Runs {
-        let radius = query.a.mesh.radius().min(query.b.mesh.radius()).max(Real::MIN_POSITIVE);
-        let width = query.tolerance.unwrap_or(DEFAULT_APPROACH_TOLERANCE * radius);
+        let (radius, width) = (smaller_radius(query), query.width());
         // Each run's contract tolerance τ: a quarter of the bracket's width.
         let tau = RUN_TOLERANCE_FRACTION * width;
         let options =

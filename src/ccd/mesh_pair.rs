@@ -46,8 +46,8 @@
 //! started from the previous step's axis), less what the motion can close
 //! along the gap's direction over the step (the centres' approach along it
 //! and each body's turn, at most `|n × ω| r`; or, to second order over a
-//! few such steps, the turn of the vertices near each hull's top alone,
-//! [`support_motion`]). Each lets a pair that stays
+//! horizon of such steps, the turn of the vertices near each hull's top
+//! alone, [`support_motion`]). Each lets a pair that stays
 //! apart skip the step without any search. Where the hulls' gap does not
 //! last the whole step, it still proves a part of it: conservative
 //! advancement runs on the hulls' gap alone (one warm-started GJK a step)
@@ -329,7 +329,7 @@ pub(crate) fn mesh_time_of_impact_with(
         _ => None,
     };
     let reached = match touching {
-        Some(found) => Reached { time: s, status: first_touch, pair: Some(found) },
+        Some((found, measured)) => Reached { time: s, status: first_touch, pair: Some(found), measured },
         None => match search(
             &pair,
             &contract,
@@ -471,6 +471,9 @@ struct Reached {
     time: Real,
     status: CcdStatus,
     pair: Option<(usize, usize)>,
+    /// That pair's distance at `time`, where it was measured there
+    /// already (in `a`'s frame).
+    measured: Option<MeshDistance>,
 }
 
 /// The two bodies of a query and what bounds their motion over the step.
@@ -595,6 +598,11 @@ fn advance_on_hulls(
         // plus each body's head-on turning rate |n × ω| r; and, to second
         // order, over a horizon of a few such steps, at the centres'
         // approach plus each hull's support cap's own rate: the longer step.
+        // Where the second-order bound outlasts its horizon, a horizon
+        // CAP_HORIZON_STEPS times longer is tried (its caps are wider), up
+        // to the interval's end: a pair closing far slower than the
+        // head-on rate takes steps of its own pace, not of four head-on
+        // steps.
         let approach = (a.motion.velocity - b.motion.velocity).dot(&n);
         let head_on =
             |body: &MovingMesh<'_>| n.cross(&body.motion.angular_velocity).norm() * body.mesh.radius();
@@ -606,16 +614,23 @@ fn advance_on_hulls(
         };
         let (mut step, mut apart, mut at_end) = (linear, linear > rest, -closing * rest);
         if !apart {
-            let horizon = rest.min(CAP_HORIZON_STEPS * linear);
+            let mut horizon = rest.min(CAP_HORIZON_STEPS * linear);
             let (vertex_a, vertex_b) = gap.support.map_or((None, None), |(i, j)| (Some(i), Some(j)));
-            let cap_a = support_motion(&a, s, vertex_a, &n, horizon);
-            let cap_b = support_motion(&b, s, vertex_b, &-n, horizon);
-            let (rate, curvature) = (-approach - cap_a.rate - cap_b.rate, cap_a.curvature + cap_b.curvature);
-            let quadratic = first_root(margin, rate, curvature);
-            step = step.max(quadratic.min(horizon));
-            if horizon == rest && quadratic > rest {
-                apart = true;
-                at_end = at_end.max(rate * rest - curvature * rest * rest / 2.0);
+            loop {
+                let cap_a = support_motion(&a, s, vertex_a, &n, horizon);
+                let cap_b = support_motion(&b, s, vertex_b, &-n, horizon);
+                let (rate, curvature) =
+                    (-approach - cap_a.rate - cap_b.rate, cap_a.curvature + cap_b.curvature);
+                let quadratic = first_root(margin, rate, curvature);
+                step = step.max(quadratic.min(horizon));
+                if horizon == rest && quadratic > rest {
+                    apart = true;
+                    at_end = at_end.max(rate * rest - curvature * rest * rest / 2.0);
+                }
+                if !(quadratic > horizon && horizon > 0.0 && horizon < rest) {
+                    break;
+                }
+                horizon = rest.min(CAP_HORIZON_STEPS * horizon);
             }
         }
         if apart {
@@ -651,8 +666,11 @@ fn advance_on_hulls(
 /// more than `δ = 2 |n × ω| ρ rest` below the support vertex (`support`,
 /// the hull gap's) cannot catch up within `rest` with the cap's fastest
 /// (the two rates differ by at most `2 |n × ω| ρ`). So the rate is the
-/// fastest of the cap's, a pass over the vertices (for meshes of at most
-/// [`SUPPORT_CAP_MAX_VERTICES`]; larger ones keep the head-on rate).
+/// fastest of the cap's: a pass over the vertices for meshes of at most
+/// [`SUPPORT_CAP_MAX_VERTICES`]; for larger ones, with no pass,
+/// `|n × ω|` times the farthest a vertex of the cap can be from the axis
+/// along `n` ([`cap_reach`]), which near a round mesh's top is a small
+/// part of its radius.
 fn support_motion(
     body: &MovingMesh<'_>,
     s: Real,
@@ -667,18 +685,38 @@ fn support_motion(
     let head_on = sweep * radius;
     let motion = SupportMotion { rate: head_on, curvature: sweep * omega.norm() * radius };
     let vertices = body.mesh.vertices();
-    let Some(top) = support.filter(|_| sweep > 0.0 && vertices.len() <= SUPPORT_CAP_MAX_VERTICES) else {
+    let Some(top) = support.filter(|_| sweep > 0.0) else {
         return motion;
     };
     let rotation = body.motion.rotation_at(s);
     let (up, rise) = (rotation.inverse_transform_vector(n), rotation.inverse_transform_vector(&across));
     let floor = up.dot(&vertices[top].coords) - 2.0 * head_on * rest;
+    if vertices.len() > SUPPORT_CAP_MAX_VERTICES {
+        let rate = sweep * cap_reach(radius, floor);
+        return SupportMotion { rate: rate.min(head_on), ..motion };
+    }
     let fastest = vertices
         .iter()
         .filter(|v| up.dot(&v.coords) >= floor)
         .map(|v| rise.dot(&v.coords))
         .fold(Real::NEG_INFINITY, Real::max);
     SupportMotion { rate: fastest.min(head_on), ..motion }
+}
+
+/// How far from the axis through the centre along a unit direction a
+/// vertex can be that lies within `radius` of the centre and at least
+/// `floor` along the direction: `√(radius² − floor²)` where the floor is
+/// above the centre (a few ulps of the radius more, for the rounding), the
+/// radius where not. A vertex's rise along the direction from a turn is
+/// its distance from that axis times `|n × ω|`, so this bounds a support
+/// cap's rate with no pass over its vertices: near a round mesh's top it is
+/// a small part of the radius.
+fn cap_reach(radius: Real, floor: Real) -> Real {
+    if floor <= 0.0 {
+        return radius;
+    }
+    let floor = floor.min(radius);
+    ((radius - floor) * (radius + floor)).sqrt() + 4.0 * Real::EPSILON * radius
 }
 
 /// How fast a hull's highest point along a direction can rise from its
@@ -692,13 +730,14 @@ struct SupportMotion {
 }
 
 /// The hulls' second-order bound looks this many of the head-on bound's
-/// steps ahead, at most: `4` (its support caps, which must hold over that
-/// horizon, stay small).
+/// steps ahead first, and then this many times farther each time it
+/// outlasts its horizon: `4` (its support caps, which must hold over the
+/// horizon, grow with it).
 pub const CAP_HORIZON_STEPS: Real = 4.0;
 
 /// The largest mesh whose support cap [`support_motion`] finds by a pass
 /// over its vertices: `256` (about the cost of a warm hull gap; larger
-/// meshes keep the head-on rate).
+/// meshes bound the cap by its reach, [`cap_reach`]).
 pub const SUPPORT_CAP_MAX_VERTICES: usize = 256;
 
 /// At `s`, where the hulls touch: the pair's last closest triangles (the
@@ -707,7 +746,8 @@ pub const SUPPORT_CAP_MAX_VERTICES: usize = 256;
 /// gap's last `simplex` ([`Touching::Named`]), also the triangles holding
 /// it (GJK on the hulls at `s`, stopped once they came within the
 /// target) and, for convex meshes, the closest pair by GJK run to its
-/// certificate ([`convex_measure`]).
+/// certificate ([`convex_measure`]). The pair, and its distance where it
+/// was measured whole (not by [`first_within`]'s kernel).
 fn pair_at_touching_hulls(
     pair: &PairMotion<'_>,
     ((va, vb), axis): HullsTouch,
@@ -716,27 +756,26 @@ fn pair_at_touching_hulls(
     hint: Option<(usize, usize)>,
     contact_distance: Real,
     work: &mut StepWork,
-) -> Option<(usize, usize)> {
+) -> Option<((usize, usize), Option<MeshDistance>)> {
     let (a, b) = (pair.a.mesh, pair.b.mesh);
     let pos_ab = pair.relative_pose(s);
-    let within = |found: Option<(Real, (usize, usize))>| found.filter(|&(d, _)| d <= contact_distance);
-    let distance_of = |(i, j): (usize, usize)| (triangle_pair_distance(a, i, b, j, &pos_ab).distance, (i, j));
+    let within = |found: MeshDistance| {
+        (found.distance <= contact_distance).then_some(((found.triangle_a, found.triangle_b), Some(found)))
+    };
+    let distance_of = |(i, j): (usize, usize)| triangle_pair_distance(a, i, b, j, &pos_ab);
     work.triangle_pairs += usize::from(hint.is_some());
-    within(hint.map(distance_of))
+    hint.map(distance_of)
+        .and_then(within)
         .or_else(|| {
             let around = first_within((a, va), (b, vb), &pos_ab, Some(axis), contact_distance);
             work.triangle_pairs += around.evaluated;
-            within(around.found)
+            around.found.filter(|&(d, _)| d <= contact_distance).map(|(_, found)| (found, None))
         })
         .or_else(|| {
             let named = simplex?.triangles(a, b).filter(|&found| Some(found) != hint);
             work.triangle_pairs += usize::from(named.is_some());
-            within(named.map(distance_of)).or_else(|| {
-                let found = convex_measure(a, b, &pos_ab)?;
-                within(Some((found.distance, (found.triangle_a, found.triangle_b))))
-            })
+            named.map(distance_of).and_then(within).or_else(|| within(convex_measure(a, b, &pos_ab)?))
         })
-        .map(|(_, found)| found)
 }
 
 /// The BVH search from `s` (see the module): the time, status and
@@ -791,7 +830,7 @@ fn search(
         match scratch.front.advance(&meshes, &frame, &limits, hint, work) {
             StepOutcome::Contact { pair } => {
                 let status = if iteration == 0 { first_touch } else { CcdStatus::Converged };
-                return Some(Reached { time: s, status, pair: Some(pair) });
+                return Some(Reached { time: s, status, pair: Some(pair), measured: None });
             }
             StepOutcome::Advance { step, limiting } => {
                 hint = limiting.or(hint);
@@ -805,7 +844,7 @@ fn search(
             }
         }
     }
-    Some(Reached { time: s, status: CcdStatus::OutOfIterations, pair: hint })
+    Some(Reached { time: s, status: CcdStatus::OutOfIterations, pair: hint, measured: None })
 }
 
 /// The result of a contact at `s` (or of the time reached when the
@@ -818,13 +857,13 @@ fn finish(
     scratch: &mut MeshCcdScratch,
     mut work: StepWork,
 ) -> MeshCcdResult {
-    let Reached { time: s, status, pair: hint } = reached;
+    let Reached { time: s, status, pair: hint, measured } = reached;
     let (a, b) = (pair.a, pair.b);
     let pos_ab = pair.relative_pose(s);
     let mut closest = match (status, hint) {
         // The triangle pair found within the contact distance.
         (CcdStatus::Converged | CcdStatus::InitiallyTouching, Some((i, j))) => {
-            triangle_pair_distance(a.mesh, i, b.mesh, j, &pos_ab)
+            measured.unwrap_or_else(|| triangle_pair_distance(a.mesh, i, b.mesh, j, &pos_ab))
         }
         // Out of iterations (every step so far was safe, so contact is
         // reported, conservatively, at the time reached): the closest pair.
@@ -859,26 +898,40 @@ fn to_world(closest: &mut MeshDistance, pose_a: &Pose) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::{box_mesh, icosphere};
+    use crate::math::Point;
+    use crate::mesh::{box_mesh, icosphere, torus};
     use crate::samples::Rng;
 
     #[test]
     fn support_caps_bound_the_highest_vertex_over_the_rest() {
-        // Boxes and icospheres (12 to 162 vertices, all within the cap's
-        // pass) spinning up to 30 rad/s, a random direction, rests of 1e-3
-        // to 0.1: the highest vertex along the direction, sampled, never
-        // rises faster than the cap's rate and curvature say (the centre's
-        // own motion aside); and the cap's rate is below 3/4 of the
-        // head-on one for most.
+        // Boxes and icospheres (12 to 162 vertices, within the cap's
+        // pass; 642, beyond it) and a flat ellipsoid and a torus (642 and
+        // 1,024 vertices, beyond it, far from round) spinning up to 30
+        // rad/s, a random direction, rests of 1e-3 to 0.1: the highest
+        // vertex along the direction, sampled, never rises faster than the
+        // cap's rate and curvature say (the centre's own motion aside),
+        // whether the cap starts from the highest vertex or from one near
+        // it (as GJK's support may be); and for the boxes and icospheres
+        // the cap's rate is below 3/4 of the head-on one for most.
+        let ellipsoid = {
+            let round = icosphere(1.0, 3).unwrap();
+            let squashed =
+                round.vertices().iter().map(|v| Point::new(0.6 * v.x, 0.3 * v.y, 0.1 * v.z)).collect();
+            TriMesh::new(squashed, round.triangles().to_vec()).unwrap()
+        };
         let meshes = [
             box_mesh(&Vector::new(0.3, 0.2, 0.25)).unwrap(),
             icosphere(0.3, 1).unwrap(),
             icosphere(0.5, 2).unwrap(),
+            icosphere(0.4, 3).unwrap(),
+            ellipsoid,
+            torus(0.5, 0.15, 32, 32).unwrap(),
         ];
+        assert!(meshes[3..].iter().all(|mesh| mesh.vertices().len() > SUPPORT_CAP_MAX_VERTICES));
         let mut rng = Rng::new(23);
         let (mut checked, mut tighter) = (0, 0);
-        for case in 0..900 {
-            let mesh = &meshes[case % 3];
+        for case in 0..1800 {
+            let mesh = &meshes[case % meshes.len()];
             let motion = StepMotion::new(
                 Pose::new(rng.in_unit_ball(), rng.in_unit_ball() * 3.0),
                 rng.in_unit_ball(),
@@ -896,11 +949,14 @@ mod tests {
                     .fold(Real::NEG_INFINITY, Real::max)
             };
             let rotation = motion.rotation_at(s);
-            let top = mesh.farthest_vertex(&rotation.inverse_transform_vector(&n));
+            let near_top = if case % 2 == 0 { n } else { n + rng.unit_vector() * 0.2 };
+            let top = mesh.farthest_vertex(&rotation.inverse_transform_vector(&near_top));
             let SupportMotion { rate, curvature, .. } = support_motion(&body, s, Some(top), &n, rest);
             let head_on = n.cross(&motion.angular_velocity).norm() * mesh.radius();
-            checked += 1;
-            tighter += usize::from(rate < 0.75 * head_on);
+            if case % meshes.len() < 4 {
+                checked += 1;
+                tighter += usize::from(rate < 0.75 * head_on);
+            }
             let start = height(s);
             for k in 0..=200 {
                 let t = rest * k as Real / 200.0;

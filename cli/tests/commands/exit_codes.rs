@@ -62,14 +62,15 @@ fn a_missed_expectation_is_printed_and_exits_1() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `spin.ron` in `dir`: a plate spinning at 90 rad/s beside a wall, with
-/// too few iterations for the CCD to decide (as `undecided_is_not_contact.rs`).
+/// `spin.ron` in `dir`: a torus spinning at 60 rad/s around a bar through
+/// its hole, with too few iterations for the CCD to decide (as
+/// `undecided_is_not_contact.rs`).
 fn write_undecidable(dir: &Path) {
     std::fs::write(
         dir.join("spin.ron"),
         r#"Scene(name: "spin", dt: 0.01, duration: 0.1, ccd: (max_iterations: 5), bodies: [
-            (name: "wall", mesh: Box(half_extents: (0.1, 2.0, 2.0)), position: (1.51422, 0.0, 0.0), fixed: true),
-            (name: "plate", mesh: Box(half_extents: (1.0, 1.0, 0.01)), angular_velocity: (0.0, 0.0, 90.0), kinematic: true),
+            (name: "bar", mesh: Box(half_extents: (0.55, 0.55, 1.0)), fixed: true),
+            (name: "ring", mesh: Torus(major: 1.0, minor: 0.2), angular_velocity: (0.0, 0.0, 60.0), kinematic: true),
         ])"#,
     )
     .unwrap();
@@ -83,7 +84,7 @@ fn an_undecided_run_says_so_and_not_no_contact() {
     let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
     assert_eq!(output.status.code(), Some(3), "{stdout}{stderr}");
     assert!(!stdout.contains("no contact"), "{stdout}");
-    assert!(stderr.contains("error: undecided at step 0: the CCD of `wall` / `plate`"), "{stderr}");
+    assert!(stderr.contains("error: undecided at step 0: the CCD of `bar` / `ring`"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -37,13 +37,32 @@ fn a_fast_spin_that_reaches_the_wall_is_not_late() {
     assert!(contact.time <= analytic && analytic - contact.time < 1e-9, "{} vs {analytic}", contact.time);
 }
 
+/// A torus (tube radius 0.2 about a circle of radius 1, 48 segments, its
+/// innermost chords 0.798 from its axis) spinning about its axis at 60
+/// rad/s around a fixed bar (half 0.55 × 0.55 × 1) through its hole, whose
+/// edges (0.778 from the axis) it never reaches. The hulls overlap, so
+/// only the search decides, step by rate-bounded step.
+fn ring_around_bar(max_iterations: usize) -> Scene {
+    Scene::from_ron_str(&format!(
+        r#"Scene(name: "spin", dt: 0.01, duration: 0.1, ccd: (max_iterations: {max_iterations}), bodies: [
+            (name: "bar", mesh: Box(half_extents: (0.55, 0.55, 1.0)), fixed: true),
+            (name: "ring", mesh: Torus(major: 1.0, minor: 0.2), angular_velocity: (0.0, 0.0, 60.0), kinematic: true),
+        ])"#
+    ))
+    .unwrap()
+}
+
 #[test]
 fn a_query_out_of_iterations_ends_the_run_undecided() {
-    // Too few iterations to decide: a spin of 0.9 rad a step (under the
-    // radian from which the spin-swept cylinder is tried) whose corners
-    // (√2 from the axis) pass 6.4e-6 from the wall's face at 1.41422 takes
-    // many rate-bounded steps (with 10,000 it completes, no contact).
-    let result = run(&scene(1.51422, 5, 90.0));
+    // Too few iterations to decide: a spin of 0.6 rad a step (under the
+    // radian from which the spin-swept regions are tried) 0.02 from the
+    // bar takes many rate-bounded steps; with 10,000 it completes, no
+    // contact. (A plate's corner passing 6.4e-6 from a wall face was such
+    // a case until the hulls' advancement took steps of its own pace.)
+    let decided = run(&ring_around_bar(10_000));
+    assert_eq!(decided.termination, Termination::Completed);
+    assert!(decided.contacts.is_empty(), "{:?}", decided.first_contact);
+    let result = run(&ring_around_bar(5));
     match result.termination {
         Termination::Undecided { pair, time, step, iterations } => {
             assert_eq!((pair, step, iterations), ((0, 1), 0, 5));
@@ -53,6 +72,6 @@ fn a_query_out_of_iterations_ends_the_run_undecided() {
     }
     assert!(result.contacts.is_empty() && result.first_contact.is_none());
     let summary = nearmiss_cli::output::Summary::of(&result).to_json();
-    assert!(summary.contains("\"termination\": \"undecided at step 0: the CCD of `wall` / `plate`"));
+    assert!(summary.contains("\"termination\": \"undecided at step 0: the CCD of `bar` / `ring`"));
     assert!(summary.contains("\"first_contact\": null"));
 }
