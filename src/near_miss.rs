@@ -23,6 +23,11 @@
 //! far pair costs one CCD run, not two. A pair whose body touches anything
 //! in the step is screened again after the response, up to that contact.
 //!
+//! What a step's brackets find is kept at the next step, after its screens
+//! (which ask the pairs being bracketed for their best before the
+//! brackets): so that, in a parallel run, the brackets can run on another
+//! thread while the run steps on, with the same answers as on one thread.
+//!
 //! A pair's motion is taken up to the first contact of either body in the
 //! step (what follows a contact is the response's, not the integrated
 //! motion), and a pair that touches is a contact (`contacts`), never a
@@ -39,6 +44,8 @@
 
 use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
+use std::sync::mpsc::{channel, Receiver};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -119,7 +126,26 @@ pub(crate) struct NearMissObserver {
     flushing: Vec<(usize, usize)>,
     batch: Vec<((usize, usize), PairRecord)>,
     apart: Vec<bool>,
+    /// Whether a step's brackets run on another thread while the run steps
+    /// on (a parallel run with several threads; see
+    /// [`NearMissObserver::flush_pending`]).
+    background: bool,
+    /// The brackets on another thread: each pair's record as bracketed,
+    /// and whether it stays apart, and the seconds they took (behind a
+    /// lock only so that the observer can be shared with the narrow
+    /// phase's threads, which read the screens).
+    in_flight: Mutex<Option<Receiver<FlushedBatch>>>,
+    /// Brackets done on this thread, kept until the next step as those on
+    /// another thread are.
+    pending: Vec<Flushed>,
 }
+
+/// A pair's record after its held steps were bracketed, and whether the
+/// pair stays apart (`false`: it touches).
+type Flushed = ((usize, usize), PairRecord, bool);
+
+/// A batch of brackets done on another thread, and the seconds it took.
+type FlushedBatch = (Vec<Flushed>, Real);
 
 /// The observer's maps hash their pairs of body indices by one multiply
 /// and rotate per index (the standard library's SipHash, made to resist
@@ -222,6 +248,19 @@ impl Threads {
         self.allowed && jobs > 1 && gains_from_threads(on_one_thread, self.threads, self.handing_over)
     }
 
+    /// Whether a batch of `jobs`, at the mean time per job seen so far,
+    /// takes longer on one thread than handing it to another costs (the
+    /// first batches, with nothing seen yet, do not).
+    fn outlasts_hand_over(&self, jobs: usize) -> bool {
+        self.allowed && self.seconds / self.jobs.max(1) as Real * jobs as Real > self.handing_over
+    }
+
+    /// Counts a batch of `jobs` that took `seconds` on one thread.
+    fn account(&mut self, seconds: Real, jobs: usize) {
+        self.seconds += seconds;
+        self.jobs += jobs;
+    }
+
     /// `f` of each of `jobs`, in order, into `out`: on rayon's threads
     /// (each with its own scratch) where [`Threads::choose`] says so,
     /// otherwise on this one with `scratch`.
@@ -243,8 +282,7 @@ impl Threads {
             out.extend(jobs.iter_mut().map(|job| f(job, scratch)));
         }
         let seconds = clock.elapsed().as_secs_f64();
-        self.seconds += one_thread_seconds(seconds, parallel, self.threads, self.handing_over);
-        self.jobs += jobs.len();
+        self.account(one_thread_seconds(seconds, parallel, self.threads, self.handing_over), jobs.len());
     }
 }
 
@@ -295,6 +333,9 @@ impl NearMissObserver {
             flushing: Vec::new(),
             batch: Vec::new(),
             apart: Vec::new(),
+            background: parallel && rayon::current_num_threads() > 1,
+            in_flight: Mutex::new(None),
+            pending: Vec::new(),
         }
     }
 
@@ -379,7 +420,7 @@ impl NearMissObserver {
     /// pair to pair, on rayon's threads as the screens.
     pub(crate) fn observe_step(
         &mut self,
-        model: &Model,
+        model: &Arc<Model>,
         contacts: impl Iterator<Item = ((usize, usize), Real)>,
     ) {
         self.horizons.clear();
@@ -390,6 +431,8 @@ impl NearMissObserver {
             self.touched.insert((a, b));
             self.pairs.remove(&(a, b));
         }
+        // The last step's brackets.
+        self.join();
         // 3. The screens' outcomes, in pair order; the pairs to bracket.
         let (jobs, screened) = (std::mem::take(&mut self.jobs), std::mem::take(&mut self.screened));
         self.flushing.clear();
@@ -414,7 +457,7 @@ impl NearMissObserver {
         (self.jobs, self.screened) = (jobs, screened);
         self.beyond.clear();
         // 4. The brackets.
-        self.flush_pending(model);
+        self.flush_pending(model, self.background);
     }
 
     /// What a pair's screen found: its warm start for the next step, and
@@ -491,35 +534,101 @@ impl NearMissObserver {
 
     /// Brackets the held steps of the pairs in `flushing` (see
     /// [`PairRecord::flush`]); a pair found touching is dropped.
-    fn flush_pending(&mut self, model: &Model) {
+    ///
+    /// What the brackets found is kept at the next step's
+    /// [`NearMissObserver::join`], so that they can run in the
+    /// `background`, on another of rayon's threads while the run steps on
+    /// (the run without near misses leaves the second core mostly idle),
+    /// where a batch outlasts the hand-over. The records stay in place
+    /// meanwhile, their held steps taken: the next step's screens ask
+    /// them for their best before the brackets, and may hold a step they
+    /// would not have. On this thread or another, the answers are the
+    /// same.
+    fn flush_pending(&mut self, model: &Arc<Model>, background: bool) {
         if self.flushing.is_empty() {
             return;
         }
         let mut batch = std::mem::take(&mut self.batch);
         batch.clear();
-        batch.extend(self.flushing.iter().filter_map(|key| self.pairs.remove_entry(key)));
+        for key in &self.flushing {
+            let Some(record) = self.pairs.get_mut(key) else { continue };
+            if record.held.is_empty() {
+                continue;
+            }
+            let held = std::mem::take(&mut record.held);
+            batch.push((*key, PairRecord { miss: record.miss.clone(), held }));
+        }
         let tolerance = self.tolerance;
+        if background && self.brackets_parallel.outlasts_hand_over(batch.len()) {
+            let (sender, receiver) = channel();
+            let model = Arc::clone(model);
+            rayon::spawn(move || {
+                let clock = Instant::now();
+                let flushed: Vec<Flushed> = THREAD_SCRATCH.with(|scratch| {
+                    let scratch = &mut scratch.borrow_mut();
+                    batch
+                        .into_iter()
+                        .map(|(key, mut record)| {
+                            let apart = record.flush(&model, tolerance, scratch);
+                            (key, record, apart)
+                        })
+                        .collect()
+                });
+                // The observer is gone only if the run is (a panic).
+                let _ = sender.send((flushed, clock.elapsed().as_secs_f64()));
+            });
+            *self.in_flight.get_mut().unwrap_or_else(PoisonError::into_inner) = Some(receiver);
+            return;
+        }
         let mut apart = std::mem::take(&mut self.apart);
         self.brackets_parallel.run(&mut batch, &mut apart, &mut self.scratch, |(_, record), scratch| {
             record.flush(model, tolerance, scratch)
         });
-        for ((key, record), &apart) in batch.drain(..).zip(&apart) {
-            if apart {
-                self.pairs.insert(key, record);
-            } else {
-                self.touched.insert(key);
-            }
-        }
+        self.pending.extend(batch.drain(..).zip(&apart).map(|((key, record), &apart)| (key, record, apart)));
         (self.batch, self.apart) = (batch, apart);
+    }
+
+    /// Keeps what the last brackets found: waits for those on another
+    /// thread, if any.
+    fn join(&mut self) {
+        let in_flight = self.in_flight.get_mut().unwrap_or_else(PoisonError::into_inner);
+        if let Some(receiver) = in_flight.take() {
+            // The channel closes unsent only if the thread panicked, and
+            // rayon aborts the process on a panic in a spawned job.
+            let (flushed, seconds) = receiver.recv().unwrap_or_default();
+            self.brackets_parallel.account(seconds, flushed.len());
+            self.pending.extend(flushed);
+        }
+        let mut pending = std::mem::take(&mut self.pending);
+        for (key, record, apart) in pending.drain(..) {
+            self.keep_flushed(key, record, apart);
+        }
+        self.pending = pending;
+    }
+
+    /// What a pair's brackets found: its record's closest approach merged
+    /// into the one in place (which the steps since may have lowered), or
+    /// the pair dropped if it touches.
+    fn keep_flushed(&mut self, key: (usize, usize), flushed: PairRecord, apart: bool) {
+        if !apart {
+            self.touched.insert(key);
+            self.pairs.remove(&key);
+            return;
+        }
+        if let Some(record) = self.pairs.get_mut(&key) {
+            record.miss.merge(flushed.miss);
+        }
     }
 
     /// Every pair that came within the distance, nearest first (the steps
     /// still held bracketed first).
-    pub(crate) fn finish(mut self, model: &Model) -> Vec<NearMiss> {
+    pub(crate) fn finish(mut self, model: &Arc<Model>) -> Vec<NearMiss> {
+        self.join();
         self.flushing.clear();
         self.flushing
             .extend(self.pairs.iter().filter(|(_, record)| !record.held.is_empty()).map(|(&key, _)| key));
-        self.flush_pending(model);
+        self.flush_pending(model, false);
+        self.join();
         let within = self.within;
         let mut list: Vec<NearMiss> = self
             .pairs
@@ -557,6 +666,16 @@ fn beats(best: Real, query: &ClosestApproachQuery<'_>) -> Real {
 }
 
 impl NearMiss {
+    /// Keeps the nearer of the two distances reached, the smaller bound,
+    /// and whether both are decided.
+    fn merge(&mut self, other: NearMiss) {
+        let (lower, decided) = (self.lower.min(other.lower), self.decided && other.decided);
+        if other.distance < self.distance {
+            *self = other;
+        }
+        (self.lower, self.decided) = (lower, decided);
+    }
+
     /// The pair is `found.distance` apart (reached) at `s` into `step`.
     fn reach(&mut self, step: &HeldStep, s: Real, found: MeshDistance) {
         (self.distance, self.time, self.closest) = (found.distance, step.t0 + s, found);

@@ -360,6 +360,17 @@ impl Scene {
         scene
     }
 
+    /// The same scene stepped with other [`StepParameters`] (how the work
+    /// is done: thresholds for threads, the broad phase's rounding and the
+    /// like; not part of the file format).
+    ///
+    /// [`StepParameters`]: crate::stepper::StepParameters
+    pub fn with_parameters(&self, parameters: crate::stepper::StepParameters) -> Scene {
+        let mut scene = self.clone();
+        scene.model.parameters = parameters;
+        scene
+    }
+
     /// The same scene stopping at its first contact (`on_contact: Stop`),
     /// as `nearmiss test --record` runs it.
     pub fn stopping_at_first_contact(&self) -> Scene {

@@ -499,7 +499,7 @@ impl Stepper {
             Some(observer) => {
                 // The steps still held are bracketed now.
                 let clock = Instant::now();
-                let list = observer.finish(model);
+                let list = observer.finish(&self.model);
                 self.counters.seconds.near_misses += clock.elapsed().as_secs_f64();
                 list
             }

@@ -4,6 +4,8 @@
 
 #[path = "../support/ball_rest.rs"]
 mod ball_rest;
+#[path = "../support/crowd.rs"]
+mod crowd;
 
 mod bounce;
 mod near_misses;

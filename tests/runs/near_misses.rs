@@ -1,13 +1,14 @@
 //! `near_misses: (within: D)` (issue 30 §2): a run lists every pair that
 //! came within `D` without touching, with a certified bracket holding the
 //! analytic closest approach; pairs that stay farther, and pairs that
-//! touch, are not listed; the broad phase changes nothing.
+//! touch, are not listed; the broad phase and the threads change nothing.
 
+use crate::crowd;
 use nearmiss::kernels::point_triangle;
 use nearmiss::math::Real;
 use nearmiss::mesh::{mesh_distance, DistanceKernel, DistanceSearch};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{run, run_with, RunOptions};
+use nearmiss::stepper::{run, run_with, RunOptions, StepParameters};
 
 /// A cube passes a fixed cube 0.25 from its face (t in [2/3, 4/3]); a ball
 /// of radius 0.3 drops towards its top face, its lowest vertex 0.2 above
@@ -202,5 +203,35 @@ fn a_scene_can_state_the_brackets_width() {
         .unwrap_err()
         .to_string();
         assert!(error.contains("near_misses.tolerance"), "{error}");
+    }
+}
+
+#[test]
+fn the_threads_change_no_near_miss() {
+    // A crowd of 40 tumbling bodies bouncing off each other, every pair
+    // within 0.3: the same list on one thread as on rayon's, whether the
+    // brackets run on another thread while the run steps on (each batch
+    // handed over, the hand-over taken as free) or beside the stepping
+    // only where a batch outlasts the hand-over (the default); and every
+    // pair's bracket holds, within its width (1e-6 of the smaller radius,
+    // at most 0.7 here).
+    let scene = crowd::random_crowd(
+        40,
+        9,
+        "on_contact: Bounce(restitution: 1.0), near_misses: (within: 0.3)",
+        "density: 1.0",
+    );
+    let quiet = &mut |_| {};
+    let one = run_with(&scene, RunOptions { parallel: false, broad_phase: true }, quiet);
+    assert!(one.near_misses.len() >= 10, "{} near misses", one.near_misses.len());
+    let handed_over = StepParameters { parallel_narrow_phase_seconds: 0.0, ..StepParameters::default() };
+    for scene in [scene.with_parameters(handed_over), scene.clone()] {
+        let threads = run_with(&scene, RunOptions { parallel: true, broad_phase: true }, quiet);
+        assert_eq!(one.near_misses, threads.near_misses);
+        assert_eq!(one.contacts, threads.contacts);
+    }
+    for miss in &one.near_misses {
+        assert!(miss.decided && miss.lower <= miss.distance && miss.distance <= 0.3);
+        assert!(miss.distance - miss.lower <= 1e-6 * 0.7, "{} {}: {:?}", miss.body_a, miss.body_b, miss);
     }
 }

@@ -8,38 +8,13 @@
 //! hence the contact times, may differ by rounding (each within the
 //! contract: never late, early by less than the contact distance allows).
 
-use nearmiss::samples::Rng;
+use crate::crowd;
 use nearmiss::scene::Scene;
 use nearmiss::stepper::{run_with, RunOptions, RunResult};
 
 /// Tumbling icospheres and boxes in a 6-unit cube, contacts recorded.
 fn random_scene(bodies: usize, seed: u64) -> Scene {
-    let mut rng = Rng::new(seed);
-    let mut text = String::from(
-        "Scene(name: \"many\", dt: 0.01, duration: 0.6, on_contact: Record, trace: (pairs: All), bodies: [",
-    );
-    for k in 0..bodies {
-        let v = |rng: &mut Rng, s: f64| {
-            let x = rng.in_unit_ball() * s;
-            format!("({:?}, {:?}, {:?})", x.x, x.y, x.z)
-        };
-        let mesh = if k % 2 == 0 {
-            format!("Icosphere(radius: {:?}, subdivisions: 1)", rng.range(0.2, 0.5))
-        } else {
-            format!(
-                "Box(half_extents: ({:?}, {:?}, {:?}))",
-                rng.range(0.1, 0.4),
-                rng.range(0.1, 0.4),
-                rng.range(0.1, 0.4)
-            )
-        };
-        let (position, velocity, spin) = (v(&mut rng, 3.0), v(&mut rng, 3.0), v(&mut rng, 8.0));
-        text.push_str(&format!(
-            "(name: \"b{k}\", mesh: {mesh}, position: {position}, velocity: {velocity}, angular_velocity: {spin}),"
-        ));
-    }
-    text.push_str("])");
-    Scene::from_ron_str(&text).unwrap()
+    crowd::random_crowd(bodies, seed, "on_contact: Record, trace: (pairs: All)", "")
 }
 
 /// The same contacts (pairs, features' triangles aside) at times within
