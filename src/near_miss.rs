@@ -23,10 +23,11 @@
 //! far pair costs one CCD run, not two. A pair whose body touches anything
 //! in the step is screened again after the response, up to that contact.
 //!
-//! What a step's brackets find is kept at the next step, after its screens
-//! (which ask the pairs being bracketed for their best before the
-//! brackets): so that, in a parallel run, the brackets can run on another
-//! thread while the run steps on, with the same answers as on one thread.
+//! What a step's brackets find is kept when the next step's screens start:
+//! in a parallel run of many bodies the brackets run on another thread
+//! meanwhile, while the next step's bodies move and its broad phase runs
+//! (the run without near misses leaves the second core mostly idle), with
+//! the same answers as on one thread.
 //!
 //! A pair's motion is taken up to the first contact of either body in the
 //! step (what follows a contact is the response's, not the integrated
@@ -127,7 +128,7 @@ pub(crate) struct NearMissObserver {
     batch: Vec<((usize, usize), PairRecord)>,
     apart: Vec<bool>,
     /// Whether a step's brackets run on another thread while the run steps
-    /// on (a parallel run with several threads; see
+    /// on (a parallel run of many bodies with several threads; see
     /// [`NearMissObserver::flush_pending`]).
     background: bool,
     /// The brackets on another thread: each pair's record as bracketed,
@@ -135,9 +136,6 @@ pub(crate) struct NearMissObserver {
     /// lock only so that the observer can be shared with the narrow
     /// phase's threads, which read the screens).
     in_flight: Mutex<Option<Receiver<FlushedBatch>>>,
-    /// Brackets done on this thread, kept until the next step as those on
-    /// another thread are.
-    pending: Vec<Flushed>,
 }
 
 /// A pair's record after its held steps were bracketed, and whether the
@@ -310,7 +308,17 @@ struct HeldStep {
 }
 
 impl NearMissObserver {
-    pub(crate) fn new(spec: &NearMissSpec, parallel: bool, handing_over: Real) -> NearMissObserver {
+    /// The observer of a run of `bodies` bodies, `parallel` or not; batches
+    /// go on rayon's threads where they outlast `handing_over` seconds, and
+    /// the brackets beside the stepping where the run has at least
+    /// `many_bodies` bodies (under that, a step is too short to hide them
+    /// behind).
+    pub(crate) fn new(
+        spec: &NearMissSpec,
+        parallel: bool,
+        handing_over: Real,
+        (bodies, many_bodies): (usize, usize),
+    ) -> NearMissObserver {
         let only = spec.pairs.clone().map(|mut pairs| {
             pairs.sort_unstable();
             pairs
@@ -333,9 +341,8 @@ impl NearMissObserver {
             flushing: Vec::new(),
             batch: Vec::new(),
             apart: Vec::new(),
-            background: parallel && rayon::current_num_threads() > 1,
+            background: parallel && rayon::current_num_threads() > 1 && bodies >= many_bodies,
             in_flight: Mutex::new(None),
-            pending: Vec::new(),
         }
     }
 
@@ -359,6 +366,8 @@ impl NearMissObserver {
         motions: &[StepMotion],
     ) {
         self.steps += 1;
+        // The last step's brackets, before anything asks for a best.
+        self.join();
         // 1. What each pair's screen asks, in pair order.
         let mut jobs = std::mem::take(&mut self.jobs);
         jobs.clear();
@@ -431,8 +440,6 @@ impl NearMissObserver {
             self.touched.insert((a, b));
             self.pairs.remove(&(a, b));
         }
-        // The last step's brackets.
-        self.join();
         // 3. The screens' outcomes, in pair order; the pairs to bracket.
         let (jobs, screened) = (std::mem::take(&mut self.jobs), std::mem::take(&mut self.screened));
         self.flushing.clear();
@@ -536,14 +543,11 @@ impl NearMissObserver {
     /// [`PairRecord::flush`]); a pair found touching is dropped.
     ///
     /// What the brackets found is kept at the next step's
-    /// [`NearMissObserver::join`], so that they can run in the
-    /// `background`, on another of rayon's threads while the run steps on
-    /// (the run without near misses leaves the second core mostly idle),
-    /// where a batch outlasts the hand-over. The records stay in place
-    /// meanwhile, their held steps taken: the next step's screens ask
-    /// them for their best before the brackets, and may hold a step they
-    /// would not have. On this thread or another, the answers are the
-    /// same.
+    /// [`NearMissObserver::join`], before its screens, so that they can
+    /// run in the `background`, on another of rayon's threads while the
+    /// next step's bodies move and its broad phase runs, where a batch
+    /// outlasts the hand-over. Nothing reads the records meanwhile. On
+    /// this thread or another, the answers are the same.
     fn flush_pending(&mut self, model: &Arc<Model>, background: bool) {
         if self.flushing.is_empty() {
             return;
@@ -584,12 +588,14 @@ impl NearMissObserver {
         self.brackets_parallel.run(&mut batch, &mut apart, &mut self.scratch, |(_, record), scratch| {
             record.flush(model, tolerance, scratch)
         });
-        self.pending.extend(batch.drain(..).zip(&apart).map(|((key, record), &apart)| (key, record, apart)));
+        for ((key, record), &apart) in batch.drain(..).zip(&apart) {
+            self.keep_flushed(key, record, apart);
+        }
         (self.batch, self.apart) = (batch, apart);
     }
 
-    /// Keeps what the last brackets found: waits for those on another
-    /// thread, if any.
+    /// Waits for the brackets on another thread, if any, and keeps what
+    /// they found.
     fn join(&mut self) {
         let in_flight = self.in_flight.get_mut().unwrap_or_else(PoisonError::into_inner);
         if let Some(receiver) = in_flight.take() {
@@ -597,13 +603,10 @@ impl NearMissObserver {
             // rayon aborts the process on a panic in a spawned job.
             let (flushed, seconds) = receiver.recv().unwrap_or_default();
             self.brackets_parallel.account(seconds, flushed.len());
-            self.pending.extend(flushed);
+            for (key, record, apart) in flushed {
+                self.keep_flushed(key, record, apart);
+            }
         }
-        let mut pending = std::mem::take(&mut self.pending);
-        for (key, record, apart) in pending.drain(..) {
-            self.keep_flushed(key, record, apart);
-        }
-        self.pending = pending;
     }
 
     /// What a pair's brackets found: its record's closest approach merged
@@ -617,6 +620,10 @@ impl NearMissObserver {
         }
         if let Some(record) = self.pairs.get_mut(&key) {
             record.miss.merge(flushed.miss);
+            // Its buffer back (bracketed, so empty), for the steps to come.
+            if record.held.is_empty() {
+                record.held = flushed.held;
+            }
         }
     }
 
@@ -628,7 +635,6 @@ impl NearMissObserver {
         self.flushing
             .extend(self.pairs.iter().filter(|(_, record)| !record.held.is_empty()).map(|(&key, _)| key));
         self.flush_pending(model, false);
-        self.join();
         let within = self.within;
         let mut list: Vec<NearMiss> = self
             .pairs

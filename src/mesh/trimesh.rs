@@ -188,7 +188,10 @@ impl TriMesh {
     /// Triangle `i` as points in the mesh's frame.
     #[inline]
     pub fn triangle(&self, i: usize) -> Triangle {
-        self.triangles[i].map(|v| self.vertices[v as usize])
+        // Spelled out: `array::map` here was left out of line in some
+        // builds (a call per vertex in the distance search's inner loop).
+        let [a, b, c] = self.triangles[i];
+        [self.vertices[a as usize], self.vertices[b as usize], self.vertices[c as usize]]
     }
 
     /// The bounding volume hierarchy.

@@ -286,6 +286,7 @@ impl Stepper {
                         spec,
                         options.parallel,
                         model.parameters.parallel_narrow_phase_seconds,
+                        (model.bodies.len(), model.parameters.parallel_integration_bodies),
                     )
                 })
             }),

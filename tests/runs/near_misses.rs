@@ -210,9 +210,9 @@ fn a_scene_can_state_the_brackets_width() {
 fn the_threads_change_no_near_miss() {
     // A crowd of 40 tumbling bodies bouncing off each other, every pair
     // within 0.3: the same list on one thread as on rayon's, whether the
-    // brackets run on another thread while the run steps on (each batch
-    // handed over, the hand-over taken as free) or beside the stepping
-    // only where a batch outlasts the hand-over (the default); and every
+    // brackets run on another thread while the run steps on (every batch,
+    // the hand-over taken as free and 40 bodies as many) or not (the
+    // default for so few bodies); and every
     // pair's bracket holds, within its width (1e-6 of the smaller radius,
     // at most 0.7 here).
     let scene = crowd::random_crowd(
@@ -224,7 +224,11 @@ fn the_threads_change_no_near_miss() {
     let quiet = &mut |_| {};
     let one = run_with(&scene, RunOptions { parallel: false, broad_phase: true }, quiet);
     assert!(one.near_misses.len() >= 10, "{} near misses", one.near_misses.len());
-    let handed_over = StepParameters { parallel_narrow_phase_seconds: 0.0, ..StepParameters::default() };
+    let handed_over = StepParameters {
+        parallel_narrow_phase_seconds: 0.0,
+        parallel_integration_bodies: 0,
+        ..StepParameters::default()
+    };
     for scene in [scene.with_parameters(handed_over), scene.clone()] {
         let threads = run_with(&scene, RunOptions { parallel: true, broad_phase: true }, quiet);
         assert_eq!(one.near_misses, threads.near_misses);
