@@ -610,8 +610,7 @@ impl NearMissObserver {
     }
 
     /// What a pair's brackets found: its record's closest approach merged
-    /// into the one in place (which the steps since may have lowered), or
-    /// the pair dropped if it touches.
+    /// into the one in place, or the pair dropped if it touches.
     fn keep_flushed(&mut self, key: (usize, usize), flushed: PairRecord, apart: bool) {
         if !apart {
             self.touched.insert(key);
