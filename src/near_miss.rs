@@ -242,15 +242,22 @@ impl Threads {
     /// Whether a batch of `jobs` goes on the threads (the first batches,
     /// with nothing seen yet, do not).
     fn choose(&self, jobs: usize) -> bool {
-        let on_one_thread = self.seconds / self.jobs.max(1) as Real * jobs as Real;
-        self.allowed && jobs > 1 && gains_from_threads(on_one_thread, self.threads, self.handing_over)
+        self.allowed
+            && jobs > 1
+            && gains_from_threads(self.on_one_thread(jobs), self.threads, self.handing_over)
     }
 
     /// Whether a batch of `jobs`, at the mean time per job seen so far,
     /// takes longer on one thread than handing it to another costs (the
     /// first batches, with nothing seen yet, do not).
     fn outlasts_hand_over(&self, jobs: usize) -> bool {
-        self.allowed && self.seconds / self.jobs.max(1) as Real * jobs as Real > self.handing_over
+        self.allowed && self.on_one_thread(jobs) > self.handing_over
+    }
+
+    /// A batch of `jobs` on one thread, at the mean time per job seen so
+    /// far (0 before any).
+    fn on_one_thread(&self, jobs: usize) -> Real {
+        self.seconds / self.jobs.max(1) as Real * jobs as Real
     }
 
     /// Counts a batch of `jobs` that took `seconds` on one thread.
@@ -546,22 +553,16 @@ impl NearMissObserver {
     /// [`NearMissObserver::join`], before its screens, so that they can
     /// run in the `background`, on another of rayon's threads while the
     /// next step's bodies move and its broad phase runs, where a batch
-    /// outlasts the hand-over. Nothing reads the records meanwhile. On
-    /// this thread or another, the answers are the same.
+    /// outlasts the hand-over. Their records are out of the map meanwhile
+    /// (nothing asks for them before the join). On this thread or
+    /// another, the answers are the same.
     fn flush_pending(&mut self, model: &Arc<Model>, background: bool) {
         if self.flushing.is_empty() {
             return;
         }
         let mut batch = std::mem::take(&mut self.batch);
         batch.clear();
-        for key in &self.flushing {
-            let Some(record) = self.pairs.get_mut(key) else { continue };
-            if record.held.is_empty() {
-                continue;
-            }
-            let held = std::mem::take(&mut record.held);
-            batch.push((*key, PairRecord { miss: record.miss.clone(), held }));
-        }
+        batch.extend(self.flushing.iter().filter_map(|key| self.pairs.remove_entry(key)));
         let tolerance = self.tolerance;
         if background && self.brackets_parallel.outlasts_hand_over(batch.len()) {
             let (sender, receiver) = channel();
@@ -609,20 +610,13 @@ impl NearMissObserver {
         }
     }
 
-    /// What a pair's brackets found: its record's closest approach merged
-    /// into the one in place, or the pair dropped if it touches.
-    fn keep_flushed(&mut self, key: (usize, usize), flushed: PairRecord, apart: bool) {
-        if !apart {
+    /// A pair's record as its brackets left it, back in the map, or the
+    /// pair dropped if it touches.
+    fn keep_flushed(&mut self, key: (usize, usize), record: PairRecord, apart: bool) {
+        if apart {
+            self.pairs.insert(key, record);
+        } else {
             self.touched.insert(key);
-            self.pairs.remove(&key);
-            return;
-        }
-        if let Some(record) = self.pairs.get_mut(&key) {
-            record.miss.merge(flushed.miss);
-            // Its buffer back (bracketed, so empty), for the steps to come.
-            if record.held.is_empty() {
-                record.held = flushed.held;
-            }
         }
     }
 
@@ -671,16 +665,6 @@ fn beats(best: Real, query: &ClosestApproachQuery<'_>) -> Real {
 }
 
 impl NearMiss {
-    /// Keeps the nearer of the two distances reached, the smaller bound,
-    /// and whether both are decided.
-    fn merge(&mut self, other: NearMiss) {
-        let (lower, decided) = (self.lower.min(other.lower), self.decided && other.decided);
-        if other.distance < self.distance {
-            *self = other;
-        }
-        (self.lower, self.decided) = (lower, decided);
-    }
-
     /// The pair is `found.distance` apart (reached) at `s` into `step`.
     fn reach(&mut self, step: &HeldStep, s: Real, found: MeshDistance) {
         (self.distance, self.time, self.closest) = (found.distance, step.t0 + s, found);
