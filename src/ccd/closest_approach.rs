@@ -61,6 +61,11 @@ pub const RUN_TOLERANCE_FRACTION: Real = 0.25;
 /// width closer, so the runs make progress.
 pub const PROOF_MARGIN_FRACTION: Real = 0.75;
 
+/// A screen's contract tolerance, at least, as a fraction of the distance
+/// it asks about: `0.25` (see [`screen`]: a pair is screened as closer
+/// where it comes within 1.125 times that distance).
+pub const SCREEN_TOLERANCE_FRACTION: Real = 0.25;
+
 /// The descent to a local minimum stops once the distance cannot move by
 /// this fraction of the width across its time bracket: `0.125` (the upper
 /// bound is then that close to the local minimum).
@@ -335,17 +340,32 @@ impl Runs {
     }
 }
 
-/// The first run of [`closest_approach`] alone: whether the meshes of
-/// `query` come within its `within` over the interval, and if so when
-/// first (and the CCD's closest triangle pair there, a hint). A caller
-/// that brackets many intervals of one pair screens them this way and
-/// brackets only those that may hold its closest approach.
+/// The first run of [`closest_approach`] alone, coarser: whether the
+/// meshes of `query` come within its `within` over the interval, and if so
+/// when (and the CCD's closest triangle pair there, a hint). A caller that
+/// brackets many intervals of one pair screens them this way and brackets
+/// only those that may hold its closest approach.
+///
+/// The run's contract tolerance is at least [`SCREEN_TOLERANCE_FRACTION`]
+/// of `within` (the bracket's own where that is larger): `Beyond` still
+/// certifies that the meshes stay farther than `within`, but `Closer` may
+/// stop where they are up to `1 + (1 − TARGET_FRACTION) ×` that fraction
+/// of `within` apart, before they come within it. A screen only chooses the
+/// intervals to bracket, and each bracket then asks at its own width; the
+/// advancement that would pin down the moment a pair crosses `within` to
+/// the bracket's width (a millionth of the radius) is not spent.
 pub(crate) fn screen(
     query: &ClosestApproachQuery<'_>,
     warm: WarmStart,
     scratch: &mut MeshCcdScratch,
 ) -> (Run, MeshCcdResult) {
-    Runs::of(query).below(query, query.within, warm, scratch)
+    let mut runs = Runs::of(query);
+    let coarse = SCREEN_TOLERANCE_FRACTION * query.within;
+    if coarse > runs.tau {
+        runs.options.distance_tolerance *= coarse / runs.tau;
+        runs.tau = coarse;
+    }
+    runs.below(query, query.within, warm, scratch)
 }
 
 impl ClosestApproach {

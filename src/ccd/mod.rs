@@ -57,7 +57,7 @@ pub use advance::ROUNDING_FLOOR_ULPS;
 pub use closest_approach::{
     closest_approach, ApproachStatus, ClosestApproach, ClosestApproachQuery, DEFAULT_APPROACH_TOLERANCE,
     DESCENT_FIRST_STEP_FRACTION, DESCENT_PRECISION_FRACTION, MAX_APPROACH_RUNS, PROOF_MARGIN_FRACTION,
-    RUN_TOLERANCE_FRACTION,
+    RUN_TOLERANCE_FRACTION, SCREEN_TOLERANCE_FRACTION,
 };
 pub(crate) use closest_approach::{measure as distance_at, screen as screen_approach, Run as ApproachRun};
 pub use contact::{box_margin, ContactContract, ContactRule, BOX_MARGIN_TOLERANCE_FACTOR, TARGET_FRACTION};
