@@ -7,15 +7,18 @@
 //! the step) is screened by one CCD run: does it come closer than both `D`
 //! and its best so far? A pair that does not costs that run, usually one
 //! bounding-sphere or hull check, and its certified bound is kept. A step
-//! that does is held (its motions copied), and the pair's held steps are
-//! bracketed with [`closest_approach`] when a step screens farther again,
-//! every [`MAX_HELD_STEPS`] steps, and at the run's end: the step whose
-//! end is nearest first (a golden-section search over the held steps'
-//! ends), then its neighbours outwards, each asking only for what beats
-//! the best so far, so that one bracket finds the approach and the others
-//! are proved farther by one CCD run each. (Bracketing every step as it
-//! came cost 35× the run without near misses on the 1,000-body box: a
-//! pair that approaches over many steps improved its best, and paid a
+//! that does is held (its motions copied), and so is every later step of
+//! the pair, unscreened, until the pair leaves the candidates, for at most
+//! [`MAX_HELD_STEPS`] steps, or to the run's end: most approaches end in a
+//! contact, which drops them, so screening each step of an approach (over
+//! a quarter of the near misses' work on the 1,000-body box) bought little.
+//! Then the held steps are bracketed with [`closest_approach`]: the step
+//! whose end is nearest first (a golden-section search over the held
+//! steps' ends), then its neighbours outwards, each asking only for what
+//! beats the best so far, so that one bracket finds the approach and the
+//! others are proved farther by one CCD run each. (Bracketing every step
+//! as it came cost 35× the run without near misses on the 1,000-body box:
+//! a pair that approaches over many steps improved its best, and paid a
 //! whole bracket, every step.)
 //!
 //! The screens run before the narrow phase, which takes a screen that
@@ -120,6 +123,11 @@ pub(crate) struct NearMissObserver {
     /// whether each stays apart.
     jobs: Vec<ScreenJob>,
     screened: Vec<(ApproachRun, MeshCcdResult)>,
+    /// The step of each candidate pair whose record holds steps already
+    /// (in the middle of an approach): held again with no screen.
+    holding: Vec<((usize, usize), HeldStep)>,
+    /// The pairs whose records hold steps (some perhaps no longer).
+    with_held: Vec<(usize, usize)>,
     /// For each candidate pair of the step (by index), where its screen
     /// proved it apart over the whole step: the certified distance and the
     /// screen (its index in `screened`).
@@ -299,10 +307,12 @@ struct PairRecord {
     /// and the smallest certified bound of the steps bracketed or screened
     /// (`lower`; the held steps' are not in it yet).
     miss: NearMiss,
-    /// Steps that came closer than the pair's best at the time they were
-    /// screened: each is bracketed at the next flush, in increasing order
-    /// of the distance reached in it, asking only for what beats the best.
+    /// The steps from the one that came closer than the pair's best when
+    /// it was screened on: each is bracketed at the next flush, nearest
+    /// first, asking only for what beats the best.
     held: Vec<HeldStep>,
+    /// The last step (count) in which the pair was a candidate.
+    seen: u64,
 }
 
 /// One step of a pair, kept for bracketing.
@@ -344,6 +354,8 @@ impl NearMissObserver {
             scratch: MeshCcdScratch::default(),
             jobs: Vec::new(),
             screened: Vec::new(),
+            holding: Vec::new(),
+            with_held: Vec::new(),
             beyond: Vec::new(),
             flushing: Vec::new(),
             batch: Vec::new(),
@@ -378,6 +390,7 @@ impl NearMissObserver {
         // 1. What each pair's screen asks, in pair order.
         let mut jobs = std::mem::take(&mut self.jobs);
         jobs.clear();
+        self.holding.clear();
         for (index, pair) in pairs.iter().enumerate() {
             let key = (pair.a.min(pair.b), pair.a.max(pair.b));
             if self.touched.contains(&key)
@@ -386,7 +399,20 @@ impl NearMissObserver {
                 continue;
             }
             let step = HeldStep { t0, duration: model.dt, a: motions[key.0], b: motions[key.1] };
-            let best = self.pairs.get(&key).map(|record| record.miss.distance);
+            // A pair in the middle of an approach (its last step came
+            // closer and is held) holds this one too, unscreened: most
+            // approaches end in a contact, which drops them, and the rest
+            // are bracketed together once the pair leaves the candidates
+            // (or after MAX_HELD_STEPS), a step farther than the best
+            // proved so by one CCD run.
+            let best = match self.pairs.get_mut(&key) {
+                Some(record) if !record.held.is_empty() => {
+                    record.seen = self.steps;
+                    self.holding.push((key, step));
+                    continue;
+                }
+                record => record.map(|record| record.miss.distance),
+            };
             // From the pair's last screen: its bound only if that screen was
             // of the step before (a bound at this step's start, less what
             // the motion closes over the step, bounds the whole step).
@@ -429,11 +455,12 @@ impl NearMissObserver {
     /// that touched is a contact, never a near miss.
     ///
     /// A step that comes closer is held, with the distance measured where
-    /// it first came closer. The held steps are bracketed when the pair
-    /// stops coming closer, every [`MAX_HELD_STEPS`], and at the run's end,
-    /// nearest first, so that most of them are settled by one run that
-    /// proves them farther than the best. The brackets are independent from
-    /// pair to pair, on rayon's threads as the screens.
+    /// it first came closer, and so is each later step of the pair (up to
+    /// either body's contact in it). The held steps are bracketed when the
+    /// pair leaves the candidates, every [`MAX_HELD_STEPS`], and at the
+    /// run's end, nearest first, so that most of them are settled by one
+    /// run that proves them farther than the best. The brackets are
+    /// independent from pair to pair, on rayon's threads as the screens.
     pub(crate) fn observe_step(
         &mut self,
         model: &Arc<Model>,
@@ -470,6 +497,24 @@ impl NearMissObserver {
         }
         (self.jobs, self.screened) = (jobs, screened);
         self.beyond.clear();
+        // The steps held unscreened, up to either body's contact.
+        for &(key, step) in &self.holding {
+            let duration = self.horizons[key.0].min(self.horizons[key.1]);
+            let Some(record) = self.pairs.get_mut(&key).filter(|_| duration > 0.0) else { continue };
+            record.held.push(HeldStep { duration, ..step });
+        }
+        // Pairs holding steps are bracketed once they leave the candidates
+        // (or hold MAX_HELD_STEPS).
+        self.with_held.sort_unstable();
+        self.with_held.dedup();
+        let (pairs, flushing, steps) = (&self.pairs, &mut self.flushing, self.steps);
+        self.with_held.retain(|key| {
+            let Some(record) = pairs.get(key).filter(|record| !record.held.is_empty()) else { return false };
+            if record.seen != steps || record.held.len() >= MAX_HELD_STEPS {
+                flushing.push(*key);
+            }
+            true
+        });
         // 4. The brackets.
         self.flush_pending(model, self.background);
     }
@@ -516,10 +561,11 @@ impl NearMissObserver {
                         entry.insert(PairRecord::new(key, &step, time, found))
                     }
                 };
-                record.held.push(step);
-                if record.held.len() >= MAX_HELD_STEPS {
-                    self.flushing.push(key);
+                if record.held.is_empty() {
+                    self.with_held.push(key);
                 }
+                record.seen = self.steps;
+                record.held.push(step);
             }
             ApproachRun::Touching { .. } => {
                 self.touched.insert(key);
@@ -687,7 +733,7 @@ impl PairRecord {
             decided: true,
         };
         miss.reach(step, s, found);
-        PairRecord { miss, held: Vec::new() }
+        PairRecord { miss, held: Vec::new(), seen: 0 }
     }
 
     /// Brackets the held steps, each asking only for what comes closer than
