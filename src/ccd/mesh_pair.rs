@@ -688,23 +688,27 @@ struct GapMotion<'p> {
     /// The centres' offset `c_b − c_a` and relative velocity `v_b − v_a`.
     offset: Vector,
     velocity: Vector,
-    /// Each body's rotation at `s`, and its support along `n` (`a`) or
-    /// `−n` (`b`), in its own frame.
-    tops: [(nalgebra::UnitQuaternion<Real>, Real); 2],
+    /// When `a`'s and `b`'s hulls are wanted: the time, each body's
+    /// rotation then and its support along `n` (`a`) or `−n` (`b`), in its
+    /// own frame, found at the first need (a body that keeps its place in
+    /// every frame, as both do where neither turns, needs none).
+    s: Real,
+    tops: [std::cell::Cell<Option<HullTop>>; 2],
 }
+
+/// A body's rotation at a time, and its hull's support along a direction
+/// then (in its own frame).
+type HullTop = (nalgebra::UnitQuaternion<Real>, Real);
 
 impl<'p> GapMotion<'p> {
     fn at(pair: &'p PairMotion<'p>, s: Real, n: Vector) -> GapMotion<'p> {
-        let top = |body: &MovingMesh<'_>, direction: &Vector| {
-            let rotation = body.motion.rotation_at(s);
-            (rotation, support(body.mesh, &rotation.inverse_transform_vector(direction)))
-        };
         GapMotion {
             pair,
             n,
             offset: StepMotion::center_offset(pair.a.motion, pair.b.motion, s),
             velocity: pair.b.motion.velocity - pair.a.motion.velocity,
-            tops: [top(&pair.a, &n), top(&pair.b, &-n)],
+            s,
+            tops: Default::default(),
         }
     }
 
@@ -744,15 +748,23 @@ impl<'p> GapMotion<'p> {
     ) -> (Real, Real) {
         let omega = body.motion.angular_velocity;
         let relative = frame - omega;
-        let across = relative.cross(direction);
-        let sweep = across.norm();
-        if !(sweep > 0.0 && horizon > 0.0) {
-            return (0.0, 0.0);
-        }
         let radius = body.mesh.radius();
         let turning = if *frame == Vector::zeros() { omega.cross(direction).norm() } else { relative.norm() };
         let curvature = radius * (relative.norm() * frame.cross(direction).norm() + turning * omega.norm());
-        let (rotation, top) = self.tops[k];
+        // Where the vertices' rates are all 0 at `s` (the body keeps its
+        // place in the frame, or turns about the direction), only the
+        // curvature is left: a turning frame soon tilts the direction.
+        let across = relative.cross(direction);
+        let sweep = across.norm();
+        if !(sweep > 0.0 && horizon > 0.0) {
+            return (0.0, curvature);
+        }
+        let (rotation, top) = self.tops[k].get().unwrap_or_else(|| {
+            let rotation = body.motion.rotation_at(self.s);
+            let found = (rotation, support(body.mesh, &rotation.inverse_transform_vector(direction)));
+            self.tops[k].set(Some(found));
+            found
+        });
         let tilted = rotation.inverse_transform_vector(&(direction + across * horizon));
         // The rounding of the two lookups' dot products and of the tilted
         // direction: a few ulps of the radius times the directions' lengths.
@@ -946,8 +958,9 @@ mod tests {
         // Pairs of boxes, icospheres (12 to 642 vertices), a flat
         // ellipsoid and a torus (642 and 1,024 vertices, far from round;
         // the torus not convex), moving at up to 3 and spinning at up to
-        // 30 rad/s (in one pair in three, one body does not turn), a
-        // random direction, horizons of 1e-6 to 0.1: in each frame (the
+        // 30 rad/s (in one pair in three, one body does not turn; in one
+        // in eight, a turns about the direction in b's frame), a random
+        // direction, horizons of 1e-6 to 0.1: in each frame (the
         // world's, each turning body's), the gap along the direction
         // turning with it, sampled over the horizon, never falls below its
         // value at the start plus the frame's rate and curvature terms.
@@ -977,7 +990,9 @@ mod tests {
             let (mesh_a, mesh_b) = (&meshes[kinds.0], &meshes[kinds.1]);
             let spin =
                 |still: bool, rng: &mut Rng| if still { Vector::zeros() } else { rng.in_unit_ball() * 30.0 };
-            let motion_a = StepMotion::new(
+            // (One in eight: along an axis, for the case below to be exact.)
+            let n = if case % 8 == 5 { Vector::ith(case % 3, 1.0) } else { rng.unit_vector() };
+            let mut motion_a = StepMotion::new(
                 Pose::new(rng.in_unit_ball(), rng.in_unit_ball() * 3.0),
                 rng.in_unit_ball() * 3.0,
                 spin(case % 3 == 1, &mut rng),
@@ -987,12 +1002,16 @@ mod tests {
                 rng.in_unit_ball() * 3.0,
                 spin(case % 3 == 2, &mut rng),
             );
+            if case % 8 == 5 {
+                // In b's frame, a turns about n: its vertices' rates are
+                // exactly 0 at the start, not after (the frame tilts n).
+                motion_a.angular_velocity = motion_b.angular_velocity + n * 5.0;
+            }
             let (a, b) = (
                 MovingMesh { mesh: mesh_a, motion: &motion_a },
                 MovingMesh { mesh: mesh_b, motion: &motion_b },
             );
             let pair = PairMotion::of(&a, &b, 1.0);
-            let n = rng.unit_vector();
             let (s, horizon) = (rng.uniform() * 0.1, Real::powf(10.0, -6.0 + 5.0 * rng.uniform()));
             let gap_motion = GapMotion::at(&pair, s, n);
             // The gap along m at time u: the lowest of b's vertices along m
