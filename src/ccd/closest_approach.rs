@@ -61,9 +61,11 @@ pub const RUN_TOLERANCE_FRACTION: Real = 0.25;
 /// width closer, so the runs make progress.
 pub const PROOF_MARGIN_FRACTION: Real = 0.75;
 
-/// A screen's contract tolerance, at least, as a fraction of the distance
-/// it asks about: `0.25` (see [`screen`]: a pair is screened as closer
-/// where it comes within 1.125 times that distance).
+/// The contract tolerance of a run that screens an interval for a
+/// caller's near misses (does the pair come within a distance?), at least,
+/// as a fraction of that distance: `0.25`. Such a run certifies that the
+/// pair stays farther than the distance, or stops where it comes within
+/// 1.125 times it: it only chooses the intervals to bracket.
 pub const SCREEN_TOLERANCE_FRACTION: Real = 0.25;
 
 /// The descent to a local minimum stops once the distance cannot move by

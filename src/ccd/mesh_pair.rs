@@ -47,8 +47,9 @@
 //! along the gap's direction over the step (the centres' approach along it
 //! and each body's turn, at most `|n × ω| r`; or, to second order over a
 //! horizon of such steps, the rise of each hull's top alone, from its
-//! support along the turning direction, [`support_motion`]). Each lets a pair that stays
-//! apart skip the step without any search. Where the hulls' gap does not
+//! support along the turning direction, with the direction fixed or turning
+//! with either body, [`GapMotion`]). Each lets a pair that stays apart skip
+//! the step without any search. Where the hulls' gap does not
 //! last the whole step, it still proves a part of it: conservative
 //! advancement runs on the hulls' gap alone (one warm-started GJK a step)
 //! until the hulls come within the contact distance. There, a triangle
@@ -598,11 +599,12 @@ fn advance_on_hulls(
         // plus each body's head-on turning rate |n × ω| r; and, to second
         // order, over a horizon of a few such steps, at the centres'
         // approach plus each hull's rise over the horizon (the chord of its
-        // support along the turning direction, `support_motion`): the
-        // longer step. Where the second-order bound outlasts its horizon, a
-        // horizon CAP_HORIZON_STEPS times longer is tried, up to the
-        // interval's end: a pair closing far slower than the head-on rate
-        // takes steps of its own pace, not of four head-on steps.
+        // support along the turning direction, in the frame that lasts
+        // longest, `GapMotion`): the longer step. Where the second-order
+        // bound outlasts its horizon, a horizon CAP_HORIZON_STEPS times
+        // longer is tried, up to the interval's end: a pair closing far
+        // slower than the head-on rate takes steps of its own pace, not of
+        // four head-on steps.
         let approach = (a.motion.velocity - b.motion.velocity).dot(&n);
         let head_on =
             |body: &MovingMesh<'_>| n.cross(&body.motion.angular_velocity).norm() * body.mesh.radius();
