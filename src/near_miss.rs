@@ -307,9 +307,10 @@ struct PairRecord {
     /// and the smallest certified bound of the steps bracketed or screened
     /// (`lower`; the held steps' are not in it yet).
     miss: NearMiss,
-    /// The steps from the one that came closer than the pair's best when
-    /// it was screened on: each is bracketed at the next flush, nearest
-    /// first, asking only for what beats the best.
+    /// The steps held since one was screened closer than the pair's best
+    /// (that step and each later one while the pair stays a candidate):
+    /// each is bracketed at the next flush, nearest first, asking only for
+    /// what beats the best.
     held: Vec<HeldStep>,
     /// The last step (count) in which the pair was a candidate.
     seen: u64,
@@ -539,12 +540,11 @@ impl NearMissObserver {
         );
         let hint = result.hint;
         match run {
+            // (A pair holding steps is not screened: its held steps wait
+            // for it to leave the candidates.)
             ApproachRun::Beyond { lower } => {
                 if let Some(record) = self.pairs.get_mut(&key) {
                     record.miss.lower = record.miss.lower.min(lower);
-                    if !record.held.is_empty() {
-                        self.flushing.push(key);
-                    }
                 }
             }
             ApproachRun::Closer { time } => {
