@@ -126,7 +126,8 @@ pub(crate) struct NearMissObserver {
     /// The step of each candidate pair whose record holds steps already
     /// (in the middle of an approach): held again with no screen.
     holding: Vec<((usize, usize), HeldStep)>,
-    /// The pairs whose records hold steps (some perhaps no longer).
+    /// The pairs whose records hold steps (or held them until the pair
+    /// touched), each once.
     with_held: Vec<(usize, usize)>,
     /// For each candidate pair of the step (by index), where its screen
     /// proved it apart over the whole step: the certified distance and the
@@ -505,16 +506,16 @@ impl NearMissObserver {
             record.held.push(HeldStep { duration, ..step });
         }
         // Pairs holding steps are bracketed once they leave the candidates
-        // (or hold MAX_HELD_STEPS).
-        self.with_held.sort_unstable();
-        self.with_held.dedup();
+        // (or hold MAX_HELD_STEPS), and leave the list (a record touched
+        // meanwhile is gone).
         let (pairs, flushing, steps) = (&self.pairs, &mut self.flushing, self.steps);
         self.with_held.retain(|key| {
-            let Some(record) = pairs.get(key).filter(|record| !record.held.is_empty()) else { return false };
-            if record.seen != steps || record.held.len() >= MAX_HELD_STEPS {
+            let Some(record) = pairs.get(key) else { return false };
+            let flush = record.seen != steps || record.held.len() >= MAX_HELD_STEPS;
+            if flush {
                 flushing.push(*key);
             }
-            true
+            !flush
         });
         // 4. The brackets.
         self.flush_pending(model, self.background);

@@ -601,7 +601,7 @@ fn advance_on_hulls(
         // approach plus each hull's rise over the horizon (the chord of its
         // support along the turning direction, in the frame that lasts
         // longest, `GapMotion`): the longer step. Where the second-order
-        // bound outlasts its horizon, a horizon CAP_HORIZON_STEPS times
+        // bound outlasts its horizon, a horizon HULL_HORIZON_STEPS times
         // longer is tried, up to the interval's end: a pair closing far
         // slower than the head-on rate takes steps of its own pace, not of
         // four head-on steps.
@@ -616,7 +616,7 @@ fn advance_on_hulls(
         };
         let (mut step, mut apart, mut at_end) = (linear, linear > rest, -closing * rest);
         if !apart {
-            let mut horizon = rest.min(CAP_HORIZON_STEPS * linear);
+            let mut horizon = rest.min(HULL_HORIZON_STEPS * linear);
             let gap_at = GapMotion::at(pair, s, n);
             loop {
                 let mut outlasts = false;
@@ -633,7 +633,7 @@ fn advance_on_hulls(
                 if !(outlasts && horizon > 0.0 && horizon < rest) {
                     break;
                 }
-                horizon = rest.min(CAP_HORIZON_STEPS * horizon);
+                horizon = rest.min(HULL_HORIZON_STEPS * horizon);
             }
         }
         if apart {
@@ -732,22 +732,17 @@ impl<'p> GapMotion<'p> {
         let centres_curvature = turn.norm()
             * (frame.norm() * (self.offset.norm() + self.velocity.norm() * horizon)
                 + 2.0 * self.velocity.norm());
-        let (rise_a, curvature_a) = self.rise(0, &self.pair.a, &n, &frame, horizon);
-        let (rise_b, curvature_b) = self.rise(1, &self.pair.b, &-n, &frame, horizon);
+        let (rise_a, curvature_a) = self.rise(0, &frame, horizon);
+        let (rise_b, curvature_b) = self.rise(1, &frame, horizon);
         (centres_rate - rise_a - rise_b, centres_curvature + curvature_a + curvature_b)
     }
 
-    /// How fast `body`'s highest point along `direction` (turning at
-    /// `frame`) can rise over the horizon: the chord's rate and the
-    /// curvature (see the type).
-    fn rise(
-        &self,
-        k: usize,
-        body: &MovingMesh<'_>,
-        direction: &Vector,
-        frame: &Vector,
-        horizon: Real,
-    ) -> (Real, Real) {
+    /// How fast the highest point of body `k` (0: `a`, along `n`; 1: `b`,
+    /// along `−n`; the direction turning at `frame`) can rise over the
+    /// horizon: the chord's rate and the curvature (see the type).
+    fn rise(&self, k: usize, frame: &Vector, horizon: Real) -> (Real, Real) {
+        let (body, direction) = if k == 0 { (&self.pair.a, self.n) } else { (&self.pair.b, -self.n) };
+        let direction = &direction;
         let omega = body.motion.angular_velocity;
         let relative = frame - omega;
         let radius = body.mesh.radius();
@@ -791,7 +786,7 @@ pub const SUPPORT_ROUNDING_ULPS: Real = 16.0;
 /// steps ahead first, and then this many times farther each time it
 /// outlasts its horizon: `4` (its rates, which must hold over the
 /// horizon, grow with it).
-pub const CAP_HORIZON_STEPS: Real = 4.0;
+pub const HULL_HORIZON_STEPS: Real = 4.0;
 
 /// At `s`, where the hulls touch: the pair's last closest triangles (the
 /// `hint`), or else the first triangle pair around the hulls' closest
@@ -1041,7 +1036,7 @@ mod tests {
                 // m for a and −m for b.
                 for (k, body, sign) in [(0, &a, 1.0), (1, &b, -1.0)] {
                     let direction = n * sign;
-                    let (rise, curvature) = gap_motion.rise(k, body, &direction, &frame, horizon);
+                    let (rise, curvature) = gap_motion.rise(k, &frame, horizon);
                     let height = |t: Real| {
                         let m = nalgebra::UnitQuaternion::from_scaled_axis(frame * t) * direction;
                         let pose = body.motion.pose_at(s + t);
@@ -1065,7 +1060,7 @@ mod tests {
                 }
             }
             if horizon <= 1e-3 {
-                let (rise, _) = gap_motion.rise(0, &a, &n, &Vector::zeros(), horizon);
+                let (rise, _) = gap_motion.rise(0, &Vector::zeros(), horizon);
                 let head_on = n.cross(&motion_a.angular_velocity).norm() * mesh_a.radius();
                 for (k, (kinds_checked, fraction)) in
                     [(boxes_and_icospheres.clone(), 0.75), (round.clone(), 0.25)].into_iter().enumerate()
