@@ -85,17 +85,26 @@ fn the_format_example_in_scenes_readme_loads() {
 #[cfg(feature = "rapier")]
 #[test]
 fn the_guards_documented_defaults_are_the_real_ones() {
-    use nearmiss::guard::{GuardOptions, BALL_EXCESS_OF_SKIN, DEFAULT_MAX_SUBSTEPS, DEFAULT_SKIN};
-    // guard/mod.rs: skin "Default: `1.0`" (of rapier's allowed linear error),
-    // max_substeps "Default: `4`", a round shape's polyhedron at most `0.25`
-    // of the skin outside it; the README and scenes/README.md: the skin is
-    // 0.005 under rapier's default parameters, rewinds 4 a step.
+    use nearmiss::guard::{
+        GuardOptions, BALL_EXCESS_OF_SKIN, DEFAULT_MAX_SUBSTEPS, DEFAULT_SKIN, DEFAULT_TOLERATED_DEPTH,
+        HALF_SPACE_EXTENT, PUSHED_DEPTH_FRACTION, THIN_BODY_FRACTION,
+    };
+    // guard/mod.rs: skin "Default: `0`", the tolerated depth "`1.0`" (of
+    // rapier's allowed linear error), max_substeps "`4`", a round shape's
+    // polyhedron at most `0.25` of the skin outside it, a pair pushed back
+    // to `0.5` of its tolerated depth, which is at most `0.5` of the
+    // thinner body; a half-space a box `1e4` length units out; docs/guard.md:
+    // the tolerated depth is 0.005 under rapier's default parameters.
     let options = GuardOptions::default();
-    assert_eq!((options.skin, DEFAULT_SKIN), (1.0, 1.0));
+    assert_eq!((options.skin, DEFAULT_SKIN), (0.0, 0.0));
+    assert_eq!((options.tolerated_depth, DEFAULT_TOLERATED_DEPTH), (1.0, 1.0));
     assert_eq!((options.max_substeps, DEFAULT_MAX_SUBSTEPS), (4, 4));
     assert_eq!(BALL_EXCESS_OF_SKIN, 0.25);
+    assert_eq!((PUSHED_DEPTH_FRACTION, THIN_BODY_FRACTION), (0.5, 0.5));
+    assert_eq!(HALF_SPACE_EXTENT, 1e4);
     let parameters = rapier3d_f64::prelude::IntegrationParameters::default();
-    assert_eq!(options.skin_under(&parameters), 0.005);
+    assert_eq!(options.skin_under(&parameters), 0.0);
+    assert_eq!(options.tolerated_depth_under(&parameters), 0.005);
     // scenes/README.md: "rapier's prediction distance (0.02)".
     assert_eq!(parameters.prediction_distance(), 0.02);
 }

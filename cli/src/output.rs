@@ -178,8 +178,8 @@ pub struct ResponseJson {
     /// hull` or `triangle mesh`).
     #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub colliders: std::collections::BTreeMap<String, String>,
-    /// Under Simulate: each collider's contact skin (contacts are reported
-    /// two skins apart).
+    /// Under Simulate: each collider's contact skin (0 unless the scene asks
+    /// for one; contacts are then reported two skins apart).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact_skin: Option<Real>,
     /// Under Simulate: how often the guard moved the world back to a

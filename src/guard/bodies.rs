@@ -18,6 +18,12 @@ pub struct BodyView {
     pub angvel: Vector,
     /// The centre of mass in the body frame.
     pub center: Vector,
+    /// The inverse of its mass (0 for fixed and kinematic bodies, and for a
+    /// dynamic body without mass).
+    pub inverse_mass: Real,
+    /// The inverse of its inertia tensor about its centre of mass, world
+    /// frame (0 where `inverse_mass` is).
+    pub inverse_inertia: nalgebra::Matrix3<Real>,
     /// How rapier moves it.
     pub kind: BodyKind,
 }
@@ -89,6 +95,11 @@ pub enum ShapePart {
     },
     /// Parts at poses.
     Compound(Vec<(Pose, ShapePart)>),
+    /// The solid below a plane through the origin (a half-space).
+    HalfSpace {
+        /// The plane's outward unit normal.
+        normal: Vector,
+    },
     /// A shape the guard does not sweep (rapier's name of its type).
     Other(String),
 }
@@ -114,28 +125,95 @@ mod sealed {
     pub trait Sealed {}
 }
 
+/// Whether a body's colliders let the application decide their contacts
+/// (rapier's `ActiveHooks`), the strongest of its solid colliders'.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum ContactHooks {
+    /// No hook: rapier's rules alone decide.
+    None,
+    /// `FILTER_CONTACT_PAIRS`: the application's filter keeps or drops
+    /// each pair ([`Guard::step_with_hooks`](super::Guard::step_with_hooks)
+    /// asks it too).
+    Filter,
+    /// `MODIFY_SOLVER_CONTACTS`: the application may drop or change the
+    /// contacts themselves (a one-way platform): the guard cannot know which
+    /// it keeps, and leaves the body's pairs to rapier.
+    Modify,
+}
+
+/// One collider of a body as the guard reads it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ColliderPart {
+    /// The collider in messages (`collider #5`).
+    pub name: String,
+    /// Its pose in the body frame.
+    pub frame: Pose,
+    /// Its shape.
+    pub shape: ShapePart,
+    /// Whether rapier's solver meets it: enabled and not a sensor.
+    pub solid: bool,
+}
+
 /// A rapier body set the guard drives: `rapier3d_f64`'s `RigidBodySet`,
 /// and with the `rapier-f32` feature `rapier3d`'s (sealed: these two).
 /// Everything crosses in nearmiss's f64 types.
-pub trait RapierBodies: sealed::Sealed {
+pub trait RapierBodies: sealed::Sealed + 'static {
     /// rapier's body handle.
     type Handle: Copy + Eq + std::fmt::Debug + Send + Sync + 'static;
     /// rapier's collider set.
     type Colliders;
     /// rapier's `IntegrationParameters`.
     type Parameters;
+    /// rapier's real (`f64`, or `f32` for rapier3d): the `dt` the guard
+    /// hands the application's step.
+    type Scalar: Copy;
+    /// What rapier's narrow phase reads of a solid collider to decide
+    /// whether it meets another: its collision and solver groups, its
+    /// active collision types and its body's type.
+    type Rule: Copy + Send + Sync + 'static;
 
     /// `parameters.dt`.
     fn dt(parameters: &Self::Parameters) -> Real;
+    /// `dt` in rapier's real.
+    fn scalar(dt: Real) -> Self::Scalar;
     /// `parameters.allowed_linear_error()` (0.005 × `length_unit` in rapier 0.36).
     fn allowed_linear_error(parameters: &Self::Parameters) -> Real;
     /// `parameters.prediction_distance()` (0.02 × `length_unit`).
     fn prediction_distance(parameters: &Self::Parameters) -> Real;
+    /// `parameters.length_unit`.
+    fn length_unit(parameters: &Self::Parameters) -> Real;
+    /// The body `handle` in messages: `rigid body #3` (its index in the set;
+    /// `#3 (generation 1)` once the slot was reused).
+    fn describe(handle: Self::Handle) -> String;
     /// The body `handle`, if it is in the set.
     fn view(&self, handle: Self::Handle) -> Option<BodyView>;
-    /// The shapes of the body's colliders, each at its pose in the body
-    /// frame.
-    fn shapes(&self, colliders: &Self::Colliders, handle: Self::Handle) -> Vec<(Pose, ShapePart)>;
+    /// The body's colliders, each at its pose in the body frame.
+    fn shapes(&self, colliders: &Self::Colliders, handle: Self::Handle) -> Vec<ColliderPart>;
+    /// The rules of the body's solid colliders (enabled, not sensors).
+    fn rules(&self, colliders: &Self::Colliders, handle: Self::Handle) -> Vec<Self::Rule>;
+    /// Whether rapier solves contacts between colliders of these rules
+    /// (their bodies' types, collision groups and solver groups allow it).
+    fn solves(a: &Self::Rule, b: &Self::Rule) -> bool;
+    /// rapier's `PhysicsHooks` trait object.
+    type Hooks: ?Sized;
+    /// rapier's `ImpulseJointSet`.
+    type Joints;
+    /// The pairs of bodies joined by a joint of `joints` with contacts
+    /// disabled (`GenericJoint::contacts_enabled` false): rapier never
+    /// solves their contacts.
+    fn without_contacts(joints: &Self::Joints) -> Vec<(Self::Handle, Self::Handle)>;
+    /// The contact hooks the body's solid colliders ask for.
+    fn contact_hooks(&self, colliders: &Self::Colliders, handle: Self::Handle) -> ContactHooks;
+    /// Whether the application's `hooks` let rapier solve some pair of
+    /// solid colliders of bodies `a` and `b` that its rules solve (those
+    /// without `FILTER_CONTACT_PAIRS` need not ask).
+    fn filter(
+        &self,
+        colliders: &Self::Colliders,
+        hooks: &Self::Hooks,
+        a: Self::Handle,
+        b: Self::Handle,
+    ) -> bool;
     /// Gives each of the body's colliders a contact skin of at least `skin`.
     fn give_skin(&self, colliders: &mut Self::Colliders, handle: Self::Handle, skin: Real);
     /// Moves the body frame to `pose`.
@@ -158,9 +236,31 @@ macro_rules! rapier_bodies {
             type Handle = $rapier::prelude::RigidBodyHandle;
             type Colliders = $rapier::prelude::ColliderSet;
             type Parameters = $rapier::prelude::IntegrationParameters;
+            type Scalar = $real;
+            type Rule = (
+                $rapier::prelude::InteractionGroups,
+                $rapier::prelude::InteractionGroups,
+                $rapier::prelude::ActiveCollisionTypes,
+                $rapier::prelude::RigidBodyType,
+            );
 
             fn dt(parameters: &Self::Parameters) -> Real {
                 Real::from(parameters.dt)
+            }
+
+            fn scalar(dt: Real) -> $real {
+                dt as $real
+            }
+
+            fn length_unit(parameters: &Self::Parameters) -> Real {
+                Real::from(parameters.length_unit)
+            }
+
+            fn describe(handle: Self::Handle) -> String {
+                match handle.into_raw_parts() {
+                    (index, 0) => format!("rigid body #{index}"),
+                    (index, generation) => format!("rigid body #{index} (generation {generation})"),
+                }
             }
 
             fn allowed_linear_error(parameters: &Self::Parameters) -> Real {
@@ -183,25 +283,150 @@ macro_rules! rapier_bodies {
                     RigidBodyType::KinematicPositionBased => BodyKind::Kinematic { position_based: true },
                     RigidBodyType::KinematicVelocityBased => BodyKind::Kinematic { position_based: false },
                 };
+                let mass = Real::from(body.mass());
+                let (inverse_mass, inverse_inertia) = match kind {
+                    BodyKind::Dynamic { .. } if mass > 0.0 && mass.is_finite() => {
+                        let i = body.mass_properties().effective_world_inv_inertia;
+                        let m = nalgebra::Matrix3::new(
+                            i.m11, i.m12, i.m13, //
+                            i.m12, i.m22, i.m23, //
+                            i.m13, i.m23, i.m33,
+                        );
+                        (1.0 / mass, m.map(Real::from))
+                    }
+                    _ => (0.0, nalgebra::Matrix3::zeros()),
+                };
                 Some(BodyView {
                     pose: widen_pose(body.position()),
                     linvel: widen(body.linvel()),
                     angvel: widen(body.angvel()),
                     center: widen(body.local_center_of_mass()),
+                    inverse_mass,
+                    inverse_inertia,
                     kind,
                 })
             }
 
-            fn shapes(&self, colliders: &Self::Colliders, handle: Self::Handle) -> Vec<(Pose, ShapePart)> {
+            fn shapes(&self, colliders: &Self::Colliders, handle: Self::Handle) -> Vec<ColliderPart> {
                 let Some(body) = self.get(handle) else { return Vec::new() };
                 body.colliders()
                     .iter()
-                    .filter_map(|c| colliders.get(*c))
-                    .map(|collider| {
-                        let frame = collider.position_wrt_parent().map_or(Pose::identity(), widen_pose);
-                        (frame, part(collider.shape()))
+                    .filter_map(|c| Some((c, colliders.get(*c)?)))
+                    .map(|(handle, collider)| ColliderPart {
+                        name: format!("collider #{}", handle.into_raw_parts().0),
+                        frame: collider.position_wrt_parent().map_or(Pose::identity(), widen_pose),
+                        shape: part(collider.shape()),
+                        solid: collider.is_enabled() && !collider.is_sensor(),
                     })
                     .collect()
+            }
+
+            fn rules(&self, colliders: &Self::Colliders, handle: Self::Handle) -> Vec<Self::Rule> {
+                let Some(body) = self.get(handle) else { return Vec::new() };
+                let kind = body.body_type();
+                body.colliders()
+                    .iter()
+                    .filter_map(|c| colliders.get(*c))
+                    .filter(|collider| collider.is_enabled() && !collider.is_sensor())
+                    .map(|collider| {
+                        (
+                            collider.collision_groups(),
+                            collider.solver_groups(),
+                            collider.active_collision_types(),
+                            kind,
+                        )
+                    })
+                    .collect()
+            }
+
+            type Hooks = dyn $rapier::prelude::PhysicsHooks;
+            type Joints = $rapier::prelude::ImpulseJointSet;
+
+            fn without_contacts(joints: &Self::Joints) -> Vec<(Self::Handle, Self::Handle)> {
+                joints
+                    .iter()
+                    .filter(|(_, joint)| !joint.data.contacts_enabled)
+                    .map(|(_, joint)| (joint.body1(), joint.body2()))
+                    .collect()
+            }
+
+            fn contact_hooks(&self, colliders: &Self::Colliders, handle: Self::Handle) -> ContactHooks {
+                use $rapier::prelude::ActiveHooks;
+                let Some(body) = self.get(handle) else { return ContactHooks::None };
+                body.colliders()
+                    .iter()
+                    .filter_map(|c| colliders.get(*c))
+                    .filter(|collider| collider.is_enabled() && !collider.is_sensor())
+                    .map(|collider| {
+                        let hooks = collider.active_hooks();
+                        if hooks.contains(ActiveHooks::MODIFY_SOLVER_CONTACTS) {
+                            ContactHooks::Modify
+                        } else if hooks.contains(ActiveHooks::FILTER_CONTACT_PAIRS) {
+                            ContactHooks::Filter
+                        } else {
+                            ContactHooks::None
+                        }
+                    })
+                    .max()
+                    .unwrap_or(ContactHooks::None)
+            }
+
+            fn filter(
+                &self,
+                colliders: &Self::Colliders,
+                hooks: &Self::Hooks,
+                a: Self::Handle,
+                b: Self::Handle,
+            ) -> bool {
+                use $rapier::prelude::{ActiveHooks, PairFilterContext, SolverFlags};
+                let (Some(body_a), Some(body_b)) = (self.get(a), self.get(b)) else { return false };
+                let solid = |c: &&$rapier::prelude::ColliderHandle| {
+                    colliders.get(**c).is_some_and(|c| c.is_enabled() && !c.is_sensor())
+                };
+                let rule = |collider: &$rapier::prelude::Collider, body: &$rapier::prelude::RigidBody| {
+                    (
+                        collider.collision_groups(),
+                        collider.solver_groups(),
+                        collider.active_collision_types(),
+                        body.body_type(),
+                    )
+                };
+                for ca in body_a.colliders().iter().filter(solid) {
+                    for cb in body_b.colliders().iter().filter(solid) {
+                        let (collider_a, collider_b) = (&colliders[*ca], &colliders[*cb]);
+                        if !Self::solves(&rule(collider_a, body_a), &rule(collider_b, body_b)) {
+                            continue;
+                        }
+                        let asks = (collider_a.active_hooks() | collider_b.active_hooks())
+                            .contains(ActiveHooks::FILTER_CONTACT_PAIRS);
+                        if !asks {
+                            return true;
+                        }
+                        let context = PairFilterContext {
+                            bodies: self,
+                            colliders,
+                            collider1: *ca,
+                            collider2: *cb,
+                            rigid_body1: Some(a),
+                            rigid_body2: Some(b),
+                        };
+                        if hooks
+                            .filter_contact_pair(&context)
+                            .is_some_and(|flags| flags.contains(SolverFlags::COMPUTE_RIGID_IMPULSES))
+                        {
+                            return true;
+                        }
+                    }
+                }
+                false
+            }
+
+            fn solves(a: &Self::Rule, b: &Self::Rule) -> bool {
+                // As rapier's narrow phase: either collider's active types
+                // take the two bodies' types, the collision groups meet, and
+                // the solver groups too (else contacts apply no impulse).
+                let types = a.2.test(a.3, b.3) || b.2.test(a.3, b.3);
+                types && a.0.test(b.0) && a.1.test(b.1)
             }
 
             fn give_skin(&self, colliders: &mut Self::Colliders, handle: Self::Handle, skin: Real) {
@@ -310,6 +535,10 @@ macro_rules! rapier_bodies {
                     half_height: Real::from(cylinder.half_height),
                     radius: Real::from(cylinder.radius),
                 }
+            } else if let Some(heightfield) = shape.as_heightfield() {
+                triangles(heightfield.to_trimesh())
+            } else if let Some(halfspace) = shape.as_halfspace() {
+                ShapePart::HalfSpace { normal: widen(halfspace.normal) }
             } else {
                 ShapePart::Other(format!("{:?}", shape.shape_type()))
             }

@@ -16,8 +16,8 @@
 //! A pair touching at a step's start (bodies placed in contact) is not a
 //! crossing: rapier's narrow phase has not run before the first step.
 //!
-//! Per body: its velocities at the run's end in rapier alone, beside
-//! nearmiss's.
+//! Per body: its pose and velocities at the run's end in rapier alone,
+//! beside nearmiss's.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -76,12 +76,21 @@ pub struct RapierPair {
     pub verdict: String,
 }
 
-/// One body's velocities at the run's end, in rapier alone and in
-/// nearmiss's run (world frame; angular in radians per time unit).
+/// One body's pose and velocities at the run's end, in rapier alone and in
+/// nearmiss's run (world frame; angular in radians per time unit;
+/// orientations as `[w, x, y, z]` quaternions).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RapierBody {
     /// The body's name.
     pub body: String,
+    /// rapier alone: the centre of mass.
+    pub rapier_position: [Real; 3],
+    /// rapier alone: the orientation.
+    pub rapier_orientation: [Real; 4],
+    /// nearmiss's run: the centre of mass.
+    pub nearmiss_position: [Real; 3],
+    /// nearmiss's run: the orientation.
+    pub nearmiss_orientation: [Real; 4],
     /// rapier alone: velocity of the centre of mass.
     pub rapier_velocity: [Real; 3],
     /// rapier alone: angular velocity.
@@ -118,6 +127,9 @@ pub fn compare_with_rapier(
         centers,
         stoppable,
         skin: 0.0,
+        tolerated_depth: allowed,
+        solved: rapier.solved_pairs(),
+        acts: false,
         max_substeps: 0,
         parallel: true,
     };
@@ -143,8 +155,7 @@ pub fn compare_with_rapier(
                     {
                         Some((contact.body_a, contact.body_b))
                     }
-                    GuardEvent::Started { .. } => None,
-                    GuardEvent::Stopped { .. } => None,
+                    _ => None,
                 })
                 .collect(),
             // Undecided: nothing is claimed about this step.
@@ -167,17 +178,33 @@ pub fn compare_with_rapier(
         }
     }
     let triple = |v: &crate::math::Vector| [v.x, v.y, v.z];
+    // A body with no state (none in either run) is where the scene put it.
+    let parts = |state: Option<crate::motion::RigidState>, i: usize| {
+        let start = &scene.model.bodies[i].pose;
+        let state = state.unwrap_or(crate::motion::RigidState {
+            position: start.translation.vector.into(),
+            orientation: start.rotation,
+            velocity: crate::math::Vector::zeros(),
+            angular_velocity: crate::math::Vector::zeros(),
+        });
+        let q = state.orientation;
+        (
+            triple(&state.position.coords),
+            [q.w, q.i, q.j, q.k],
+            triple(&state.velocity),
+            triple(&state.angular_velocity),
+        )
+    };
     let bodies = (0..scene.model.bodies.len())
         .map(|i| {
-            let rapier_state = rapier.state(i);
-            let (v, w) = rapier_state.map_or(([0.0; 3], [0.0; 3]), |state| {
-                (triple(&state.velocity), triple(&state.angular_velocity))
-            });
-            let (nv, nw) = nearmiss_final.get(i).map_or(([0.0; 3], [0.0; 3]), |state| {
-                (triple(&state.velocity), triple(&state.angular_velocity))
-            });
+            let (p, q, v, w) = parts(rapier.state(i), i);
+            let (np, nq, nv, nw) = parts(nearmiss_final.get(i).copied(), i);
             RapierBody {
                 body: scene.model.bodies[i].name.clone(),
+                rapier_position: p,
+                rapier_orientation: q,
+                nearmiss_position: np,
+                nearmiss_orientation: nq,
                 rapier_velocity: v,
                 rapier_angular_velocity: w,
                 nearmiss_velocity: nv,
@@ -214,8 +241,8 @@ pub fn compare_with_rapier(
     Ok(RapierComparison { pairs, bodies })
 }
 
-/// The comparison as two Markdown tables (pairs, then bodies' final
-/// velocities).
+/// The comparison as three Markdown tables (pairs, then bodies' final
+/// poses, then their final velocities).
 pub fn rapier_markdown(comparison: &RapierComparison) -> String {
     let time = |t: Option<Real>| t.map_or("no contact".to_string(), |t| format!("{t:.9}"));
     let mut out = String::from(
@@ -234,6 +261,20 @@ pub fn rapier_markdown(comparison: &RapierComparison) -> String {
         ));
     }
     let triple = |v: &[Real; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
+    let quaternion = |q: &[Real; 4]| format!("({:.4}, {:.4}, {:.4}, {:.4})", q[0], q[1], q[2], q[3]);
+    out.push_str(
+        "\n| body | final position, nearmiss | rapier alone | orientation [w, x, y, z], nearmiss | rapier alone |\n|---|---|---|---|---|\n",
+    );
+    for row in &comparison.bodies {
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {} |\n",
+            row.body,
+            triple(&row.nearmiss_position),
+            triple(&row.rapier_position),
+            quaternion(&row.nearmiss_orientation),
+            quaternion(&row.rapier_orientation)
+        ));
+    }
     out.push_str(
         "\n| body | final velocity, nearmiss | rapier alone | angular velocity, nearmiss | rapier alone |\n|---|---|---|---|---|\n",
     );

@@ -2,63 +2,80 @@
 //! simulation (the `rapier` feature, on by default).
 //!
 //! rapier never sweeps a moving triangle mesh (a mesh bullet passes a thin
-//! plate even with CCD on), and its soft contacts let a pair it holds sink
-//! into each other (by its allowed linear error and more under load: a plate
-//! thinner than that is no wall). A [`Guard`] makes rapier's bodies keep
-//! nearmiss's contact contract.
+//! plate even with CCD on), and it sees a contact only where a pair starts
+//! a step within its prediction distance: a body arriving from farther in
+//! one step (a bullet, a blade's tip, a fast fall) goes into the other, or
+//! through it. A [`Guard`] sweeps every step rapier takes and steps in
+//! there, and nowhere else.
 //!
 //! # What is guaranteed
 //!
-//! **No two guarded meshes come closer than the CCD's contact distance (the
-//! wall) at any pose the guard hands back**, in contact or not: a mesh never
-//! overlaps another, so it never passes through one. Contacts are reported
-//! never late. Exceptions, each reported and never silent: a pair the CCD
-//! cannot decide ends the step with [`GuardError::Undecided`]; when a step
-//! needs more than [`GuardOptions::max_substeps`] rewinds, the rest of its
-//! contacts are clamped (below), which keeps dynamic bodies off each other
-//! and off fixed ones, and a dynamic body touching a kinematic one is
-//! carried along by it, but a body squeezed between a kinematic body and
-//! another can then overlap the other (nothing can hold it).
+//! - **Invisible where rapier holds.** Where rapier's own contacts hold a
+//!   pair (it rests, slides, rolls, is stacked or pushed, or arrives from
+//!   within rapier's prediction distance), the guard only reads: the poses
+//!   and velocities are rapier's, step for step, bit for bit. It adds no
+//!   contact skin unless asked ([`GuardOptions::skin`]).
+//! - **Decisive where rapier would not.** A pair arriving in a step from
+//!   beyond rapier's reach, whose motion after the contact could take it
+//!   deeper than the tolerated depth ([`GuardOptions::tolerated_depth`],
+//!   rapier's allowed linear error by default), is stopped at its contact:
+//!   the world goes back to the contact's time and rapier solves the rest
+//!   of the step from there (its masses, friction and restitution at the
+//!   contact; no velocity thrown away). So no mesh passes through another,
+//!   and no pair ends a step deeper than the tolerated depth, whatever its
+//!   speed or spin. A touching pair that rapier's contact lets sink deeper
+//!   than that (a body squeezed by a kinematic one) is pushed apart to half
+//!   the tolerated depth at the step's end ([`GuardEvent::Overlap`]).
+//! - **Never frozen.** No body is held still while rapier moves it: a pair
+//!   already in contact at a sweep's start is rapier's, so the guard never
+//!   holds a body at the pose it started the step in. (When a step needs
+//!   more than [`GuardOptions::max_substeps`] rewinds, the rest of its
+//!   arrivals hold their dynamic bodies at their contacts for the rest of
+//!   that step, as rapier's own CCD does, after moving to them; a body
+//!   touching a kinematic one is carried along.)
+//! - **rapier's own rules.** A pair rapier would not solve is not guarded:
+//!   sensors, disabled colliders, collision and solver groups, the bodies'
+//!   types (`ActiveCollisionTypes`: two fixed or kinematic bodies), and,
+//!   with [`Guard::step_with_hooks`], the application's pair filter.
+//! - Contacts are reported never late ([`GuardEvent::Started`], with
+//!   nearmiss's time of impact, points and features). A pair the CCD cannot
+//!   decide ends the step with [`GuardError::Undecided`], never a guess.
 //!
 //! # How
 //!
-//! - **A contact skin.** Each guarded collider gets a contact skin
-//!   ([`GuardOptions::skin`], rapier's allowed linear error by default):
-//!   rapier's contacts start when two colliders are their two skins apart and
-//!   its soft contacts sink into the skins, not into the meshes. A pair
-//!   resting on another is the skins apart, less what rapier lets it sink.
-//! - **Every pair is swept every step.** A pair apart is swept for coming
-//!   within the two skins (a contact: [`GuardEvent::Started`], with
-//!   nearmiss's time of impact, points and features). A pair in contact is
-//!   swept against the wall: the meshes themselves, at the scene's contact
-//!   contract. Once farther apart than the skins and rapier's prediction
-//!   distance at a step's end it is apart again ([`GuardEvent::Stopped`]).
-//! - **Rewind to the time of impact, then let rapier solve there.**
-//!   [`Guard::step`] steps rapier, then sweeps every pair from the step's
-//!   start poses to rapier's end poses. Where a pair would reach the wall
-//!   (rapier let a touching pair through its skins, or a pair coming within
-//!   the skins would go on to the wall: a bullet, a blade), the world is
-//!   moved back to the earliest such time (every moving body to its pose
-//!   then, velocities interpolated between the step's ends so that forces
-//!   act once, the pair woken) and rapier steps the rest of the step from
-//!   there, where its solver sees the contact with both bodies' masses,
-//!   friction and restitution. The rest of the step is swept again; up to
-//!   [`GuardOptions::max_substeps`] times per step.
-//! - **Clamp, when the rewinds are spent** (and under
-//!   [`before_step`](Guard::before_step) / [`after_step`](Guard::after_step),
-//!   which cannot step rapier again, or when the contact is at the sweep's
-//!   start, where rapier would only repeat itself): the dynamic bodies of
-//!   such a contact are held at their poses at contact for the rest of the
-//!   step (rapier's own CCD does the same), velocities left to rapier; one
-//!   touching a kinematic body is carried along by it (their relative pose
-//!   kept, the kinematic body's velocities), since that body goes on.
+//! [`Guard::step`] steps rapier, then sweeps every guarded pair from the
+//! step's start poses to rapier's end poses (a body's motion over a step is
+//! the constant linear and angular velocity that takes its start pose to
+//! its end pose, the turn nearest rapier's angular velocity).
+//! - A pair **apart** (not in contact since it last left rapier's
+//!   prediction distance) is swept for its first contact. Where it arrives,
+//!   a bound of how much closer it could come before the step's end (the
+//!   approach of the two surfaces along the contact normal for convex
+//!   meshes, of any point otherwise, and each body's turn times its radius)
+//!   decides: within the tolerated depth, rapier's contact takes it from
+//!   there (a pair rapier saw coming arrives at the step's end and closes
+//!   no farther); beyond it, the world is moved back to the contact (every
+//!   moving body to its pose then, velocities interpolated between the
+//!   step's ends so that forces act once, the pair woken) and rapier steps
+//!   the rest of the step, which is swept again; up to
+//!   [`GuardOptions::max_substeps`] times a step.
+//! - A pair **touching** is rapier's until its distance at a step's end
+//!   exceeds rapier's prediction distance ([`GuardEvent::Stopped`]). At
+//!   each step's end the guard checks its depth: convex pairs by the
+//!   overlap along their last direction of penetration (exactly, by
+//!   separating axes, only where that is over the tolerated depth), others
+//!   by the deepest vertex where their surfaces cross, measured once the
+//!   pair can have closed by the tolerated depth since it was last.
 //! - **A kinematic body has infinite mass**: after a rewind to its contact
 //!   with a dynamic body, the dynamic body leaves at least as fast as the
-//!   kinematic body's contact point along the normal (rapier's soft contact
-//!   alone lets it sink in).
-//! - Fixed and kinematic bodies are never moved by the guard beyond the
-//!   rewind (rapier drives them; a kinematic body rewound is still bound for
-//!   its pose at the step's end).
+//!   kinematic body's contact point along the normal.
+//! - **Skins, when asked for** ([`GuardOptions::skin`] > 0): each guarded
+//!   collider gets a contact skin, rapier rests pairs the two skins apart,
+//!   and the guard's wall is the meshes themselves: pairs apart are swept
+//!   for coming within the skins, touching pairs for reaching the wall
+//!   after a sweep's start. The meshes then never overlap, at the price of
+//!   the visible gap (a box on a floor floats the two skins, less what
+//!   rapier lets it sink, above it).
 //!
 //! ```no_run
 //! use nearmiss::guard::{Guard, GuardOptions};
@@ -81,37 +98,39 @@
 //!             &mut impulse_joints, &mut multibody_joints, &mut soft_bodies, &mut ccd, &(), &());
 //!     })?;
 //!     for event in events {
-//!         println!("{event:?}");
+//!         println!("{event:?} ({} rewinds so far)", guard.rewinds());
 //!     }
 //! }
 //! # Ok::<(), nearmiss::guard::GuardError>(())
 //! ```
 //!
 //! The guard works on the bodies' centres of mass: the mesh it sweeps is the
-//! triangles of a body's colliders relative to the body's centre of mass
-//! (triangle meshes, convex polyhedra and cuboids as they are; balls,
-//! capsules and cylinders as polyhedra drawn around them, at most
-//! [`BALL_EXCESS_OF_SKIN`] of the skin outside, so that the shapes
-//! themselves never overlap either; compounds part by part), and a body's motion over
-//! a step is the constant linear and angular velocity that takes its start
-//! pose to its end pose (the turn nearest rapier's angular velocity). The
-//! scene runner's `on_contact: Simulate` is built on the same type.
+//! triangles of a body's solid colliders relative to the body's centre of
+//! mass (triangle meshes, convex polyhedra, cuboids and heightfields as they
+//! are; balls, capsules and cylinders as polyhedra drawn around them, at
+//! most [`BALL_EXCESS_OF_SKIN`] of the skin, or of rapier's allowed error
+//! without one, outside, so that the shapes themselves are guarded too; a
+//! half-space as a box [`HALF_SPACE_EXTENT`] length units wide and deep
+//! under its plane; compounds part by part). The scene runner's
+//! `on_contact: Simulate` is built on the same type.
 //!
 //! # f32 rapier
 //!
 //! With the `rapier-f32` feature, `Guard<rapier3d::prelude::RigidBodySet>`
 //! guards an f32 rapier3d 0.36 pipeline (bevy_rapier's) with the same
 //! logic: every pose and velocity crosses into f64 for the sweep
-//! ([`RapierBodies`]). The guarantee above then holds for the poses the guard
-//! proved; what rapier stores is each rounded to f32, at most half an ulp of
-//! its coordinates away (2⁻²⁴ of their size: 6e-5 at 1,000 units), inside
-//! the contact skins as long as that stays well below them (bodies within
-//! about 10⁴ units of the origin under the default skin of 0.005).
+//! ([`RapierBodies`]), and the step closure takes rapier's `f32` `dt`. The
+//! guarantee above then holds for the poses the guard proved; what rapier
+//! stores is each rounded to f32, at most half an ulp of its coordinates
+//! away (2⁻²⁴ of their size: 6e-5 at 1,000 units), well inside the
+//! tolerated depth (0.005) within about 10⁴ units of the origin.
 
 mod bodies;
 mod compare;
+mod depth;
 mod shapes;
 pub(crate) mod simulate;
+mod watch;
 
 pub use compare::{
     compare_with_rapier, rapier_markdown, run_rapier_alone, RapierAlone, RapierBody, RapierComparison,
@@ -123,21 +142,24 @@ use std::time::Instant;
 
 use rapier3d_f64::prelude::{IntegrationParameters, RigidBodyHandle, RigidBodySet};
 
-pub use bodies::{BodyKind, BodyView, RapierBodies, ShapePart};
+pub use bodies::{BodyKind, BodyView, ColliderPart, ContactHooks, RapierBodies, ShapePart};
 
 pub use shapes::{
     circumscribed_ball, collider_for, is_convex, mesh_of_body, ColliderShape, CONVEXITY_TOLERANCE,
-    MAX_BALL_SEGMENTS,
+    HALF_SPACE_EXTENT, MAX_BALL_SEGMENTS,
 };
 
 use crate::ccd::{CcdOptions, ContactContract, ContactRule};
 use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::DistanceKernel;
 use crate::motion::StepMotion;
-use crate::response::Clamp;
+use crate::response::{apply_impulse, ImpactBody};
 use crate::scene::{Body, BodyMotion, Model, OnContact, RunSpec};
-use crate::stepper::{Contact, PairState, RunOptions, Stepper, Termination, World};
+use crate::stepper::{Contact, PairState, RunOptions, Stepper, Stop, Termination, World};
 use bodies::{body_pose, center_pose};
+use depth::{Deep, DepthWatch};
+pub use watch::THIN_BODY_FRACTION;
+use watch::{pair_tolerance, thickness, PairRules, Watch};
 
 /// How a [`Guard`] sweeps.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -155,17 +177,28 @@ pub struct GuardOptions {
     /// The contact skin [`Guard::new`] gives each guarded collider, as a
     /// multiple of rapier's allowed linear error
     /// (`IntegrationParameters::allowed_linear_error`, 0.005 × `length_unit`
-    /// by default): rapier then holds touching pairs that far apart, and its
-    /// soft contacts sink into the skins, not into the meshes. A collider
-    /// with a larger skin keeps it. `0`: no skin, and pairs in contact are
-    /// rapier's alone (only pairs apart are swept; rapier's overlaps go
-    /// unchecked). Finite and at least 0 ([`Guard::new`] checks it).
-    /// Default: `1.0`.
+    /// by default). `0` (the default): no skin; rapier's contact model is
+    /// untouched (its soft contacts overlap resting pairs by up to about its
+    /// allowed error) and the guard only reads where rapier holds. Above
+    /// `0`: rapier holds touching pairs the two skins apart and its soft
+    /// contacts sink into the skins, and the guard keeps the meshes
+    /// themselves from ever overlapping (a resting box floats the two
+    /// skins, less what rapier lets it sink, above its floor). A collider
+    /// with a larger skin keeps it. Finite and at least 0 ([`Guard::new`]
+    /// checks it). Default: [`DEFAULT_SKIN`].
     pub skin: Real,
+    /// The deepest overlap the guard lets rapier's step take two meshes to,
+    /// as a multiple of rapier's allowed linear error (without skins): an
+    /// arriving pair that could close farther after its contact is stopped
+    /// there, and a touching pair found deeper at a step's end is pushed
+    /// apart. A body thinner than twice this depth can be crossed by a slow
+    /// arrival: lower it, or ask for a skin. Finite and above 0
+    /// ([`Guard::new`] checks it). Default: [`DEFAULT_TOLERATED_DEPTH`].
+    pub tolerated_depth: Real,
     /// How many times per step [`Guard::step`] may move the world back to a
-    /// contact and let rapier solve from there; after that, contacts clamp
-    /// their dynamic bodies (held at their poses at contact for the rest of
-    /// the step). Default: `4`.
+    /// contact and let rapier solve from there; after that, arrivals hold
+    /// their dynamic bodies at their contacts for the rest of the step.
+    /// Default: [`DEFAULT_MAX_SUBSTEPS`].
     pub max_substeps: usize,
 }
 
@@ -174,8 +207,18 @@ pub struct GuardOptions {
 /// allowed linear error when the skin is 0): `0.25`.
 pub const BALL_EXCESS_OF_SKIN: Real = 0.25;
 
-/// [`GuardOptions::skin`]'s default.
-pub const DEFAULT_SKIN: Real = 1.0;
+/// [`GuardOptions::skin`]'s default: `0`, no skin (rapier's contacts as they
+/// are).
+pub const DEFAULT_SKIN: Real = 0.0;
+
+/// [`GuardOptions::tolerated_depth`]'s default: `1.0`, rapier's allowed
+/// linear error (0.005 × `length_unit`), which its soft contacts keep
+/// resting pairs within.
+pub const DEFAULT_TOLERATED_DEPTH: Real = 1.0;
+
+/// What a touching pair found deeper than the tolerated depth is pushed
+/// back to, as a fraction of it: `0.5` (room for rapier's next step).
+pub const PUSHED_DEPTH_FRACTION: Real = 0.5;
 
 /// [`GuardOptions::max_substeps`]'s default.
 pub const DEFAULT_MAX_SUBSTEPS: usize = 4;
@@ -195,6 +238,7 @@ impl Default for GuardOptions {
             kernel: DistanceKernel::Exact,
             parallel: true,
             skin: DEFAULT_SKIN,
+            tolerated_depth: DEFAULT_TOLERATED_DEPTH,
             max_substeps: DEFAULT_MAX_SUBSTEPS,
         }
     }
@@ -206,6 +250,12 @@ impl GuardOptions {
     /// `skin × parameters.allowed_linear_error()`).
     pub fn skin_under(&self, parameters: &IntegrationParameters) -> Real {
         self.skin * parameters.allowed_linear_error()
+    }
+
+    /// The tolerated depth under `parameters` (rapier3d-f64's; under an f32
+    /// rapier the same product).
+    pub fn tolerated_depth_under(&self, parameters: &IntegrationParameters) -> Real {
+        self.tolerated_depth * parameters.allowed_linear_error()
     }
 }
 
@@ -228,15 +278,18 @@ fn two_skins(skin: Real) -> Real {
 }
 
 /// Whether a `Simulate` scene's bodies fit the guard under rapier's default
-/// parameters and the default skin: `Err((body, contact distance, limit))`
-/// when the largest pair's contact distance is not below the skins (`body`
-/// is the one whose radius sets it).
-pub(crate) fn simulate_contact_limit(ccd: &CcdOptions, bodies: &[Body]) -> Result<(), (String, Real, Real)> {
+/// parameters and the scene's `skin` (a multiple of rapier's allowed linear
+/// error): `Err((body, contact distance, limit))` when the largest pair's
+/// contact distance is not below the skins, or without skins rapier's
+/// prediction distance (`body` is the one whose radius sets it).
+pub(crate) fn simulate_contact_limit(
+    ccd: &CcdOptions,
+    bodies: &[Body],
+    skin: Real,
+) -> Result<(), (String, Real, Real)> {
     let parameters = IntegrationParameters::default();
-    let limit = contact_distance_limit(
-        parameters.prediction_distance(),
-        GuardOptions::default().skin_under(&parameters),
-    );
+    let options = GuardOptions { skin, ..GuardOptions::default() };
+    let limit = contact_distance_limit(parameters.prediction_distance(), options.skin_under(&parameters));
     contact_within(ccd, bodies.iter(), limit)
 }
 
@@ -302,12 +355,29 @@ pub enum GuardEvent<H = RigidBodyHandle> {
     },
     /// Two bodies in contact separated by the step's end (farther apart
     /// than the two skins and rapier's prediction distance): apart again,
-    /// swept for coming within the skins.
+    /// swept for their next contact.
     Stopped {
         /// The first body.
         a: H,
         /// The second body.
         b: H,
+    },
+    /// Two touching bodies that rapier's contact let sink deeper than the
+    /// tolerated depth by the step's end (a body squeezed by a kinematic
+    /// one, a load rapier's solver could not carry).
+    Overlap {
+        /// The first body.
+        a: H,
+        /// The second body.
+        b: H,
+        /// How deep they overlapped (convex meshes: exactly; others: the
+        /// deepest vertex where their surfaces cross).
+        depth: Real,
+        /// Whether the guard pushed them apart to half the tolerated depth
+        /// (their dynamic bodies, by their inverse masses, and their
+        /// approach along the push removed); `false` when neither is
+        /// dynamic.
+        pushed_apart: bool,
     },
 }
 
@@ -341,6 +411,9 @@ pub enum GuardError<H: std::fmt::Debug = RigidBodyHandle> {
     /// [`GuardOptions::skin`] is negative or not finite.
     #[error("GuardOptions::skin must be a finite multiple of rapier's allowed linear error, at least 0; found {0}")]
     Skin(Real),
+    /// [`GuardOptions::tolerated_depth`] is not above 0 or not finite.
+    #[error("GuardOptions::tolerated_depth must be a finite multiple of rapier's allowed linear error, above 0; found {0}")]
+    ToleratedDepth(Real),
     /// [`Guard::set_bodies`] on a guard not made by [`Guard::new`].
     #[error("set_bodies needs a guard made by Guard::new")]
     NotFromRapier,
@@ -362,7 +435,8 @@ pub enum GuardError<H: std::fmt::Debug = RigidBodyHandle> {
     },
 }
 
-/// rapier's step by a given `dt`, as [`Guard::step`] calls it.
+/// rapier's step by a given `dt` (in f64; [`Guard::step`] hands rapier's
+/// own real to the application's closure).
 type RapierStep<'a, B> = dyn FnMut(&mut B, Real) + 'a;
 
 /// Guards rapier bodies against tunnelling (see the module). `B`: rapier's
@@ -372,6 +446,9 @@ pub struct Guard<B: RapierBodies = RigidBodySet> {
     handles: Vec<B::Handle>,
     /// Each body's centre of mass in its body frame.
     centers: Vec<Vector>,
+    /// Per body: whether the guard may stop it at a contact (dynamic bodies;
+    /// none for a watcher).
+    stoppable: Vec<bool>,
     /// The poses of the centres of mass at the sweep's start.
     start: Vec<Pose>,
     /// The dynamic bodies' velocities at the sweep's start (linear,
@@ -387,6 +464,18 @@ pub struct Guard<B: RapierBodies = RigidBodySet> {
     time_before: Real,
     dt: Real,
     max_substeps: usize,
+    /// The deepest overlap the guard lets rapier take pairs to.
+    tolerated_depth: Real,
+    /// Each body's thickness (a pair's tolerated depth is at most
+    /// [`THIN_BODY_FRACTION`] of its thinner body's).
+    thickness: Arc<[Real]>,
+    /// Which pairs rapier solves (the guard's response has the same).
+    solved: Arc<PairRules>,
+    /// The depth watch of touching pairs (`None`: a watcher that moves
+    /// nothing, `--compare rapier`'s).
+    depth: Option<DepthWatch>,
+    /// The pairs the depth watch found too deep in the step.
+    deep: Vec<Deep>,
     /// The options [`Guard::new`] was given (for
     /// [`set_bodies`](Guard::set_bodies)); `None` for the scene runner's.
     options: Option<GuardOptions>,
@@ -407,6 +496,13 @@ pub(crate) struct GuardSetup<H> {
     pub stoppable: Vec<bool>,
     /// Each collider's contact skin (0: touching pairs are rapier's alone).
     pub skin: Real,
+    /// The deepest overlap the guard lets rapier take pairs to.
+    pub tolerated_depth: Real,
+    /// Which pairs rapier solves.
+    pub solved: Arc<PairRules>,
+    /// Whether the guard may move bodies (`false`: a watcher of rapier's
+    /// motion that never rewinds, holds or pushes).
+    pub acts: bool,
     /// Rewinds allowed per step.
     pub max_substeps: usize,
     /// Sweep pairs on rayon's threads.
@@ -428,19 +524,30 @@ impl<B: RapierBodies> Guard<B> {
         if !(options.skin.is_finite() && options.skin >= 0.0) {
             return Err(GuardError::Skin(options.skin));
         }
+        if !(options.tolerated_depth.is_finite() && options.tolerated_depth > 0.0) {
+            return Err(GuardError::ToleratedDepth(options.tolerated_depth));
+        }
         let allowed_error = B::allowed_linear_error(parameters);
         let skin = options.skin * allowed_error;
-        // A round shape's polyhedron stands at most a quarter skin outside
-        // it, inside the skins rapier rests a pair at.
+        // A round shape's polyhedron stands at most a quarter skin (or of
+        // rapier's allowed error) outside it.
         let excess = BALL_EXCESS_OF_SKIN * if skin > 0.0 { skin } else { allowed_error };
+        let length_unit = B::length_unit(parameters);
         let mut scene_bodies = Vec::with_capacity(guarded.len());
         let mut centers = Vec::with_capacity(guarded.len());
         let mut stoppable = Vec::with_capacity(guarded.len());
+        let mut rules = Vec::with_capacity(guarded.len());
+        let mut hooks = Vec::with_capacity(guarded.len());
         for &handle in guarded {
             let body = bodies.view(handle).ok_or(GuardError::UnknownBody(handle))?;
-            let name = format!("{handle:?}");
-            let (mesh, center) = mesh_of_body(bodies, colliders, handle, &name, excess)?;
-            bodies.give_skin(colliders, handle, skin);
+            let name = B::describe(handle);
+            let (mesh, center) = mesh_of_body(bodies, colliders, handle, &name, (excess, length_unit))?;
+            if skin > 0.0 {
+                // Without a skin rapier's colliders are left as they are.
+                bodies.give_skin(colliders, handle, skin);
+            }
+            rules.push(bodies.rules(colliders, handle));
+            hooks.push(bodies.contact_hooks(colliders, handle));
             scene_bodies.push(Body {
                 name,
                 mesh: Arc::new(mesh),
@@ -470,15 +577,20 @@ impl<B: RapierBodies> Guard<B> {
                 restitution: 0.0,
                 friction: crate::scene::file::DEFAULT_FRICTION,
                 solver_iterations: crate::scene::file::DEFAULT_SOLVER_ITERATIONS,
+                skin: options.skin,
             },
             bodies: Arc::new(scene_bodies),
             parameters: Default::default(),
         };
+        let solved = solved_pairs::<B>(rules, hooks);
         let setup = GuardSetup {
             handles: guarded.to_vec(),
             centers,
             stoppable,
             skin,
+            tolerated_depth: options.tolerated_depth * allowed_error,
+            solved,
+            acts: true,
             max_substeps: options.max_substeps,
             parallel: options.parallel,
         };
@@ -553,15 +665,18 @@ impl<B: RapierBodies> Guard<B> {
             return Err(GuardError::ContactDistance { body, contact_distance, limit });
         }
         let options = RunOptions { parallel: setup.parallel, broad_phase: true };
-        let response = Box::new(Clamp {
-            stoppable: setup.stoppable,
+        let thickness: Arc<[Real]> = model.bodies.iter().map(|b| thickness(&b.mesh)).collect();
+        let response = Box::new(Watch {
+            dynamic: setup.stoppable.clone(),
+            thickness: Arc::clone(&thickness),
             separation: two_skins(setup.skin) + B::prediction_distance(parameters),
             skin_separation: if setup.skin > 0.0 {
                 model.ccd.minimum_separation + two_skins(setup.skin)
             } else {
                 0.0
             },
-            guards_touching_pairs: setup.skin > 0.0,
+            tolerated_depth: setup.tolerated_depth,
+            solved: Arc::clone(&setup.solved),
         });
         let mut stepper = Stepper::with_response(Arc::clone(&model), run, options, response);
         stepper.set_extra_box_margin(setup.skin);
@@ -572,6 +687,7 @@ impl<B: RapierBodies> Guard<B> {
             velocities: model.bodies.iter().map(|b| (b.velocity, b.angular_velocity)).collect(),
             handles: setup.handles,
             centers: setup.centers,
+            stoppable: if setup.acts { setup.stoppable } else { Vec::new() },
             started: false,
             stepper,
             world,
@@ -580,6 +696,11 @@ impl<B: RapierBodies> Guard<B> {
             time_before: 0.0,
             dt: B::dt(parameters),
             max_substeps: setup.max_substeps,
+            tolerated_depth: setup.tolerated_depth,
+            thickness,
+            solved: setup.solved,
+            depth: setup.acts.then(DepthWatch::default),
+            deep: Vec::new(),
             options: None,
             rewinds: 0,
             events: Vec::new(),
@@ -589,28 +710,74 @@ impl<B: RapierBodies> Guard<B> {
 
     /// One guarded step: `rapier_step(bodies, dt)` steps rapier by `dt`
     /// (your `PhysicsPipeline::step` with `IntegrationParameters::dt` set to
-    /// it). The guard sweeps the step; where a pair would come into contact
-    /// and rapier would not hold it (it reaches the wall), the guard moves
-    /// the world back to the contact's time and calls `rapier_step` again
-    /// for the rest of the step, so that rapier solves the contact where it
-    /// happens (up to [`GuardOptions::max_substeps`] times; then the
-    /// contact's dynamic bodies are held at it). Returns the step's events.
+    /// it; `dt` in rapier's real, `f32` for rapier3d). The guard sweeps the
+    /// step; where a pair arrives that rapier would let too deep or through
+    /// (see the module), it moves the world back to the contact's time and
+    /// calls `rapier_step` again for the rest of the step, so that rapier
+    /// solves the contact where it happens (up to
+    /// [`GuardOptions::max_substeps`] times; then the arrival's dynamic
+    /// bodies are held at it). Returns the step's events, which borrow
+    /// nothing: the guard's counters can be read beside them.
     pub fn step<F>(
         &mut self,
         bodies: &mut B,
         mut rapier_step: F,
-    ) -> Result<&[GuardEvent<B::Handle>], GuardError<B::Handle>>
+    ) -> Result<Vec<GuardEvent<B::Handle>>, GuardError<B::Handle>>
     where
-        F: FnMut(&mut B, Real),
+        F: FnMut(&mut B, B::Scalar),
     {
         let clock = Instant::now();
         self.before_step(bodies);
         let engine = Instant::now();
-        rapier_step(bodies, self.dt);
+        rapier_step(bodies, B::scalar(self.dt));
         let seconds = &mut self.stepper.counters_mut().seconds;
         seconds.engine += engine.elapsed().as_secs_f64();
         seconds.engine_sync += (engine - clock).as_secs_f64();
-        self.finish_step(bodies, Some(&mut rapier_step))
+        let mut engine = |bodies: &mut B, dt: Real| rapier_step(bodies, B::scalar(dt));
+        self.finish_step(bodies, Some(&mut engine))
+    }
+
+    /// [`step`](Guard::step) for an application with contact hooks (rapier's
+    /// `PhysicsHooks`): before the step the guard asks `hooks` whether each
+    /// pair with a body whose colliders filter their contacts
+    /// (`ActiveHooks::FILTER_CONTACT_PAIRS`) is solved, and guards it only
+    /// if so, as rapier will. `rapier_step` is handed the colliders back
+    /// beside the bodies. (Bodies whose colliders modify their solver
+    /// contacts, `MODIFY_SOLVER_CONTACTS`, are left to rapier with or
+    /// without hooks: the guard cannot know which contacts the hook keeps.)
+    pub fn step_with_hooks<F>(
+        &mut self,
+        bodies: &mut B,
+        colliders: &mut B::Colliders,
+        hooks: &B::Hooks,
+        mut rapier_step: F,
+    ) -> Result<Vec<GuardEvent<B::Handle>>, GuardError<B::Handle>>
+    where
+        F: FnMut(&mut B, &mut B::Colliders, B::Scalar),
+    {
+        if self.solved.has_filters() {
+            let handles = &self.handles;
+            let refused =
+                self.solved.filtered_pairs(|a, b| bodies.filter(colliders, hooks, handles[a], handles[b]));
+            self.solved.refuse(refused);
+        }
+        self.step(bodies, |bodies, dt| rapier_step(bodies, colliders, dt))
+    }
+
+    /// Leaves to rapier, from the next step on, the pairs of guarded bodies
+    /// that a joint of `joints` (rapier's `ImpulseJointSet`) joins with its
+    /// contacts disabled: rapier never solves their contacts (a robot's
+    /// links overlapping at their joint), so neither does the guard. Call
+    /// it again after changing the joints.
+    pub fn honour_joints(&mut self, joints: &B::Joints) {
+        let index = |handle: &B::Handle| self.handles.iter().position(|h| h == handle);
+        let jointed = B::without_contacts(joints)
+            .iter()
+            .filter_map(|(a, b)| Some((index(a)?, index(b)?)))
+            .filter(|(a, b)| a != b)
+            .map(|(a, b)| (a.min(b), a.max(b)))
+            .collect();
+        self.solved.set_jointed(jointed);
     }
 
     /// Notes the guarded bodies' poses before rapier's step (with
@@ -629,9 +796,13 @@ impl<B: RapierBodies> Guard<B> {
 
     /// Sweeps the guarded bodies from their poses at
     /// [`before_step`](Guard::before_step) to where rapier's step left
-    /// them; holds dynamic bodies that would reach the wall at their poses
-    /// at contact. Returns the step's events.
-    pub fn after_step(&mut self, bodies: &mut B) -> Result<&[GuardEvent<B::Handle>], GuardError<B::Handle>> {
+    /// them; holds the dynamic bodies of arrivals that need the guard at
+    /// their poses at contact (it cannot step rapier again). Returns the
+    /// step's events.
+    pub fn after_step(
+        &mut self,
+        bodies: &mut B,
+    ) -> Result<Vec<GuardEvent<B::Handle>>, GuardError<B::Handle>> {
         self.finish_step(bodies, None)
     }
 
@@ -641,7 +812,7 @@ impl<B: RapierBodies> Guard<B> {
         &mut self,
         bodies: &mut B,
         engine: Option<&mut RapierStep<'_, B>>,
-    ) -> Result<&[GuardEvent<B::Handle>], GuardError<B::Handle>> {
+    ) -> Result<Vec<GuardEvent<B::Handle>>, GuardError<B::Handle>> {
         // The time outside rapier, the sweeps and the observers is the
         // guard's own (`engine_sync`).
         let clock = Instant::now();
@@ -664,7 +835,7 @@ impl<B: RapierBodies> Guard<B> {
         outcome?;
         // After the accounting: the trace times itself (its stage).
         self.stepper.observe_step_end(&self.world, self.step - 1);
-        Ok(&self.events)
+        Ok(std::mem::take(&mut self.events))
     }
 
     /// [`finish_step`](Guard::finish_step)'s sweeps and rewinds; the events
@@ -678,18 +849,19 @@ impl<B: RapierBodies> Guard<B> {
             return Err(GuardError::NoStartPoses);
         }
         self.events.clear();
+        self.world.rewound.clear();
         let contacts_before = self.world.contacts.len();
         let t0 = self.step as Real * self.dt;
         // Time into the step at the current sweep's start; each sweep runs
         // over the rest of the step, its motions stretched over `dt`.
         let mut elapsed: Real = 0.0;
         let mut substeps = 0;
-        // Set when the next sweep must clamp: a rewind to a sweep's start
-        // would step rapier again from the same state, to the same end.
-        let mut clamp = false;
+        // Sweeps after stops (no rapier step between): each stops more
+        // bodies, so there are at most as many as bodies.
+        let mut restops = 0;
         loop {
             self.set_motions(bodies, elapsed);
-            self.world.may_rewind = engine.is_some() && substeps < self.max_substeps && !clamp;
+            self.world.may_rewind = engine.is_some() && substeps < self.max_substeps;
             let mark = self.world.contacts.len();
             let result = self.stepper.sweep(&mut self.world, self.step);
             let scale = (self.dt - elapsed) / self.dt;
@@ -712,13 +884,11 @@ impl<B: RapierBodies> Guard<B> {
                     .iter()
                     .map(|&(a, b)| GuardEvent::Stopped { a: handles[a], b: handles[b] }),
             );
-            // Held bodies go back to their poses at contact (also when a
-            // pair was undecided: the contacts before it stand).
-            let held = std::mem::take(&mut self.world.held);
-            for &(i, at) in &held {
-                self.hold_or_carry(bodies, i, at.min(self.dt), scale);
-            }
-            self.world.held = held;
+            // Stopped bodies stay at their contacts (also when a pair was
+            // undecided: the contacts before it stand).
+            let stops = std::mem::take(&mut self.world.stops);
+            let stopped = self.stop_bodies(bodies, &stops, scale);
+            self.world.stops = stops;
             if let Err(Termination::Undecided { pair: (a, b), time, step, iterations }) = result {
                 let time = real(time);
                 self.undecided = Some(Termination::Undecided { pair: (a, b), time, step, iterations });
@@ -730,20 +900,29 @@ impl<B: RapierBodies> Guard<B> {
                     iterations,
                 });
             }
-            let (Some(rewind), Some(engine)) = (self.world.rewind.take(), engine.as_mut()) else { break };
-            if rewind.time == 0.0 {
-                clamp = true;
+            if let (Some(rewind), Some(engine)) = (self.world.rewind.take(), engine.as_mut()) {
+                // The response never asks for the sweep's start (rapier's
+                // step began there already).
+                debug_assert!(rewind.time > 0.0);
+                let at = rewind.time;
+                self.rewind(bodies, at, [rewind.a, rewind.b]);
+                if let Some((point_a, point_b)) = rewind.points {
+                    self.push_off_kinematic(bodies, [rewind.a, rewind.b], &point_a, &point_b, at);
+                }
+                self.world.rewound.push((rewind.a, rewind.b));
+                elapsed += at * scale;
+                substeps += 1;
+                self.rewinds += 1;
+                engine(bodies, self.dt - elapsed);
                 continue;
             }
-            let at = rewind.time;
-            self.rewind(bodies, at, [rewind.a, rewind.b]);
-            if let Some((point_a, point_b)) = rewind.points {
-                self.push_off_kinematic(bodies, [rewind.a, rewind.b], &point_a, &point_b, at);
+            if stopped && restops < self.handles.len() {
+                // Swept again: a body that stopped may now be in another's way.
+                restops += 1;
+                continue;
             }
-            elapsed += at * scale;
-            substeps += 1;
-            self.rewinds += 1;
-            engine(bodies, self.dt - elapsed);
+            self.watch_depths(bodies, scale);
+            break;
         }
         self.step += 1;
         let handles = &self.handles;
@@ -755,6 +934,64 @@ impl<B: RapierBodies> Guard<B> {
             }
         }));
         Ok(())
+    }
+
+    /// The depth watch after the step's last sweep (`scale`: its length over
+    /// `dt`): touching pairs that rapier let sink deeper than the tolerated
+    /// depth are pushed apart, each an [`GuardEvent::Overlap`].
+    fn watch_depths(&mut self, bodies: &mut B, scale: Real) {
+        let Some(watch) = self.depth.as_mut() else { return };
+        self.deep.clear();
+        let model = self.stepper.model();
+        let solved = |a: usize, b: usize| self.solved.solves(a, b);
+        let tolerated = |a: usize, b: usize| pair_tolerance(self.tolerated_depth, &self.thickness, a, b);
+        watch.measure(model, &self.world, &tolerated, &solved, &mut self.deep);
+        if !self.deep.is_empty() {
+            self.forget_bounds();
+        }
+        for k in 0..self.deep.len() {
+            let deep = self.deep[k];
+            let pushed_apart = self.push_apart(bodies, &deep, scale);
+            let (a, b) = (self.handles[deep.a], self.handles[deep.b]);
+            self.events.push(GuardEvent::Overlap { a, b, depth: deep.depth, pushed_apart });
+        }
+    }
+
+    /// Moves the dynamic bodies of a pair found too deep apart along its
+    /// direction, by their inverse masses, to [`PUSHED_DEPTH_FRACTION`] of
+    /// the tolerated depth, and removes their approach along it (an
+    /// inelastic push through their centres). `false` when neither is
+    /// dynamic.
+    fn push_apart(&mut self, bodies: &mut B, deep: &Deep, scale: Real) -> bool {
+        let (Some(view_a), Some(view_b)) =
+            (bodies.view(self.handles[deep.a]), bodies.view(self.handles[deep.b]))
+        else {
+            return false;
+        };
+        let (wa, wb) = (view_a.inverse_mass, view_b.inverse_mass);
+        if wa + wb <= 0.0 {
+            return false;
+        }
+        let tolerated = pair_tolerance(self.tolerated_depth, &self.thickness, deep.a, deep.b);
+        let excess = deep.depth - PUSHED_DEPTH_FRACTION * tolerated;
+        let u = deep.direction;
+        // b moves along u, a against it.
+        let approach = (view_b.linvel - view_a.linvel).dot(&u).min(0.0);
+        for (i, view, sign, w) in [(deep.a, view_a, -1.0, wa), (deep.b, view_b, 1.0, wb)] {
+            if w == 0.0 {
+                continue;
+            }
+            let share = sign * w / (wa + wb);
+            let end = self.world.motions[i].pose_at(self.dt);
+            let moved =
+                Pose::from_parts((end.translation.vector + u * (excess * share)).into(), end.rotation);
+            bodies.set_pose(self.handles[i], &body_pose(&moved, &self.centers[i]), false);
+            let velocity = view.linvel - u * (approach * share);
+            bodies.set_velocities(self.handles[i], &velocity, &view.angvel, false);
+            self.world.motions[i] =
+                StepMotion::between_near(&self.start[i], &moved, self.dt, &(view.angvel * scale));
+        }
+        true
     }
 
     /// Each body's motion over the rest of the step from `elapsed`: from its
@@ -809,10 +1046,67 @@ impl<B: RapierBodies> Guard<B> {
             }
             self.start[i] = pose;
         }
-        // What the pairs carried was about the sweep's end.
+        self.forget_bounds();
+    }
+
+    /// The pairs' distance bounds at the sweep's end, carried to the next
+    /// sweep or step, are dropped: the guard moved bodies from there.
+    fn forget_bounds(&mut self) {
         for pair in &mut self.world.pairs {
             pair.lower_bound = None;
         }
+    }
+
+    /// The dynamic bodies of the sweep's `stops` stay at their poses at
+    /// their earliest stop for the rest of the step (or are carried by a
+    /// kinematic body they touch, [`hold_or_carry`](Guard::hold_or_carry)),
+    /// and each stopped pair takes an inelastic impulse at its contact (its
+    /// two points' approach along the normal removed, by the bodies' masses
+    /// and inertias: a bullet stopped at a corner turns about it). Returns
+    /// whether a body stopped. `scale`: the sweep's real length over `dt`.
+    fn stop_bodies(&mut self, bodies: &mut B, stops: &[Stop], scale: Real) -> bool {
+        let mut stopped = false;
+        for i in 0..self.stoppable.len() {
+            let first = stops.iter().filter(|s| s.a == i || s.b == i).map(|s| s.time).reduce(Real::min);
+            if let (true, Some(at)) = (self.stoppable[i], first) {
+                self.hold_or_carry(bodies, i, at.min(self.dt), scale);
+                stopped = true;
+            }
+        }
+        if !stopped {
+            return false;
+        }
+        self.forget_bounds();
+        for stop in stops {
+            let (Some(normal), Some(point)) = (stop.normal, stop.point) else { continue };
+            let (Some(view_a), Some(view_b)) =
+                (bodies.view(self.handles[stop.a]), bodies.view(self.handles[stop.b]))
+            else {
+                continue;
+            };
+            // An inelastic impulse at the contact (its two points' approach
+            // along the normal removed, the bodies' turns with it).
+            let impact = |i: usize, view: &BodyView| ImpactBody {
+                center: self.world.motions[i].center_at(self.dt),
+                inverse_mass: if self.stoppable[i] { view.inverse_mass } else { 0.0 },
+                inverse_inertia: if self.stoppable[i] {
+                    view.inverse_inertia
+                } else {
+                    nalgebra::Matrix3::zeros()
+                },
+                velocity: view.linvel,
+                angular_velocity: view.angvel,
+            };
+            let (mut a, mut b) = (impact(stop.a, &view_a), impact(stop.b, &view_b));
+            if apply_impulse(&mut a, &mut b, &point, &normal, 0.0) > 0.0 {
+                for (i, body) in [(stop.a, a), (stop.b, b)] {
+                    if self.stoppable[i] {
+                        bodies.set_velocities(self.handles[i], &body.velocity, &body.angular_velocity, false);
+                    }
+                }
+            }
+        }
+        true
     }
 
     /// Body `i`, clamped at `at` into the sweep: held at its pose then, or,
@@ -921,6 +1215,19 @@ impl<B: RapierBodies> Guard<B> {
     pub(crate) fn into_parts(self) -> (Stepper, World) {
         (self.stepper, self.world)
     }
+}
+
+/// Which pairs of bodies rapier solves, from each body's solid colliders'
+/// rules (`rules[i]`, the guard's order: those with a pair of colliders
+/// that meet, [`RapierBodies::solves`]) and contact hooks.
+pub(crate) fn solved_pairs<B: RapierBodies>(
+    rules: Vec<Vec<B::Rule>>,
+    hooks: Vec<ContactHooks>,
+) -> Arc<PairRules> {
+    Arc::new(PairRules::new(
+        Box::new(move |a, b| rules[a].iter().any(|ra| rules[b].iter().any(|rb| B::solves(ra, rb)))),
+        hooks,
+    ))
 }
 
 /// Whether the body `handle` is kinematic.

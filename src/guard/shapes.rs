@@ -4,7 +4,7 @@
 
 use rapier3d_f64::prelude::ColliderBuilder;
 
-use super::bodies::{RapierBodies, ShapePart};
+use super::bodies::{ColliderPart, RapierBodies, ShapePart};
 use super::GuardError;
 use crate::math::{from_parry, to_parry, Point, Pose, Real, Vector};
 use crate::mesh::TriMesh;
@@ -139,24 +139,69 @@ fn circumscribed_cylinder(
     None
 }
 
+/// How far a half-space collider's box reaches, in rapier's length units:
+/// `1e4`. The guard sweeps a half-space as the box below its plane that is
+/// twice this wide (centred under the collider's origin) and this deep:
+/// bodies farther out along the plane are not guarded against it.
+pub const HALF_SPACE_EXTENT: Real = 1e4;
+
+/// The box below a half-space's plane (through the origin, outward unit
+/// `normal`): [`HALF_SPACE_EXTENT`] `× length_unit` to each side and deep.
+fn half_space_box(normal: &Vector, length_unit: Real) -> (Vec<Point>, Vec<[u32; 3]>) {
+    let extent = HALF_SPACE_EXTENT * length_unit;
+    let half = Vector::new(extent, extent, extent / 2.0);
+    let (points, triangles) =
+        parry3d_f64::shape::Cuboid::new(crate::math::vector_to_parry(&half)).to_trimesh();
+    // The box's top face (z = 0 after the shift) on the plane, turned so
+    // that z is the normal.
+    let turn = nalgebra::UnitQuaternion::rotation_between(&Vector::z(), normal).unwrap_or_else(|| {
+        nalgebra::UnitQuaternion::from_axis_angle(&Vector::x_axis(), std::f64::consts::PI)
+    });
+    let points = points
+        .into_iter()
+        .map(|p| Point::from(turn * (from_parry(p).coords - Vector::z() * half.z)))
+        .collect();
+    (points, triangles)
+}
+
+/// `points` and `triangles` with equal points merged (a heightfield's
+/// triangles come each with its own three).
+fn welded(points: &[Point], indices: &[[u32; 3]]) -> (Vec<Point>, Vec<[u32; 3]>) {
+    let mut index = std::collections::HashMap::new();
+    let mut unique = Vec::new();
+    let remap: Vec<u32> = points
+        .iter()
+        .map(|p| {
+            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+            *index.entry(key).or_insert_with(|| {
+                unique.push(*p);
+                (unique.len() - 1) as u32
+            })
+        })
+        .collect();
+    (unique, indices.iter().map(|t| t.map(|i| remap[i as usize])).collect())
+}
+
 /// The triangles of one shape at `frame` (in its body's frame), appended to
 /// `vertices` and `triangles`, or why it has none. `excess`: how far a
-/// ball's polyhedron may stand outside it.
+/// ball's polyhedron may stand outside it; `length_unit`: rapier's, for a
+/// half-space's box.
 fn append_shape(
     shape: &ShapePart,
     frame: &Pose,
-    excess: Real,
+    (excess, length_unit): (Real, Real),
     vertices: &mut Vec<Point>,
     triangles: &mut Vec<[u32; 3]>,
 ) -> Result<(), String> {
     let (points, indices) = match shape {
         ShapePart::Compound(parts) => {
             for (pose, part) in parts {
-                append_shape(part, &(frame * pose), excess, vertices, triangles)?;
+                append_shape(part, &(frame * pose), (excess, length_unit), vertices, triangles)?;
             }
             return Ok(());
         }
-        ShapePart::Triangles(points, indices) => (points.clone(), indices.clone()),
+        ShapePart::Triangles(points, indices) => welded(points, indices),
+        ShapePart::HalfSpace { normal } => half_space_box(normal, length_unit),
         &ShapePart::Ball(radius) => circumscribed_ball(radius, excess).ok_or_else(|| too_round(radius, excess))?,
         &ShapePart::Capsule { a, b, radius } => {
             circumscribed_capsule([a, b], radius, excess).ok_or_else(|| too_round(radius, excess))?
@@ -166,7 +211,7 @@ fn append_shape(
         }
         ShapePart::Other(kind) => {
             return Err(format!(
-                "a collider's shape ({kind}) is not one the guard sweeps: triangle meshes, convex polyhedra, cuboids, balls, capsules, cylinders and compounds of them"
+                "its shape ({kind}) is not one the guard sweeps (triangle meshes, convex polyhedra, cuboids, heightfields, half-spaces, balls, capsules, cylinders and compounds of them): give the body a triangle mesh of it (`ColliderBuilder::trimesh`), or leave the body out of the guarded list"
             ))
         }
     };
@@ -183,23 +228,30 @@ fn too_round(radius: Real, excess: Real) -> String {
     )
 }
 
-/// The mesh the guard sweeps for the body `handle`: the triangles of all
-/// its colliders (a ball's circumscribed polyhedron, at most `excess`
-/// outside it), relative to its centre of mass (returned too, body frame).
-/// `name`: the body in messages.
+/// The mesh the guard sweeps for the body `handle`: the triangles of its
+/// solid colliders (enabled, not sensors; of all its colliders when it has
+/// no solid one, whose pairs rapier then never solves), a ball's
+/// circumscribed polyhedron at most `excess` outside it, a half-space's box
+/// in units of `length_unit`, relative to its centre of mass (returned
+/// too, body frame). `name`: the body in messages.
 pub fn mesh_of_body<B: RapierBodies>(
     bodies: &B,
     colliders: &B::Colliders,
     handle: B::Handle,
     name: &str,
-    excess: Real,
+    (excess, length_unit): (Real, Real),
 ) -> Result<(TriMesh, Vector), GuardError<B::Handle>> {
     let shape_error = |message: String| GuardError::Shape { body: name.to_string(), message };
     let body = bodies.view(handle).ok_or(GuardError::UnknownBody(handle))?;
+    let parts = bodies.shapes(colliders, handle);
+    let any_solid = parts.iter().any(|part| part.solid);
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
-    for (frame, shape) in bodies.shapes(colliders, handle) {
-        append_shape(&shape, &frame, excess, &mut vertices, &mut triangles).map_err(shape_error)?;
+    for ColliderPart { name: collider, frame, shape, solid } in &parts {
+        if *solid || !any_solid {
+            append_shape(shape, frame, (excess, length_unit), &mut vertices, &mut triangles)
+                .map_err(|message| shape_error(format!("{collider}: {message}")))?;
+        }
     }
     if triangles.is_empty() {
         return Err(shape_error("the body has no collider".into()));

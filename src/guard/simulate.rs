@@ -91,21 +91,28 @@ impl RapierScene {
     /// centre of mass, which is the body frame's origin), each with the
     /// collider [`collider_for`] its mesh, and the scene's materials.
     /// `rapier_ccd`: switch rapier's own CCD on for every moving body
-    /// (`--compare rapier`); `guarded`: give every collider the guard's
-    /// contact skin ([`super::GuardOptions::skin`]'s default).
+    /// (`--compare rapier`); `guarded`: give every collider the scene's
+    /// contact skin (`on_contact: Simulate(skin: ...)`, 0 by default;
+    /// rapier alone gets none).
     pub fn build(scene: &Scene, rapier_ccd: bool, guarded: bool) -> Result<RapierScene, GuardError> {
-        let (friction, restitution, solver_iterations) = match scene.model.on_contact {
-            OnContact::Simulate { friction, restitution, solver_iterations } => {
-                (friction, restitution, solver_iterations)
+        let (friction, restitution, solver_iterations, skin) = match scene.model.on_contact {
+            OnContact::Simulate { friction, restitution, solver_iterations, skin } => {
+                (friction, restitution, solver_iterations, skin)
             }
-            _ => (crate::scene::file::DEFAULT_FRICTION, 0.0, crate::scene::file::DEFAULT_SOLVER_ITERATIONS),
+            _ => (
+                crate::scene::file::DEFAULT_FRICTION,
+                0.0,
+                crate::scene::file::DEFAULT_SOLVER_ITERATIONS,
+                0.0,
+            ),
         };
         let mut parameters = IntegrationParameters { dt: scene.model.dt, ..Default::default() };
         parameters.num_solver_iterations = solver_iterations;
         // A scene's velocities are what it says: no speed cap (rapier's
         // default caps bodies at 400 units per second).
         parameters.normalized_max_linear_velocity = Real::MAX;
-        let skin = if guarded { super::GuardOptions::default().skin_under(&parameters) } else { 0.0 };
+        let guard_options = super::GuardOptions { skin, ..super::GuardOptions::default() };
+        let skin = if guarded { guard_options.skin_under(&parameters) } else { 0.0 };
         let mut bodies = RigidBodySet::new();
         let mut colliders = ColliderSet::new();
         let mut handles = Vec::with_capacity(scene.model.bodies.len());
@@ -248,6 +255,15 @@ impl RapierScene {
         self.engine.narrow_phase.contact_pair(ca, cb).is_some_and(|pair| pair.has_any_active_contact())
     }
 
+    /// Which pairs of the scene's bodies rapier solves (by their colliders'
+    /// rules, as the guard of an application reads them).
+    pub fn solved_pairs(&self) -> std::sync::Arc<super::watch::PairRules> {
+        use super::RapierBodies;
+        let rules = self.handles.iter().map(|h| self.bodies.rules(&self.colliders, *h)).collect();
+        let hooks = self.handles.iter().map(|h| self.bodies.contact_hooks(&self.colliders, *h)).collect();
+        super::solved_pairs::<RigidBodySet>(rules, hooks)
+    }
+
     /// Body `i`'s state (its centre of mass is its frame's origin).
     pub fn state(&self, i: usize) -> Option<RigidState> {
         self.bodies.get(self.handles[i]).map(rigid_state)
@@ -316,6 +332,11 @@ pub(crate) fn driver(scene: &Scene, options: RunOptions) -> Result<Guarded, Guar
         centers: vec![Vector::zeros(); scene.model.bodies.len()],
         stoppable,
         skin: rapier.skin,
+        tolerated_depth: super::GuardOptions::default().tolerated_depth_under(&rapier.parameters),
+        // A scene's colliders have no groups, sensors or hooks: every pair
+        // is swept (a kinematic body's contacts with fixed ones reported).
+        solved: std::sync::Arc::new(super::watch::PairRules::all(scene.model.bodies.len())),
+        acts: true,
         max_substeps: super::DEFAULT_MAX_SUBSTEPS,
         parallel: options.parallel,
     };

@@ -36,6 +36,7 @@ pub use obj::{load_obj, parse_obj, ObjError};
 pub use penetration::{
     convex_penetration, MeshPenetration, NotConvex, FLAT_EDGE_TOLERANCE, PARALLEL_EDGE_SINE,
 };
+pub(crate) use penetration::{convex_penetration_with, PenetrationScratch};
 pub use point_query::{point_signed_distance, PointQueryScratch, PointSignedDistance};
 pub use primitives::{
     box_mesh, icosphere, needle, single_triangle, tetrahedron, torus, MAX_ICOSPHERE_SUBDIVISIONS,

@@ -35,7 +35,7 @@ pub(crate) struct Bounce {
 }
 
 impl Response for Bounce {
-    fn queries_touching_pairs(&self) -> bool {
+    fn sweeps(&self, _pair: &PairState) -> bool {
         true
     }
 

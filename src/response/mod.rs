@@ -19,14 +19,10 @@
 //! and one arm of `for_model`; the stepper does not change.
 
 mod bounce;
-#[cfg(feature = "rapier")]
-mod clamp;
 mod impulse;
 mod record;
 mod stop;
 
-#[cfg(feature = "rapier")]
-pub(crate) use clamp::Clamp;
 pub use impulse::{apply_impulse, approach_speed, contact_frame, ImpactBody};
 
 use crate::ccd::{ContactRule, MeshCcdScratch};
@@ -50,10 +46,11 @@ pub(crate) struct StepContext<'a> {
 
 /// A collision response (see the module).
 pub(crate) trait Response: Sync {
-    /// Whether pairs already in contact are queried again (for coming
-    /// closer still). Default: no.
-    fn queries_touching_pairs(&self) -> bool {
-        false
+    /// Whether the narrow phase sweeps `pair` in this step. Default: pairs
+    /// not in contact (`Bounce` sweeps those in contact too, for coming
+    /// closer again; the guard every pair rapier solves).
+    fn sweeps(&self, pair: &PairState) -> bool {
+        pair.touching.is_none()
     }
 
     /// The contact rule of `pair`'s CCD query. Default: the scene's
@@ -94,7 +91,7 @@ pub(crate) trait Response: Sync {
 
 /// The response a scene asks for, for the stepper's own integration;
 /// `None` under `Simulate`, whose steps rapier makes and the guard sweeps
-/// with its own clamp (`clamp.rs`).
+/// with its own response ([`crate::guard`]).
 pub(crate) fn for_model(model: &Model) -> Option<Box<dyn Response>> {
     match model.on_contact {
         OnContact::Stop => Some(Box::new(record::Record { stop: true })),

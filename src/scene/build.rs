@@ -64,6 +64,11 @@ pub const MIN_MAGNITUDE: Real = 1e-30;
 /// systems allow 255 bytes with room left for a temporary suffix.
 pub const MAX_NAME_BYTES: usize = 200;
 
+/// The largest contact skin `on_contact: Simulate` accepts, in multiples of
+/// rapier's allowed linear error: `100` (half a unit under rapier's
+/// defaults: a skin is a thin layer, not a body).
+pub const MAX_SKIN: Real = 100.0;
+
 /// The most solver iterations per step `on_contact: Simulate` accepts
 /// (rapier's default is 4; more than this is most likely a typo, and each
 /// costs a solver pass).
@@ -171,8 +176,8 @@ impl Builder<'_> {
         let pushed_by_contacts = self.response(&file.on_contact)?;
         self.motions(&file.bodies, &mut bodies, springs, gravity, pushed_by_contacts, dt)?;
         self.materials(&file.on_contact, &file.bodies, &mut bodies)?;
-        if matches!(file.on_contact, OnContact::Simulate { .. }) {
-            self.simulate_contact_distances(&ccd, &bodies)?;
+        if let OnContact::Simulate { skin, .. } = file.on_contact {
+            self.simulate_contact_distances(&ccd, &bodies, skin)?;
         }
         let trace = self.trace(file.trace.as_ref(), &names, &bodies, steps)?;
         let poses = match &file.poses {
@@ -348,7 +353,7 @@ impl Builder<'_> {
                 self.restitution("on_contact.restitution", restitution)?;
                 Ok(true)
             }
-            OnContact::Simulate { restitution, friction, solver_iterations } => {
+            OnContact::Simulate { restitution, friction, solver_iterations, skin } => {
                 if !cfg!(feature = "rapier") {
                     return self.invalid(
                         "on_contact",
@@ -357,6 +362,15 @@ impl Builder<'_> {
                 }
                 self.restitution("on_contact.restitution", restitution)?;
                 self.non_negative("on_contact.friction", friction)?;
+                if !(0.0..=MAX_SKIN).contains(&skin) {
+                    return self.invalid(
+                        "on_contact.skin",
+                        format!(
+                            "{} is not a contact skin: give a multiple of rapier's allowed linear error in [0, {MAX_SKIN}] (0: no skin)",
+                            shortest(skin)
+                        ),
+                    );
+                }
                 if !(1..=MAX_SOLVER_ITERATIONS).contains(&solver_iterations) {
                     return self.invalid(
                         "on_contact.solver_iterations",
@@ -373,20 +387,21 @@ impl Builder<'_> {
     /// body's radius sets it) must lie within the two colliders' contact
     /// skins: the guard's wall inside rapier's contact
     /// ([`crate::guard::simulate_contact_limit`]).
-    fn simulate_contact_distances(&self, ccd: &CcdOptions, bodies: &[Body]) -> Result<()> {
+    fn simulate_contact_distances(&self, ccd: &CcdOptions, bodies: &[Body], skin: Real) -> Result<()> {
         #[cfg(feature = "rapier")]
-        if let Err((body, contact_distance, limit)) = crate::guard::simulate_contact_limit(ccd, bodies) {
+        if let Err((body, contact_distance, limit)) = crate::guard::simulate_contact_limit(ccd, bodies, skin)
+        {
             return self.invalid(
                 "ccd.distance_tolerance",
                 format!(
-                    "a pair with `{body}` would have a contact distance of {} under `Simulate`, not below the two colliders' contact skins {}: the guard's wall would lie outside rapier's contact; lower `distance_tolerance` or `minimum_separation`",
+                    "a pair with `{body}` would have a contact distance of {} under `Simulate`, not below {} (the two colliders' contact skins, or without skins rapier's prediction distance): the guard's wall would lie outside rapier's contact; lower `distance_tolerance` or `minimum_separation`",
                     shortest(contact_distance),
                     shortest(limit)
                 ),
             );
         }
         #[cfg(not(feature = "rapier"))]
-        let _ = (ccd, bodies);
+        let _ = (ccd, bodies, skin);
         Ok(())
     }
 

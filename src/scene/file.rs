@@ -181,15 +181,17 @@ pub enum OnContact {
         restitution: f64,
     },
     /// Rigid-body dynamics by rapier3d (resting contact, friction,
-    /// stacking), guarded by nearmiss: each step rapier moves and solves the
-    /// bodies, then nearmiss sweeps every pair from the step's start poses to
-    /// rapier's end poses and moves bodies that would come into contact back
-    /// to their time of contact (poses clamped, velocities left to rapier's
-    /// contact solver on the next step). A contact is reported once, when a
-    /// pair comes into contact; pairs in contact are rapier's to hold and
-    /// are armed again once they separate. Every body that is neither fixed
-    /// nor kinematic needs a mass and an inertia (`density`, or `mass` and
-    /// `inertia`). Needs the `rapier` feature (on by default).
+    /// stacking), guarded by nearmiss (`nearmiss::guard`): each step rapier
+    /// moves and solves the bodies, then nearmiss sweeps every pair from the
+    /// step's start poses to rapier's end poses; where a pair arrives that
+    /// rapier would let go deeper than its allowed error or through, the
+    /// world goes back to the contact and rapier solves the rest of the step
+    /// from there. Where rapier holds, the run is rapier's. A contact is
+    /// reported once, when a pair comes into contact; pairs in contact are
+    /// rapier's to hold and are armed again once they separate. Every body
+    /// that is neither fixed nor kinematic needs a mass and an inertia
+    /// (`density`, or `mass` and `inertia`). Needs the `rapier` feature (on
+    /// by default).
     Simulate {
         /// The coefficient of restitution of every body (a body's own
         /// `restitution` overrides it), in `[0, 1]`; rapier averages the
@@ -204,6 +206,14 @@ pub enum OnContact {
         /// Rapier's solver iterations per step. Default: 4 (rapier's).
         #[serde(default = "default_solver_iterations")]
         solver_iterations: usize,
+        /// Each collider's contact skin, as a multiple of rapier's allowed
+        /// linear error (0.005): at 0 rapier's contacts are as they are
+        /// (resting bodies overlap a little, about 1e-4 on a floor); above
+        /// 0 the meshes never overlap, and resting bodies float the two
+        /// skins, less what rapier lets them sink, apart. In `[0, 100]`.
+        /// Default: 0.
+        #[serde(default)]
+        skin: f64,
     },
 }
 

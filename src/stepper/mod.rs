@@ -46,11 +46,11 @@ pub(crate) use narrow::{
 };
 pub use parameters::StepParameters;
 pub use result::{Contact, Counters, RunResult, Solver, StageSeconds, Termination, Work};
-#[cfg(feature = "rapier")]
-pub(crate) use world::Rewind;
 #[cfg(test)]
 pub(crate) use world::Touching;
 pub(crate) use world::{PairState, World};
+#[cfg(feature = "rapier")]
+pub(crate) use world::{Rewind, Stop};
 
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;
@@ -319,7 +319,7 @@ impl Stepper {
     pub(crate) fn sweep(&mut self, world: &mut World, step: u64) -> Result<StepEnd, Termination> {
         let t0 = step as Real * self.model.dt;
         world.separated.clear();
-        world.held.clear();
+        world.stops.clear();
         world.rewind = None;
         self.broad_phase(world);
         // The near misses screen the integrated motions first: a pair they
@@ -361,9 +361,9 @@ impl Stepper {
         if contact && self.response.ends_run() {
             return Ok(StepEnd::FirstContact);
         }
-        // A sweep the guard will step again from a contact: its end poses
-        // are not where the step ends.
-        if world.rewind.is_none() {
+        // A sweep the guard will step again from a contact, or sweep again
+        // with bodies stopped: its end poses are not where the step ends.
+        if world.rewind.is_none() && world.stops.is_empty() {
             self.rearm(world);
         }
         Ok(StepEnd::Continue)
@@ -428,6 +428,12 @@ impl Stepper {
     #[cfg(feature = "rapier")]
     pub(crate) fn has_broad_phase(&self) -> bool {
         self.broad.is_some()
+    }
+
+    /// What is simulated.
+    #[cfg(feature = "rapier")]
+    pub(crate) fn model(&self) -> &Model {
+        &self.model
     }
 
     /// Grows every swept box by `margin` (each body's contact skin).

@@ -145,10 +145,9 @@ impl Stepper {
         let response = &*self.response;
         // Pairs already in contact are left alone unless the response asks
         // for them (`Bounce`: for coming closer again).
-        let touching_too = response.queries_touching_pairs();
         let work = &mut self.scratch.work;
         work.clear();
-        work.extend((0..world.pairs.len()).filter(|&k| touching_too || world.pairs[k].touching.is_none()));
+        work.extend((0..world.pairs.len()).filter(|&k| response.sweeps(&world.pairs[k])));
         let (motions, pairs) = (&world.motions, &world.pairs);
         let near_misses = self.near_misses.as_ref();
         let query = |k: usize, scratch: &mut MeshCcdScratch| {

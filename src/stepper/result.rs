@@ -14,8 +14,9 @@ pub struct Solver {
     pub engine: String,
     /// Per body, the collider shape the engine was given.
     pub colliders: Vec<String>,
-    /// Each collider's contact skin (the engine's contacts start two skins
-    /// apart, where the run's contacts are reported).
+    /// Each collider's contact skin (0 unless the scene asks for one; with
+    /// skins the engine's contacts start two skins apart, where the run's
+    /// contacts are reported).
     pub contact_skin: Real,
     /// How many times the guard moved the world back to a contact and let
     /// the engine solve the rest of the step from there.

@@ -29,9 +29,14 @@ pub(crate) struct World {
     /// The pairs in contact that separated in the current step (re-armed,
     /// or apart for the whole step), `(a, b)`.
     pub separated: Vec<(usize, usize)>,
-    /// The bodies the response held at a contact in the current step, with
-    /// the time into the step they stopped at.
-    pub held: Vec<(usize, Real)>,
+    /// The contacts the guard's response stops at in the current sweep
+    /// (read by the guard, which needs the `rapier` feature).
+    #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
+    pub stops: Vec<Stop>,
+    /// The pairs `(a, b)` the guard moved the world back to in the current
+    /// step (their next contact in the step stops them).
+    #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
+    pub rewound: Vec<(usize, usize)>,
     /// The guard may ask for a rewind in this sweep (it has substeps left;
     /// read by its clamp, which needs the `rapier` feature).
     #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
@@ -53,6 +58,20 @@ pub(crate) struct Rewind {
     pub b: usize,
     /// The contact's closest points (world frame).
     pub points: Option<(Point, Point)>,
+}
+
+/// A contact the guard stops at (see `World::stops`): the dynamic bodies
+/// of the pair stay at their poses at `time` into the sweep for the rest of
+/// it, and their approach along `normal` (from `a` towards `b`) at `point`
+/// (the contact's, world frame, where they stay) is removed.
+#[derive(Copy, Clone, Debug)]
+#[cfg_attr(not(feature = "rapier"), allow(dead_code))]
+pub(crate) struct Stop {
+    pub a: usize,
+    pub b: usize,
+    pub time: Real,
+    pub normal: Option<Vector>,
+    pub point: Option<Point>,
 }
 
 /// A CCD query that ran out of iterations: the pair (index into `pairs`),
@@ -153,7 +172,8 @@ impl World {
             contacts: Vec::new(),
             undecided: None,
             separated: Vec::new(),
-            held: Vec::new(),
+            stops: Vec::new(),
+            rewound: Vec::new(),
             may_rewind: false,
             rewind: None,
         }

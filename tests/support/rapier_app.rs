@@ -4,7 +4,7 @@
 
 /// Defines `Rapier`: the pipeline and the sets a step needs besides the
 /// bodies and colliders, and `Rapier::step`, `PhysicsPipeline::step` by a
-/// given `dt` (the guard's, in f64); and `sleeping_crate_and_wall`, the
+/// given `dt` (in rapier's real, as the guard hands it); and `sleeping_crate_and_wall`, the
 /// world both builds' wake-and-push tests guard.
 #[macro_export]
 macro_rules! rapier_app {
@@ -36,19 +36,19 @@ macro_rules! rapier_app {
                 }
             }
 
-            /// `PhysicsPipeline::step` by `dt` (what the guard calls; in
-            /// rapier's reals).
+            /// `PhysicsPipeline::step` by `dt` (what the guard calls, in
+            /// rapier's real).
             fn step(
                 &mut self,
                 bodies: &mut $rapier::prelude::RigidBodySet,
                 colliders: &mut $rapier::prelude::ColliderSet,
                 gravity: $rapier::prelude::Vector,
                 parameters: &$rapier::prelude::IntegrationParameters,
-                dt: f64,
+                dt: $rapier::math::Real,
             ) {
                 self.pipeline.step(
                     gravity,
-                    &$rapier::prelude::IntegrationParameters { dt: dt as _, ..*parameters },
+                    &$rapier::prelude::IntegrationParameters { dt, ..*parameters },
                     &mut self.islands,
                     &mut self.broad_phase,
                     &mut self.narrow_phase,
@@ -64,13 +64,11 @@ macro_rules! rapier_app {
             }
         }
 
-        /// A unit crate asleep on a fixed floor, resting the two default
-        /// skins above it, and a velocity-based kinematic wall (0.2 thick)
+        /// A unit crate asleep on a fixed floor, resting on it face to face,
+        /// and a velocity-based kinematic wall (0.2 thick)
         /// at 1.5 units/s that reaches it after 0.5 s: the sets and the
         /// handles `[floor, crate, wall]`.
-        fn sleeping_crate_and_wall(
-            parameters: &$rapier::prelude::IntegrationParameters,
-        ) -> (
+        fn sleeping_crate_and_wall() -> (
             $rapier::prelude::RigidBodySet,
             $rapier::prelude::ColliderSet,
             [$rapier::prelude::RigidBodyHandle; 3],
@@ -79,15 +77,12 @@ macro_rules! rapier_app {
             let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
             let floor = bodies.insert(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -0.5)));
             colliders.insert_with_parent(ColliderBuilder::cuboid(10.0, 10.0, 0.5), floor, &mut bodies);
-            let skins = 2.0
-                * (nearmiss::guard::GuardOptions::default().skin as $rapier::math::Real)
-                * parameters.allowed_linear_error();
             let crate_body =
-                bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, 0.5 + skins)));
+                bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, 0.5)));
             colliders.insert_with_parent(ColliderBuilder::cuboid(0.5, 0.5, 0.5), crate_body, &mut bodies);
             let wall = bodies.insert(
                 RigidBodyBuilder::kinematic_velocity_based()
-                    .translation(Vector::new(-0.5 - skins - 0.1 - 0.75, 0.0, 2.1))
+                    .translation(Vector::new(-0.5 - 0.1 - 0.75, 0.0, 2.1))
                     .linvel(Vector::new(1.5, 0.0, 0.0)),
             );
             colliders.insert_with_parent(ColliderBuilder::cuboid(0.1, 2.0, 2.0), wall, &mut bodies);

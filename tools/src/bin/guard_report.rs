@@ -1,0 +1,79 @@
+//! The guard beside rapier alone on the worlds of `tests/support/guard_worlds.rs`
+//! (issue 43): for the worlds rapier holds, the largest difference of the
+//! guarded run's poses from rapier alone's and how deep rapier let them
+//! overlap; for the worlds where rapier fails, the deepest overlap and the
+//! far-side margin of each run. Prints a Markdown table for `BENCHMARKS.md`.
+//!
+//! Usage: `cargo run --release -p nearmiss-tools --bin guard_report [-- --skin S]`.
+
+#[path = "../../../tests/support/guard_worlds.rs"]
+#[allow(dead_code)]
+mod guard_worlds;
+
+use guard_worlds::{rapier_fails, rapier_holds, GuardWorld};
+use nearmiss::guard::{GuardEvent, GuardOptions};
+
+fn main() {
+    let mut options = GuardOptions::default();
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if let Some(k) = args.iter().position(|a| a == "--skin") {
+        options.skin = args.get(k + 1).and_then(|s| s.parse().ok()).expect("--skin S");
+    }
+    println!("## rapier holds: the guard must only read (skin {})\n", options.skin);
+    println!("| world | steps | rapier alone: deepest overlap | guarded: largest difference from rapier alone | guarded: deepest overlap | rewinds | overlaps pushed | frozen body |");
+    println!("|---|---|---|---|---|---|---|---|");
+    let twins = rapier_holds().into_iter().zip(rapier_holds());
+    for (alone_world, guarded_world) in twins {
+        let (name, steps, size) = (alone_world.name.clone(), alone_world.steps, alone_world.size);
+        let dynamic = dynamic_bodies(&alone_world);
+        let alone = alone_world.run_alone();
+        let guarded = guarded_world.run_guarded(options).expect("the guard decides");
+        let pushed = guarded.events.iter().filter(|e| matches!(e, GuardEvent::Overlap { .. })).count();
+        let frozen = guarded
+            .frozen(&dynamic, 1e-9)
+            .map_or("none".to_string(), |(s, i)| format!("body {i} at step {s}"));
+        println!(
+            "| {name} | {steps} | {:.2e} | {:.2e} | {:.2e} | {} | {pushed} | {frozen} |",
+            alone.deepest().0,
+            alone.largest_difference(&guarded, size),
+            guarded.deepest().0,
+            guarded.rewinds,
+        );
+    }
+    println!("\n## rapier fails: the guard must decide (skin {})\n", options.skin);
+    println!("| world | rapier alone: deepest overlap | far-side margin | guarded: deepest overlap | far-side margin | rewinds | overlaps pushed | frozen body |");
+    println!("|---|---|---|---|---|---|---|---|");
+    for (alone_world, guarded_world) in rapier_fails().into_iter().zip(rapier_fails()) {
+        let name = alone_world.name.clone();
+        let dynamic = dynamic_bodies(&alone_world);
+        let alone = alone_world.run_alone();
+        let guarded = guarded_world.run_guarded(options).expect("the guard decides");
+        let pushed = guarded.events.iter().filter(|e| matches!(e, GuardEvent::Overlap { .. })).count();
+        let frozen = guarded
+            .frozen(&dynamic, 1e-9)
+            .map_or("none".to_string(), |(s, i)| format!("body {i} at step {s}"));
+        println!(
+            "| {name} | {:.2e} | {} | {:.2e} | {} | {} | {pushed} | {frozen} |",
+            alone.deepest().0,
+            margin(alone.far_margin()),
+            guarded.deepest().0,
+            margin(guarded.far_margin()),
+            guarded.rewinds,
+        );
+    }
+}
+
+/// Whether each body of `world` is dynamic.
+fn dynamic_bodies(world: &GuardWorld) -> Vec<bool> {
+    world.handles.iter().map(|(_, h)| world.bodies[*h].is_dynamic()).collect()
+}
+
+/// A far-side margin in words.
+fn margin(m: f64) -> String {
+    if m.is_infinite() {
+        "—".into()
+    } else {
+        format!("{m:.2e}")
+    }
+}
+
