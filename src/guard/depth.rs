@@ -9,12 +9,19 @@
 //! hold it: a body squeezed by a kinematic one, a pile under a load rapier's
 //! solver cannot carry).
 //!
-//! - **Two convex meshes**: the overlap along the pair's last direction of
-//!   penetration (two support lookups) bounds the depth; only where that
-//!   exceeds the tolerated depth is the exact depth measured
-//!   ([`convex_penetration_with`]: separating axes), and its direction kept
-//!   for the next step. A box resting or sliding on a floor costs two
-//!   support lookups a step.
+//! - **Two convex meshes**: the overlap along any direction (two support
+//!   lookups) bounds the depth. The pair keeps its *side*: the direction
+//!   from `a` towards `b` it came into contact along (the contact's face
+//!   normal, or its closest points'), then its last direction of
+//!   penetration. Within the tolerated depth along it, the pair is fine.
+//!   Otherwise the exact depth is measured ([`convex_penetration_with`]:
+//!   separating axes): if the shortest way out points to the pair's side,
+//!   it is the depth (and the new side); if it points the other way, one
+//!   body went through the other within the step (a blade's turn past a
+//!   ball), and the depth is the overlap along its side, which it is
+//!   pushed back out along. A box resting or sliding on a floor costs two
+//!   support lookups a step. (A side is trusted across a turn of under a
+//!   quarter turn between measures.)
 //! - **Other meshes**: a bound of how far the pair can have closed since it
 //!   was last measured (the relative speed of any point, as in the guard's
 //!   arrival test, over each step) grows step by step; once it exceeds the
@@ -28,13 +35,14 @@
 use std::collections::HashMap;
 
 use super::watch::overlap_along;
+use crate::kernels::Feature;
 use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::{
     convex_penetration_with, local_depths, mesh_intersection, MeshIntersection, MeshIntersectionScratch,
     PenetrationScratch, Side, TriMesh,
 };
 use crate::scene::Model;
-use crate::stepper::World;
+use crate::stepper::{Contact, World};
 
 /// A touching pair found deeper than the tolerated depth at a step's end.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -46,12 +54,15 @@ pub(crate) struct Deep {
     pub depth: Real,
     /// The unit direction that moves `b` out of `a` (world frame).
     pub direction: Vector,
+    /// Where the two meet (world frame): the push's point.
+    pub point: Point,
 }
 
 /// What the watch keeps of a touching pair between steps.
 #[derive(Copy, Clone, Debug, Default)]
 struct PairDepth {
-    /// Convex pairs: the last direction of penetration (world frame).
+    /// Convex pairs: the pair's side, the direction from `a` towards `b`
+    /// it touched along or last overlapped along (world frame).
     axis: Option<Vector>,
     /// Other pairs: a bound of the depth at the step's end.
     bound: Real,
@@ -69,16 +80,23 @@ pub(crate) struct DepthWatch {
 impl DepthWatch {
     /// The touching pairs of `world` (those `solved` keeps) deeper than
     /// their `tolerated` depth at the end of the step just swept, into
-    /// `deep`.
+    /// `deep`. `new`: the contacts the step found (their sides are kept).
     pub fn measure(
         &mut self,
         model: &Model,
         world: &World,
+        new: &[Contact],
         tolerated: &dyn Fn(usize, usize) -> Real,
         solved: &dyn Fn(usize, usize) -> bool,
         deep: &mut Vec<Deep>,
     ) {
         let dt = model.dt;
+        for contact in new {
+            let (mesh_a, mesh_b) = (&model.bodies[contact.body_a].mesh, &model.bodies[contact.body_b].mesh);
+            if let Some(side) = contact_side(contact, mesh_a, mesh_b) {
+                self.pairs.entry((contact.body_a, contact.body_b)).or_default().axis = Some(side);
+            }
+        }
         // Pairs no longer touching are forgotten.
         self.pairs.retain(|&(a, b), _| {
             world
@@ -94,15 +112,33 @@ impl DepthWatch {
             let (pose_a, pose_b) = (ma.pose_at(dt), mb.pose_at(dt));
             let memory = self.pairs.entry((a, b)).or_default();
             let found = if mesh_a.is_convex() && mesh_b.is_convex() {
-                if let Some(axis) = memory.axis {
-                    if overlap_along(mesh_a, &pose_a, mesh_b, &pose_b, &axis) <= tolerated {
-                        continue;
+                let along = |u: &Vector| overlap_along(mesh_a, &pose_a, mesh_b, &pose_b, u);
+                let side = memory.axis;
+                let fine = match side {
+                    Some(u) => along(&u) <= tolerated,
+                    // No side yet: any direction within settles it.
+                    None => {
+                        let centres = pose_b.translation.vector - pose_a.translation.vector;
+                        [pair.axis, centres.try_normalize(0.0)]
+                            .iter()
+                            .flatten()
+                            .any(|u| along(u) <= tolerated)
                     }
+                };
+                if fine {
+                    continue;
                 }
                 match convex_penetration_with(mesh_a, &pose_a, mesh_b, &pose_b, &mut self.penetration) {
                     Ok(Some(found)) => {
-                        memory.axis = Some(found.direction);
-                        Some((found.depth, found.direction))
+                        let point = Point::from((found.point_a.coords + found.point_b.coords) / 2.0);
+                        match side {
+                            // Through: back along its side.
+                            Some(u) if found.direction.dot(&u) <= 0.0 => Some((along(&u), u, point)),
+                            _ => {
+                                memory.axis = Some(found.direction);
+                                Some((found.depth, found.direction, point))
+                            }
+                        }
                     }
                     _ => None,
                 }
@@ -124,20 +160,45 @@ impl DepthWatch {
                     &mut self.crossing,
                     &mut self.intersection,
                 );
-                memory.bound = found.map_or(0.0, |(depth, _)| depth);
+                memory.bound = found.map_or(0.0, |(depth, ..)| depth);
                 found
             };
-            if let Some((depth, direction)) = found.filter(|&(depth, _)| depth > tolerated) {
-                deep.push(Deep { a, b, depth, direction });
+            if let Some((depth, direction, point)) = found.filter(|&(depth, ..)| depth > tolerated) {
+                deep.push(Deep { a, b, depth, direction, point });
             }
         }
     }
 }
 
+/// The side of a contact of two convex meshes: the unit direction from `a`
+/// towards `b` along the outward normal of the face one of them touches
+/// with, or else along its closest points (`None` where those are within
+/// rounding of each other).
+fn contact_side(contact: &Contact, mesh_a: &TriMesh, mesh_b: &TriMesh) -> Option<Vector> {
+    if !(mesh_a.is_convex() && mesh_b.is_convex()) {
+        return None;
+    }
+    let closest = &contact.closest;
+    let face = |mesh: &TriMesh, pose: &Pose, t: usize| {
+        let [p, q, r] = mesh.triangle(t);
+        (pose.rotation * (q - p).cross(&(r - p)) * mesh.orientation()).try_normalize(0.0)
+    };
+    match (closest.feature_a, closest.feature_b) {
+        (Feature::Face, _) => face(mesh_a, &contact.pose_a, closest.triangle_a),
+        (_, Feature::Face) => face(mesh_b, &contact.pose_b, closest.triangle_b).map(|n| -n),
+        _ => {
+            let between = closest.point_b - closest.point_a;
+            let scale = closest.point_a.coords.abs().max().max(1.0);
+            (between.norm() > 1e3 * Real::EPSILON * scale).then(|| between.normalize())
+        }
+    }
+}
+
 /// The depth of the deepest vertex of either closed mesh inside the other
-/// where their surfaces cross, and the direction that moves `b` out of `a`
-/// (from the vertex to the nearest point of the other surface); `None`
-/// when the surfaces do not cross or a mesh is not closed.
+/// where their surfaces cross, the direction that moves `b` out of `a`
+/// (from the vertex to the nearest point of the other surface), and the
+/// vertex's nearest point; `None` when the surfaces do not cross or a mesh
+/// is not closed.
 fn deepest_vertex(
     a: &TriMesh,
     pose_a: &Pose,
@@ -145,7 +206,7 @@ fn deepest_vertex(
     pose_b: &Pose,
     crossing: &mut MeshIntersection,
     scratch: &mut MeshIntersectionScratch,
-) -> Option<(Real, Vector)> {
+) -> Option<(Real, Vector, Point)> {
     if !(a.is_closed() && b.is_closed()) {
         return None;
     }
@@ -165,5 +226,5 @@ fn deepest_vertex(
         let centres: Point = Point::from(pose_b.translation.vector - pose_a.translation.vector);
         centres.coords.try_normalize(0.0).unwrap_or_else(Vector::z)
     });
-    Some((deepest.lower, direction))
+    Some((deepest.lower, direction, deepest.nearest))
 }

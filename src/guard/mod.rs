@@ -921,7 +921,7 @@ impl<B: RapierBodies> Guard<B> {
                 restops += 1;
                 continue;
             }
-            self.watch_depths(bodies, scale);
+            self.watch_depths(bodies, scale, contacts_before);
             break;
         }
         self.step += 1;
@@ -937,15 +937,17 @@ impl<B: RapierBodies> Guard<B> {
     }
 
     /// The depth watch after the step's last sweep (`scale`: its length over
-    /// `dt`): touching pairs that rapier let sink deeper than the tolerated
-    /// depth are pushed apart, each an [`GuardEvent::Overlap`].
-    fn watch_depths(&mut self, bodies: &mut B, scale: Real) {
+    /// `dt`; the step's contacts from `contacts_before` on): touching pairs
+    /// that rapier let sink deeper than the tolerated depth are pushed
+    /// apart, each an [`GuardEvent::Overlap`].
+    fn watch_depths(&mut self, bodies: &mut B, scale: Real, contacts_before: usize) {
         let Some(watch) = self.depth.as_mut() else { return };
         self.deep.clear();
         let model = self.stepper.model();
         let solved = |a: usize, b: usize| self.solved.solves(a, b);
         let tolerated = |a: usize, b: usize| pair_tolerance(self.tolerated_depth, &self.thickness, a, b);
-        watch.measure(model, &self.world, &tolerated, &solved, &mut self.deep);
+        let new = &self.world.contacts[contacts_before..];
+        watch.measure(model, &self.world, new, &tolerated, &solved, &mut self.deep);
         if !self.deep.is_empty() {
             self.forget_bounds();
         }
@@ -959,16 +961,15 @@ impl<B: RapierBodies> Guard<B> {
 
     /// Moves the dynamic bodies of a pair found too deep apart along its
     /// direction, by their inverse masses, to [`PUSHED_DEPTH_FRACTION`] of
-    /// the tolerated depth, and removes their approach along it (an
-    /// inelastic push through their centres). `false` when neither is
-    /// dynamic.
+    /// the tolerated depth, and stops their approach there (an inelastic
+    /// impulse where they meet). `false` when neither is dynamic.
     fn push_apart(&mut self, bodies: &mut B, deep: &Deep, scale: Real) -> bool {
-        let (Some(view_a), Some(view_b)) =
-            (bodies.view(self.handles[deep.a]), bodies.view(self.handles[deep.b]))
-        else {
-            return false;
+        let weight = |i: usize| {
+            bodies
+                .view(self.handles[i])
+                .map_or(0.0, |view| if self.stoppable[i] { view.inverse_mass } else { 0.0 })
         };
-        let (wa, wb) = (view_a.inverse_mass, view_b.inverse_mass);
+        let (wa, wb) = (weight(deep.a), weight(deep.b));
         if wa + wb <= 0.0 {
             return false;
         }
@@ -976,21 +977,16 @@ impl<B: RapierBodies> Guard<B> {
         let excess = deep.depth - PUSHED_DEPTH_FRACTION * tolerated;
         let u = deep.direction;
         // b moves along u, a against it.
-        let approach = (view_b.linvel - view_a.linvel).dot(&u).min(0.0);
-        for (i, view, sign, w) in [(deep.a, view_a, -1.0, wa), (deep.b, view_b, 1.0, wb)] {
-            if w == 0.0 {
-                continue;
-            }
-            let share = sign * w / (wa + wb);
+        for (i, sign, w) in [(deep.a, -1.0, wa), (deep.b, 1.0, wb)] {
+            let Some(view) = bodies.view(self.handles[i]).filter(|_| w > 0.0) else { continue };
             let end = self.world.motions[i].pose_at(self.dt);
-            let moved =
-                Pose::from_parts((end.translation.vector + u * (excess * share)).into(), end.rotation);
+            let shift = u * (sign * excess * w / (wa + wb));
+            let moved = Pose::from_parts((end.translation.vector + shift).into(), end.rotation);
             bodies.set_pose(self.handles[i], &body_pose(&moved, &self.centers[i]), false);
-            let velocity = view.linvel - u * (approach * share);
-            bodies.set_velocities(self.handles[i], &velocity, &view.angvel, false);
             self.world.motions[i] =
                 StepMotion::between_near(&self.start[i], &moved, self.dt, &(view.angvel * scale));
         }
+        self.inelastic_impulse(bodies, [deep.a, deep.b], &deep.point, &u);
         true
     }
 
@@ -1078,35 +1074,41 @@ impl<B: RapierBodies> Guard<B> {
         }
         self.forget_bounds();
         for stop in stops {
-            let (Some(normal), Some(point)) = (stop.normal, stop.point) else { continue };
-            let (Some(view_a), Some(view_b)) =
-                (bodies.view(self.handles[stop.a]), bodies.view(self.handles[stop.b]))
-            else {
-                continue;
-            };
-            // An inelastic impulse at the contact (its two points' approach
-            // along the normal removed, the bodies' turns with it).
-            let impact = |i: usize, view: &BodyView| ImpactBody {
-                center: self.world.motions[i].center_at(self.dt),
-                inverse_mass: if self.stoppable[i] { view.inverse_mass } else { 0.0 },
-                inverse_inertia: if self.stoppable[i] {
-                    view.inverse_inertia
-                } else {
-                    nalgebra::Matrix3::zeros()
-                },
-                velocity: view.linvel,
-                angular_velocity: view.angvel,
-            };
-            let (mut a, mut b) = (impact(stop.a, &view_a), impact(stop.b, &view_b));
-            if apply_impulse(&mut a, &mut b, &point, &normal, 0.0) > 0.0 {
-                for (i, body) in [(stop.a, a), (stop.b, b)] {
-                    if self.stoppable[i] {
-                        bodies.set_velocities(self.handles[i], &body.velocity, &body.angular_velocity, false);
-                    }
-                }
+            if let (Some(normal), Some(point)) = (stop.normal, stop.point) {
+                self.inelastic_impulse(bodies, [stop.a, stop.b], &point, &normal);
             }
         }
         true
+    }
+
+    /// An inelastic impulse between bodies `a` and `b` at `point` along
+    /// `normal` (from `a` towards `b`): the two bodies' points there stop
+    /// approaching along it, by the dynamic bodies' masses and inertias
+    /// (their turns change with it; a body the guard may not stop takes
+    /// nothing).
+    fn inelastic_impulse(&self, bodies: &mut B, [a, b]: [usize; 2], point: &Point, normal: &Vector) {
+        let (Some(view_a), Some(view_b)) = (bodies.view(self.handles[a]), bodies.view(self.handles[b]))
+        else {
+            return;
+        };
+        let impact = |i: usize, view: &BodyView| {
+            let stoppable = self.stoppable[i];
+            ImpactBody {
+                center: self.world.motions[i].center_at(self.dt),
+                inverse_mass: if stoppable { view.inverse_mass } else { 0.0 },
+                inverse_inertia: if stoppable { view.inverse_inertia } else { nalgebra::Matrix3::zeros() },
+                velocity: view.linvel,
+                angular_velocity: view.angvel,
+            }
+        };
+        let (mut body_a, mut body_b) = (impact(a, &view_a), impact(b, &view_b));
+        if apply_impulse(&mut body_a, &mut body_b, point, normal, 0.0) > 0.0 {
+            for (i, body) in [(a, body_a), (b, body_b)] {
+                if self.stoppable[i] {
+                    bodies.set_velocities(self.handles[i], &body.velocity, &body.angular_velocity, false);
+                }
+            }
+        }
     }
 
     /// Body `i`, clamped at `at` into the sweep: held at its pose then, or,

@@ -178,3 +178,72 @@ fn a_shape_the_guard_does_not_sweep_is_refused_naming_the_body_and_collider() {
         assert!(message.contains(part), "{message}");
     }
 }
+
+#[test]
+fn bodies_joined_with_contacts_disabled_are_left_to_rapier() {
+    // A robot's link hinged to a fixed base, their boxes overlapping at the
+    // hinge (contacts disabled on the joint, as rapier's robots have it),
+    // swinging under gravity: rapier never solves the pair, so after
+    // `honour_joints` the guarded run is rapier's, bit for bit. Without it
+    // the guard would take the overlap for a contact rapier let sink.
+    let build = || {
+        let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+        let base = bodies.insert(RigidBodyBuilder::fixed());
+        colliders.insert_with_parent(ColliderBuilder::cuboid(0.1, 0.1, 0.1), base, &mut bodies);
+        let link = bodies.insert(RigidBodyBuilder::dynamic().translation(v(0.25, 0.0, 0.0)));
+        colliders.insert_with_parent(ColliderBuilder::cuboid(0.2, 0.05, 0.05), link, &mut bodies);
+        let mut joints = ImpulseJointSet::new();
+        let hinge = RevoluteJointBuilder::new(Vector::Y)
+            .local_anchor1(v(0.08, 0.0, 0.0))
+            .local_anchor2(v(-0.17, 0.0, 0.0))
+            .contacts_enabled(false);
+        joints.insert(base, link, hinge, true);
+        (bodies, colliders, joints, [base, link])
+    };
+    let parameters = IntegrationParameters { dt: 1.0 / 60.0, ..Default::default() };
+    let gravity = v(0.0, 0.0, -9.81);
+    let run = |guarded: bool| {
+        let (mut bodies, mut colliders, mut joints, handles) = build();
+        let mut guard = guarded.then(|| {
+            let mut guard =
+                Guard::new(&bodies, &mut colliders, &handles, &parameters, GuardOptions::default())
+                    .expect("cuboids");
+            guard.honour_joints(&joints);
+            guard
+        });
+        let (mut pipeline, mut islands, mut broad_phase, mut narrow_phase) =
+            (PhysicsPipeline::new(), IslandManager::new(), DefaultBroadPhase::default(), NarrowPhase::new());
+        let (mut multibody_joints, mut soft_bodies, mut ccd) =
+            (MultibodyJointSet::new(), SoftBodySet::new(), CCDSolver::new());
+        let mut poses = Vec::new();
+        for _ in 0..90 {
+            let mut step = |bodies: &mut RigidBodySet, dt: Real| {
+                pipeline.step(
+                    gravity,
+                    &IntegrationParameters { dt, ..parameters },
+                    &mut islands,
+                    &mut broad_phase,
+                    &mut narrow_phase,
+                    bodies,
+                    &mut colliders,
+                    &mut joints,
+                    &mut multibody_joints,
+                    &mut soft_bodies,
+                    &mut ccd,
+                    &(),
+                    &(),
+                );
+            };
+            match guard.as_mut() {
+                Some(guard) => assert!(guard.step(&mut bodies, step).expect("decided").is_empty()),
+                None => step(&mut bodies, parameters.dt),
+            }
+            poses.push(*bodies[handles[1]].position());
+        }
+        poses
+    };
+    let alone = run(false);
+    let swung = alone.last().expect("steps").translation.z;
+    assert!(swung < -0.1, "the link swings down: z = {swung}");
+    assert_eq!(alone, run(true));
+}

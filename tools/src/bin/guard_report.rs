@@ -76,4 +76,3 @@ fn margin(m: f64) -> String {
         format!("{m:.2e}")
     }
 }
-
