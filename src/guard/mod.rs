@@ -389,9 +389,10 @@ pub enum GuardError<H: std::fmt::Debug = RigidBodyHandle> {
     #[error("rigid body {0:?} is not in the body set")]
     UnknownBody(H),
     /// A body's colliders give no mesh the guard can sweep.
-    #[error("body {body}: {message}")]
+    #[error("{body}: {message}")]
     Shape {
-        /// The body.
+        /// The body, as messages name it (`rigid body #3`; under a scene,
+        /// ``body `name` ``).
         body: String,
         /// What is wrong.
         message: String,

@@ -159,7 +159,10 @@ impl RapierScene {
                 None => {
                     let (collider, shape) =
                         collider_for(&body.mesh, material.triangle_mesh).map_err(|error| {
-                            GuardError::Shape { body: body.name.clone(), message: error.to_string() }
+                            GuardError::Shape {
+                                body: format!("body `{}`", body.name),
+                                message: error.to_string(),
+                            }
                         })?;
                     built.push((asset.0, asset.1, collider.shape.clone(), shape));
                     (collider.shape, shape)

@@ -58,8 +58,9 @@ use crate::stepper::{pair_query, Found, PairState, Rewind, Stop};
 pub(crate) const WALL_REDETECT_FRACTION: Real = 0.5;
 
 /// The most a pair may overlap, as a fraction of the thinner body's
-/// thickness ([`thickness`]), whatever the tolerated depth: `0.5`. A point
-/// of one body that deep into a plate is still on its near side.
+/// thickness (a convex mesh's least width across its faces, another's
+/// least box extent), whatever the tolerated depth: `0.5`. A point of one
+/// body that deep into a plate is still on its near side.
 pub const THIN_BODY_FRACTION: Real = 0.5;
 
 /// Which pairs of guarded bodies (indices in the guard's list) rapier

@@ -315,8 +315,8 @@ impl Scene {
         &self.run
     }
 
-    /// The scene's two halves, for callers that drive a
-    /// [`Stepper`](crate::stepper::Stepper) themselves.
+    /// The scene's two halves (what is simulated, and what the run
+    /// records), for callers that take them apart.
     pub fn into_parts(self) -> (Model, RunSpec) {
         (self.model, self.run)
     }

@@ -40,6 +40,7 @@ fn main() {
             guarded.rewinds,
         );
     }
+    skins();
     println!("\n## rapier fails: the guard must decide (skin {})\n", options.skin);
     println!("| world | rapier alone: deepest overlap | far-side margin | guarded: deepest overlap | far-side margin | rewinds | overlaps pushed | frozen body |");
     println!("|---|---|---|---|---|---|---|---|");
@@ -60,6 +61,38 @@ fn main() {
             margin(guarded.far_margin()),
             guarded.rewinds,
         );
+    }
+}
+
+/// What a skin costs to look at: a box resting on a floor and the top of a
+/// stack of five, how far above (+) or into (−) where face to face puts
+/// them they end, without a skin and with one of rapier's allowed error.
+fn skins() {
+    println!("\n## skins: where resting bodies end (after the worlds' runs)\n");
+    println!("| world | rapier alone | guarded, no skin | guarded, skin 1.0 (0.005 a collider) |");
+    println!("|---|---|---|---|");
+    type Make = fn() -> GuardWorld;
+    let worlds: [(&str, Make, usize, f64); 2] = [
+        (
+            "box resting on a floor: its centre above 0.1",
+            || guard_worlds::box_on_floor("box", [0.0; 3], 0.0, Default::default()),
+            1,
+            0.1,
+        ),
+        (
+            "stack of five unit cubes: the top one's centre above 4.5",
+            || guard_worlds::stack(5, [0.0; 3]),
+            5,
+            4.5,
+        ),
+    ];
+    for (name, make, body, nominal) in worlds {
+        let height = |run: guard_worlds::WorldRun| run.last_pose(body).translation.vector.z - nominal;
+        let alone = height(make().run_alone());
+        let plain = height(make().run_guarded(GuardOptions::default()).expect("decides"));
+        let skin = GuardOptions { skin: 1.0, ..GuardOptions::default() };
+        let skinned = height(make().run_guarded(skin).expect("decides"));
+        println!("| {name} | {alone:+.2e} | {plain:+.2e} | {skinned:+.2e} |");
     }
 }
 
