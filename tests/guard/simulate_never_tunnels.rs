@@ -533,3 +533,53 @@ fn a_guards_skin_is_checked_and_a_zero_skin_still_takes_balls() {
     let options = GuardOptions { skin: 0.0, ..GuardOptions::default() };
     assert!(Guard::new(&bodies, &mut colliders, &[ball], &parameters, options).is_ok());
 }
+
+#[test]
+fn turned_boxes_meeting_head_on_far_from_the_origin_bounce_apart() {
+    // Issue 43: equal boxes (0.5 × 0.4 × 0.3, 2.5 kg) turned 35° about
+    // (1, 1, 0), at z = 120, approaching along their common long axis at 2
+    // each, restitution 1, under Simulate at dt 1/60: the guard had frozen
+    // both at the contact (momentum 10 → 0). They must bounce apart: moving
+    // away from each other along the line of their centres at the end, the
+    // total momentum kept (0, to 1% of one box's). (How fast they leave is
+    // rapier's solve: `decisive.rs` holds it to rapier alone's.)
+    let turn = nalgebra::UnitQuaternion::from_axis_angle(
+        &nalgebra::Unit::new_normalize(Vector::new(1.0, 1.0, 0.0)),
+        35f64.to_radians(),
+    );
+    let axis = turn * Vector::x();
+    let body = |name: &str, side: Real| {
+        let (p, v) = (Vector::new(0.0, 0.0, 120.0) + axis * (0.3 * side), axis * (-2.0 * side));
+        format!(
+            r#"(name: "{name}", mesh: Box(half_extents: (0.25, 0.2, 0.15)), position: ({:?}, {:?}, {:?}),
+                orientation: AxisAngle(axis: (1.0, 1.0, 0.0), degrees: 35.0), velocity: ({:?}, {:?}, {:?}),
+                density: {:?}),"#,
+            p.x,
+            p.y,
+            p.z,
+            v.x,
+            v.y,
+            v.z,
+            2.5 / (0.5 * 0.4 * 0.3)
+        )
+    };
+    let (scene, result) = simulate(&format!(
+        r#"Scene(
+            name: "head-on", dt: 0.016666666666666666, duration: 0.5,
+            on_contact: Simulate(restitution: 1.0, friction: 0.0),
+            bodies: [{}{}],
+        )"#,
+        body("left", -1.0),
+        body("right", 1.0)
+    ));
+    assert!(result.first_contact.is_some(), "the boxes meet");
+    let [a, b] = [result.final_states[0], result.final_states[1]];
+    let mass = scene.model().bodies[0].mass.expect("density gives a mass");
+    let apart = (b.position - a.position).normalize().dot(&(b.velocity - a.velocity));
+    assert!(apart > 1.0, "not bouncing apart: {apart} along the centres' line");
+    assert!(
+        (a.velocity + b.velocity).norm() * mass < 0.01 * 2.5 * 2.0,
+        "momentum {:?}",
+        a.velocity + b.velocity
+    );
+}

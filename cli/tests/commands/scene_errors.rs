@@ -156,6 +156,18 @@ fn bounce_needs_a_restitution_in_range_and_pushable_bodies_with_mass() {
 }
 
 #[test]
+fn simulate_takes_a_skin_in_range() {
+    // `skin` is a multiple of rapier's allowed linear error in [0, 100].
+    for (name, skin) in [("skin-negative", "-1.0"), ("skin-large", "1000.0")] {
+        assert_rejected(
+            name,
+            &scene(&format!("on_contact: Simulate(skin: {skin}), {GOOD_BODIES}")),
+            &["on_contact.skin", "[0, 100]"],
+        );
+    }
+}
+
+#[test]
 fn open_or_doubled_mesh_with_a_density_names_the_edge() {
     // A tetrahedron missing a face, and one with a face given twice: no
     // volume to take a mass from. (Mass and inertia would be wrong.)
