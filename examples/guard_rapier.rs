@@ -121,14 +121,18 @@ fn shoot(guarded: bool) -> (f64, Vec<GuardEvent>, u64) {
 
 fn main() {
     let (z, ..) = shoot(false);
-    println!("rapier alone (CCD on): the bullet's lowest point gets down to z = {z:.4} (the plate is z = -0.0005 to 0.0005)");
+    println!(
+        "rapier alone (CCD on): at the steps' ends the bullet's lowest point gets down to z = {z:.4} (through the plate: z = -0.0005 to 0.0005)"
+    );
     let (z, events, rewinds) = shoot(true);
-    println!("guarded by nearmiss:   the bullet's lowest point gets down to z = {z:.6} ({rewinds} rewind)");
+    println!(
+        "guarded by nearmiss:   at the steps' ends the bullet's lowest point gets down to z = {z:.6} ({rewinds} rewind: rapier solved the impact at the contact)"
+    );
     for event in events {
         if let GuardEvent::Started { contact, .. } = event {
             println!(
-                "  contact at t = {:.9} ({:?} / {:?})",
-                contact.time, contact.closest.feature_a, contact.closest.feature_b
+                "  contact at t = {:.9}, {:.1e} from the plate ({} / {})",
+                contact.time, contact.closest.distance, contact.closest.feature_a, contact.closest.feature_b
             );
         }
     }

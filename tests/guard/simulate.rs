@@ -280,7 +280,7 @@ fn a_rapier_application_guarding_its_mesh_bullet_keeps_it_above_the_plate() {
         .split("t = ")
         .nth(1)
         .and_then(|r| r.split_whitespace().next())
-        .and_then(|t| t.parse().ok())
+        .and_then(|t| t.trim_end_matches(',').parse().ok())
         .unwrap_or_else(|| panic!("{line}"));
     let analytic = (25.0 - 0.0005 - offset) / 1000.0;
     assert!(time <= analytic + 1e-12 && analytic - time < 1e-9, "{time} vs {analytic}");
