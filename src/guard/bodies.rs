@@ -323,20 +323,7 @@ macro_rules! rapier_bodies {
 
             fn rules(&self, colliders: &Self::Colliders, handle: Self::Handle) -> Vec<Self::Rule> {
                 let Some(body) = self.get(handle) else { return Vec::new() };
-                let kind = body.body_type();
-                body.colliders()
-                    .iter()
-                    .filter_map(|c| colliders.get(*c))
-                    .filter(|collider| collider.is_enabled() && !collider.is_sensor())
-                    .map(|collider| {
-                        (
-                            collider.collision_groups(),
-                            collider.solver_groups(),
-                            collider.active_collision_types(),
-                            kind,
-                        )
-                    })
-                    .collect()
+                solid_colliders(body, colliders).map(|(_, collider)| rule_of(collider, body)).collect()
             }
 
             type Hooks = dyn $rapier::prelude::PhysicsHooks;
@@ -353,11 +340,8 @@ macro_rules! rapier_bodies {
             fn contact_hooks(&self, colliders: &Self::Colliders, handle: Self::Handle) -> ContactHooks {
                 use $rapier::prelude::ActiveHooks;
                 let Some(body) = self.get(handle) else { return ContactHooks::None };
-                body.colliders()
-                    .iter()
-                    .filter_map(|c| colliders.get(*c))
-                    .filter(|collider| collider.is_enabled() && !collider.is_sensor())
-                    .map(|collider| {
+                solid_colliders(body, colliders)
+                    .map(|(_, collider)| {
                         let hooks = collider.active_hooks();
                         if hooks.contains(ActiveHooks::MODIFY_SOLVER_CONTACTS) {
                             ContactHooks::Modify
@@ -380,21 +364,9 @@ macro_rules! rapier_bodies {
             ) -> bool {
                 use $rapier::prelude::{ActiveHooks, PairFilterContext, SolverFlags};
                 let (Some(body_a), Some(body_b)) = (self.get(a), self.get(b)) else { return false };
-                let solid = |c: &&$rapier::prelude::ColliderHandle| {
-                    colliders.get(**c).is_some_and(|c| c.is_enabled() && !c.is_sensor())
-                };
-                let rule = |collider: &$rapier::prelude::Collider, body: &$rapier::prelude::RigidBody| {
-                    (
-                        collider.collision_groups(),
-                        collider.solver_groups(),
-                        collider.active_collision_types(),
-                        body.body_type(),
-                    )
-                };
-                for ca in body_a.colliders().iter().filter(solid) {
-                    for cb in body_b.colliders().iter().filter(solid) {
-                        let (collider_a, collider_b) = (&colliders[*ca], &colliders[*cb]);
-                        if !Self::solves(&rule(collider_a, body_a), &rule(collider_b, body_b)) {
+                for (ca, collider_a) in solid_colliders(body_a, colliders) {
+                    for (cb, collider_b) in solid_colliders(body_b, colliders) {
+                        if !Self::solves(&rule_of(collider_a, body_a), &rule_of(collider_b, body_b)) {
                             continue;
                         }
                         let asks = (collider_a.active_hooks() | collider_b.active_hooks())
@@ -405,8 +377,8 @@ macro_rules! rapier_bodies {
                         let context = PairFilterContext {
                             bodies: self,
                             colliders,
-                            collider1: *ca,
-                            collider2: *cb,
+                            collider1: ca,
+                            collider2: cb,
                             rigid_body1: Some(a),
                             rigid_body2: Some(b),
                         };
@@ -469,6 +441,31 @@ macro_rules! rapier_bodies {
                     body.set_next_kinematic_position(narrow_pose(pose));
                 }
             }
+        }
+
+        /// The body's solid colliders (enabled, not sensors) and their
+        /// handles: those rapier's solver meets.
+        fn solid_colliders<'a>(
+            body: &'a $rapier::prelude::RigidBody,
+            colliders: &'a $rapier::prelude::ColliderSet,
+        ) -> impl Iterator<Item = ($rapier::prelude::ColliderHandle, &'a $rapier::prelude::Collider)> + 'a {
+            body.colliders()
+                .iter()
+                .filter_map(|c| Some((*c, colliders.get(*c)?)))
+                .filter(|(_, collider)| collider.is_enabled() && !collider.is_sensor())
+        }
+
+        /// What rapier's narrow phase reads of a collider of `body`.
+        fn rule_of(
+            collider: &$rapier::prelude::Collider,
+            body: &$rapier::prelude::RigidBody,
+        ) -> <$rapier::prelude::RigidBodySet as RapierBodies>::Rule {
+            (
+                collider.collision_groups(),
+                collider.solver_groups(),
+                collider.active_collision_types(),
+                body.body_type(),
+            )
         }
 
         /// A rapier vector in f64.

@@ -260,33 +260,38 @@ pub fn rapier_markdown(comparison: &RapierComparison) -> String {
             depth
         ));
     }
-    let triple = |v: &[Real; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
-    let quaternion = |q: &[Real; 4]| format!("({:.4}, {:.4}, {:.4}, {:.4})", q[0], q[1], q[2], q[3]);
-    out.push_str(
-        "\n| body | final position, nearmiss | rapier alone | orientation [w, x, y, z], nearmiss | rapier alone |\n|---|---|---|---|---|\n",
-    );
-    for row in &comparison.bodies {
-        out.push_str(&format!(
-            "| {} | {} | {} | {} | {} |\n",
-            row.body,
-            triple(&row.nearmiss_position),
-            triple(&row.rapier_position),
-            quaternion(&row.nearmiss_orientation),
-            quaternion(&row.rapier_orientation)
-        ));
-    }
-    out.push_str(
-        "\n| body | final velocity, nearmiss | rapier alone | angular velocity, nearmiss | rapier alone |\n|---|---|---|---|---|\n",
-    );
-    for row in &comparison.bodies {
-        out.push_str(&format!(
-            "| {} | {} | {} | {} | {} |\n",
-            row.body,
-            triple(&row.nearmiss_velocity),
-            triple(&row.rapier_velocity),
-            triple(&row.nearmiss_angular_velocity),
-            triple(&row.rapier_angular_velocity)
-        ));
+    let numbers = |v: &[Real]| {
+        let parts: Vec<String> = v.iter().map(|x| format!("{x:.4}")).collect();
+        format!("({})", parts.join(", "))
+    };
+    type Columns = fn(&RapierBody) -> [&[Real]; 4];
+    let tables: [(&str, Columns); 2] = [
+        (
+            "final position, nearmiss | rapier alone | orientation [w, x, y, z], nearmiss | rapier alone",
+            |row| {
+                [
+                    &row.nearmiss_position,
+                    &row.rapier_position,
+                    &row.nearmiss_orientation,
+                    &row.rapier_orientation,
+                ]
+            },
+        ),
+        ("final velocity, nearmiss | rapier alone | angular velocity, nearmiss | rapier alone", |row| {
+            [
+                &row.nearmiss_velocity,
+                &row.rapier_velocity,
+                &row.nearmiss_angular_velocity,
+                &row.rapier_angular_velocity,
+            ]
+        }),
+    ];
+    for (header, columns) in tables {
+        out.push_str(&format!("\n| body | {header} |\n|---|---|---|---|---|\n"));
+        for row in &comparison.bodies {
+            let cells: Vec<String> = columns(row).iter().map(|v| numbers(v)).collect();
+            out.push_str(&format!("| {} | {} |\n", row.body, cells.join(" | ")));
+        }
     }
     out
 }

@@ -48,11 +48,11 @@ fn lowest_centre(run: &WorldRun) -> Real {
 fn left_to_rapier(what: &str, make: impl Fn() -> GuardWorld, hooks: &(dyn PhysicsHooks + 'static)) {
     let alone = {
         let mut world = make();
-        let mut pipeline = crate::guard_worlds::Pipeline::new();
+        let mut pipeline = crate::guard_worlds::Rapier::new();
         let mut run = Vec::new();
         for _ in 0..world.steps {
             let dt = world.parameters.dt;
-            pipeline.step(
+            pipeline.step_with_hooks(
                 &mut world.bodies,
                 &mut world.colliders,
                 world.gravity,
@@ -203,36 +203,20 @@ fn bodies_joined_with_contacts_disabled_are_left_to_rapier() {
     let parameters = IntegrationParameters { dt: 1.0 / 60.0, ..Default::default() };
     let gravity = v(0.0, 0.0, -9.81);
     let run = |guarded: bool| {
-        let (mut bodies, mut colliders, mut joints, handles) = build();
+        let (mut bodies, mut colliders, joints, handles) = build();
+        let mut rapier = crate::guard_worlds::Rapier::new();
+        *rapier.joints() = joints;
         let mut guard = guarded.then(|| {
             let mut guard =
                 Guard::new(&bodies, &mut colliders, &handles, &parameters, GuardOptions::default())
                     .expect("cuboids");
-            guard.honour_joints(&joints);
+            guard.honour_joints(rapier.joints());
             guard
         });
-        let (mut pipeline, mut islands, mut broad_phase, mut narrow_phase) =
-            (PhysicsPipeline::new(), IslandManager::new(), DefaultBroadPhase::default(), NarrowPhase::new());
-        let (mut multibody_joints, mut soft_bodies, mut ccd) =
-            (MultibodyJointSet::new(), SoftBodySet::new(), CCDSolver::new());
         let mut poses = Vec::new();
         for _ in 0..90 {
             let mut step = |bodies: &mut RigidBodySet, dt: Real| {
-                pipeline.step(
-                    gravity,
-                    &IntegrationParameters { dt, ..parameters },
-                    &mut islands,
-                    &mut broad_phase,
-                    &mut narrow_phase,
-                    bodies,
-                    &mut colliders,
-                    &mut joints,
-                    &mut multibody_joints,
-                    &mut soft_bodies,
-                    &mut ccd,
-                    &(),
-                    &(),
-                );
+                rapier.step(bodies, &mut colliders, gravity, &parameters, dt)
             };
             match guard.as_mut() {
                 Some(guard) => assert!(guard.step(&mut bodies, step).expect("decided").is_empty()),

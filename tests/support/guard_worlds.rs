@@ -49,60 +49,7 @@ pub struct WorldRun {
     pub events: Vec<GuardEvent>,
 }
 
-/// The pipeline and the sets a step needs besides the bodies and colliders.
-pub struct Pipeline {
-    pipeline: PhysicsPipeline,
-    islands: IslandManager,
-    broad_phase: DefaultBroadPhase,
-    narrow_phase: NarrowPhase,
-    impulse_joints: ImpulseJointSet,
-    multibody_joints: MultibodyJointSet,
-    soft_bodies: SoftBodySet,
-    ccd: CCDSolver,
-}
-
-impl Pipeline {
-    pub fn new() -> Pipeline {
-        Pipeline {
-            pipeline: PhysicsPipeline::new(),
-            islands: IslandManager::new(),
-            broad_phase: DefaultBroadPhase::default(),
-            narrow_phase: NarrowPhase::new(),
-            impulse_joints: ImpulseJointSet::new(),
-            multibody_joints: MultibodyJointSet::new(),
-            soft_bodies: SoftBodySet::new(),
-            ccd: CCDSolver::new(),
-        }
-    }
-
-    /// `PhysicsPipeline::step` by `dt`, with `hooks`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn step(
-        &mut self,
-        bodies: &mut RigidBodySet,
-        colliders: &mut ColliderSet,
-        gravity: Vector,
-        parameters: &IntegrationParameters,
-        dt: Real,
-        hooks: &dyn PhysicsHooks,
-    ) {
-        self.pipeline.step(
-            gravity,
-            &IntegrationParameters { dt, ..*parameters },
-            &mut self.islands,
-            &mut self.broad_phase,
-            &mut self.narrow_phase,
-            bodies,
-            colliders,
-            &mut self.impulse_joints,
-            &mut self.multibody_joints,
-            &mut self.soft_bodies,
-            &mut self.ccd,
-            hooks,
-            &(),
-        );
-    }
-}
+crate::rapier_app!(rapier3d_f64);
 
 impl GuardWorld {
     /// An empty world of `steps` steps of `dt`, gravity `g` along −z.
@@ -139,12 +86,12 @@ impl GuardWorld {
 
     /// Runs rapier alone.
     pub fn run_alone(mut self) -> WorldRun {
-        let mut pipeline = Pipeline::new();
+        let mut pipeline = Rapier::new();
         let mut run = WorldRun::new();
         for step in 0..self.steps {
             self.apply_script(step);
             let dt = self.parameters.dt;
-            pipeline.step(&mut self.bodies, &mut self.colliders, self.gravity, &self.parameters, dt, &());
+            pipeline.step(&mut self.bodies, &mut self.colliders, self.gravity, &self.parameters, dt);
             run.record(&self);
         }
         run
@@ -164,13 +111,13 @@ impl GuardWorld {
     ) -> Result<WorldRun, GuardError> {
         let handles: Vec<RigidBodyHandle> = self.handles.iter().map(|(_, h)| *h).collect();
         let mut guard = Guard::new(&self.bodies, &mut self.colliders, &handles, &self.parameters, options)?;
-        let mut pipeline = Pipeline::new();
+        let mut pipeline = Rapier::new();
         let mut run = WorldRun::new();
         for step in 0..self.steps {
             self.apply_script(step);
             let GuardWorld { bodies, colliders, parameters, gravity, .. } = &mut self;
             let events = guard.step_with_hooks(bodies, colliders, hooks, |bodies, colliders, dt| {
-                pipeline.step(bodies, colliders, *gravity, parameters, dt, hooks)
+                pipeline.step_with_hooks(bodies, colliders, *gravity, parameters, dt, hooks)
             })?;
             run.events.extend(events);
             run.record(&self);

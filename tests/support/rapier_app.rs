@@ -11,7 +11,7 @@ macro_rules! rapier_app {
     ($rapier:ident) => {
         /// A rapier application's pipeline and the sets a step needs
         /// besides the bodies and colliders.
-        struct Rapier {
+        pub(crate) struct Rapier {
             pipeline: $rapier::prelude::PhysicsPipeline,
             islands: $rapier::prelude::IslandManager,
             broad_phase: $rapier::prelude::DefaultBroadPhase,
@@ -23,7 +23,7 @@ macro_rules! rapier_app {
         }
 
         impl Rapier {
-            fn new() -> Rapier {
+            pub(crate) fn new() -> Rapier {
                 Rapier {
                     pipeline: $rapier::prelude::PhysicsPipeline::new(),
                     islands: $rapier::prelude::IslandManager::new(),
@@ -38,13 +38,27 @@ macro_rules! rapier_app {
 
             /// `PhysicsPipeline::step` by `dt` (what the guard calls, in
             /// rapier's real).
-            fn step(
+            pub(crate) fn step(
                 &mut self,
                 bodies: &mut $rapier::prelude::RigidBodySet,
                 colliders: &mut $rapier::prelude::ColliderSet,
                 gravity: $rapier::prelude::Vector,
                 parameters: &$rapier::prelude::IntegrationParameters,
                 dt: $rapier::math::Real,
+            ) {
+                self.step_with_hooks(bodies, colliders, gravity, parameters, dt, &());
+            }
+
+            /// [`step`](Self::step) with the application's contact hooks.
+            #[allow(dead_code, clippy::too_many_arguments)]
+            pub(crate) fn step_with_hooks(
+                &mut self,
+                bodies: &mut $rapier::prelude::RigidBodySet,
+                colliders: &mut $rapier::prelude::ColliderSet,
+                gravity: $rapier::prelude::Vector,
+                parameters: &$rapier::prelude::IntegrationParameters,
+                dt: $rapier::math::Real,
+                hooks: &dyn $rapier::prelude::PhysicsHooks,
             ) {
                 self.pipeline.step(
                     gravity,
@@ -58,9 +72,15 @@ macro_rules! rapier_app {
                     &mut self.multibody_joints,
                     &mut self.soft_bodies,
                     &mut self.ccd,
-                    &(),
+                    hooks,
                     &(),
                 );
+            }
+
+            /// The joints rapier's steps solve.
+            #[allow(dead_code)]
+            pub(crate) fn joints(&mut self) -> &mut $rapier::prelude::ImpulseJointSet {
+                &mut self.impulse_joints
             }
         }
 

@@ -9,8 +9,10 @@
 #[path = "../../../tests/support/guard_worlds.rs"]
 #[allow(dead_code)]
 mod guard_worlds;
+#[path = "../../../tests/support/rapier_app.rs"]
+mod rapier_app;
 
-use guard_worlds::{rapier_fails, rapier_holds, GuardWorld};
+use guard_worlds::{rapier_fails, rapier_holds, GuardWorld, WorldRun};
 use nearmiss::guard::{GuardEvent, GuardOptions};
 
 fn main() {
@@ -22,20 +24,14 @@ fn main() {
     println!("## rapier holds: the guard must only read (skin {})\n", options.skin);
     println!("| world | steps | rapier alone: deepest overlap | guarded: largest difference from rapier alone | guarded: deepest overlap | rewinds | overlaps pushed | frozen body |");
     println!("|---|---|---|---|---|---|---|---|");
-    let twins = rapier_holds().into_iter().zip(rapier_holds());
-    for (alone_world, guarded_world) in twins {
-        let (name, steps, size) = (alone_world.name.clone(), alone_world.steps, alone_world.size);
-        let dynamic = dynamic_bodies(&alone_world);
-        let alone = alone_world.run_alone();
-        let guarded = guarded_world.run_guarded(options).expect("the guard decides");
-        let pushed = guarded.events.iter().filter(|e| matches!(e, GuardEvent::Overlap { .. })).count();
-        let frozen = guarded
-            .frozen(&dynamic, 1e-9)
-            .map_or("none".to_string(), |(s, i)| format!("body {i} at step {s}"));
+    for twin in twins(rapier_holds(), rapier_holds(), options) {
+        let Twin { world, alone, guarded, pushed, frozen } = twin;
         println!(
-            "| {name} | {steps} | {:.2e} | {:.2e} | {:.2e} | {} | {pushed} | {frozen} |",
+            "| {} | {} | {:.2e} | {:.2e} | {:.2e} | {} | {pushed} | {frozen} |",
+            world.name,
+            world.steps,
             alone.deepest().0,
-            alone.largest_difference(&guarded, size),
+            alone.largest_difference(&guarded, world.size),
             guarded.deepest().0,
             guarded.rewinds,
         );
@@ -44,17 +40,11 @@ fn main() {
     println!("\n## rapier fails: the guard must decide (skin {})\n", options.skin);
     println!("| world | rapier alone: deepest overlap | far-side margin | guarded: deepest overlap | far-side margin | rewinds | overlaps pushed | frozen body |");
     println!("|---|---|---|---|---|---|---|---|");
-    for (alone_world, guarded_world) in rapier_fails().into_iter().zip(rapier_fails()) {
-        let name = alone_world.name.clone();
-        let dynamic = dynamic_bodies(&alone_world);
-        let alone = alone_world.run_alone();
-        let guarded = guarded_world.run_guarded(options).expect("the guard decides");
-        let pushed = guarded.events.iter().filter(|e| matches!(e, GuardEvent::Overlap { .. })).count();
-        let frozen = guarded
-            .frozen(&dynamic, 1e-9)
-            .map_or("none".to_string(), |(s, i)| format!("body {i} at step {s}"));
+    for twin in twins(rapier_fails(), rapier_fails(), options) {
+        let Twin { world, alone, guarded, pushed, frozen } = twin;
         println!(
-            "| {name} | {:.2e} | {} | {:.2e} | {} | {} | {pushed} | {frozen} |",
+            "| {} | {:.2e} | {} | {:.2e} | {} | {} | {pushed} | {frozen} |",
+            world.name,
             alone.deepest().0,
             margin(alone.far_margin()),
             guarded.deepest().0,
@@ -62,6 +52,46 @@ fn main() {
             guarded.rewinds,
         );
     }
+}
+
+/// A world run twice, rapier alone and guarded: what the tables read.
+struct Twin {
+    /// The world as built (name, steps, size).
+    world: Summary,
+    alone: WorldRun,
+    guarded: WorldRun,
+    /// The guard's pushes (`GuardEvent::Overlap`).
+    pushed: usize,
+    /// The first frozen body, in words (`none`).
+    frozen: String,
+}
+
+/// What of a world the tables name.
+struct Summary {
+    name: String,
+    steps: usize,
+    size: f64,
+}
+
+/// Each world of `alone` (rapier alone) beside its twin of `guarded`
+/// (guarded under `options`).
+fn twins(alone: Vec<GuardWorld>, guarded: Vec<GuardWorld>, options: GuardOptions) -> Vec<Twin> {
+    alone
+        .into_iter()
+        .zip(guarded)
+        .map(|(alone_world, guarded_world)| {
+            let world =
+                Summary { name: alone_world.name.clone(), steps: alone_world.steps, size: alone_world.size };
+            let dynamic = dynamic_bodies(&alone_world);
+            let alone = alone_world.run_alone();
+            let guarded = guarded_world.run_guarded(options).expect("the guard decides");
+            let pushed = guarded.events.iter().filter(|e| matches!(e, GuardEvent::Overlap { .. })).count();
+            let frozen = guarded
+                .frozen(&dynamic, 1e-9)
+                .map_or("none".to_string(), |(s, i)| format!("body {i} at step {s}"));
+            Twin { world, alone, guarded, pushed, frozen }
+        })
+        .collect()
 }
 
 /// What a skin costs to look at: a box resting on a floor and the top of a
