@@ -907,8 +907,13 @@ impl<B: RapierBodies> Guard<B> {
                 debug_assert!(rewind.time > 0.0);
                 let at = rewind.time;
                 self.rewind(bodies, at, [rewind.a, rewind.b]);
-                if let Some((point_a, point_b)) = rewind.points {
-                    self.push_off_kinematic(bodies, [rewind.a, rewind.b], &point_a, &point_b, at);
+                // A kinematic body has infinite mass: the dynamic body it
+                // meets leaves at least as fast as its point at the contact.
+                let kinematic = |i: usize| is_kinematic(bodies, self.handles[i]);
+                if let (Some(point), Some(normal), true) =
+                    (rewind.point, rewind.normal, kinematic(rewind.a) != kinematic(rewind.b))
+                {
+                    self.inelastic_impulse(bodies, [rewind.a, rewind.b], &point, &normal);
                 }
                 self.world.rewound.push((rewind.a, rewind.b));
                 elapsed += at * scale;
@@ -1095,7 +1100,8 @@ impl<B: RapierBodies> Guard<B> {
         let impact = |i: usize, view: &BodyView| {
             let stoppable = self.stoppable[i];
             ImpactBody {
-                center: self.world.motions[i].center_at(self.dt),
+                // Where the body is now (the guard may just have moved it).
+                center: Point::from(view.center_pose().translation.vector),
                 inverse_mass: if stoppable { view.inverse_mass } else { 0.0 },
                 inverse_inertia: if stoppable { view.inverse_inertia } else { nalgebra::Matrix3::zeros() },
                 velocity: view.linvel,
@@ -1142,50 +1148,6 @@ impl<B: RapierBodies> Guard<B> {
         self.world.motions[i] = StepMotion::between_near(&self.start[i], &carried, self.dt, &(w_k * scale));
         bodies.set_pose(self.handles[i], &body_pose(&carried, &self.centers[i]), true);
         bodies.set_velocities(self.handles[i], &velocity, &w_k, true);
-    }
-
-    /// A dynamic body moved back to its contact with a kinematic one leaves
-    /// at least as fast as the kinematic body's contact point along the
-    /// contact normal (the kinematic body has infinite mass, and rapier's
-    /// soft contact alone lets it sink in): its velocity gains the missing
-    /// normal speed, through its centre (no spin is added).
-    fn push_off_kinematic(
-        &self,
-        bodies: &mut B,
-        pair: [usize; 2],
-        point_a: &Point,
-        point_b: &Point,
-        at: Real,
-    ) {
-        let [a, b] = pair;
-        let kinematic = |i: usize| is_kinematic(bodies, self.handles[i]);
-        let dynamic = |i: usize| {
-            bodies.view(self.handles[i]).is_some_and(|body| matches!(body.kind, BodyKind::Dynamic { .. }))
-        };
-        let (k, d, towards_d) = if kinematic(a) && dynamic(b) {
-            (a, b, point_b - point_a)
-        } else if kinematic(b) && dynamic(a) {
-            (b, a, point_a - point_b)
-        } else {
-            return;
-        };
-        let center = |i: usize| self.world.motions[i].center_at(at);
-        let Some(normal) =
-            towards_d.try_normalize(0.0).or_else(|| (center(d) - center(k)).try_normalize(0.0))
-        else {
-            return;
-        };
-        let contact = Point::from((point_a.coords + point_b.coords) / 2.0);
-        let (Some(body_k), Some(body_d)) = (bodies.view(self.handles[k]), bodies.view(self.handles[d]))
-        else {
-            return;
-        };
-        let point_velocity =
-            |i: usize, body: &BodyView| body.linvel + body.angvel.cross(&(contact - center(i)));
-        let deficit = (point_velocity(k, &body_k) - point_velocity(d, &body_d)).dot(&normal);
-        if deficit > 0.0 {
-            bodies.set_velocities(self.handles[d], &(body_d.linvel + normal * deficit), &body_d.angvel, true);
-        }
     }
 
     /// Every contact reported so far, in the order found (body indices are

@@ -236,15 +236,14 @@ impl Response for Watch {
                 step.world.record_contact(k, step.t0, time, &entry.result);
                 recorded = true;
             }
-            let closest = entry.result.closest;
+            let normal = contact_normal(step, k, time, &entry.result);
+            let point =
+                entry.result.closest.map(|c| Point::from((c.point_a.coords + c.point_b.coords) / 2.0));
             if rewinds {
-                let points = closest.map(|c| (c.point_a, c.point_b));
-                step.world.rewind = Some(Rewind { time, a, b, points });
+                step.world.rewind = Some(Rewind { time, a, b, point, normal });
                 // What comes after is swept again from the rewind.
                 break;
             }
-            let normal = closest.and_then(|c| (c.point_b - c.point_a).try_normalize(0.0));
-            let point = closest.map(|c| Point::from((c.point_a.coords + c.point_b.coords) / 2.0));
             step.world.stops.push(Stop { a, b, time, normal, point });
         }
         recorded
@@ -451,19 +450,10 @@ fn rapier_end_fails(
     let pair = &step.world.pairs[k];
     let (ma, mb) = (&step.world.motions[pair.a], &step.world.motions[pair.b]);
     let (mesh_a, mesh_b) = (&step.model.bodies[pair.a].mesh, &step.model.bodies[pair.b].mesh);
-    let (Some(closest), true) = (result.closest, mesh_a.is_convex() && mesh_b.is_convex()) else {
+    if !(mesh_a.is_convex() && mesh_b.is_convex()) {
         return true;
-    };
-    let (contact_a, contact_b) = (ma.pose_at(time), mb.pose_at(time));
-    // The contact's normal: the direction among the contact's that
-    // separates the meshes best there.
-    let Some(normal) = contact_normals(mesh_a, &contact_a, mesh_b, &contact_b, closest, result.axis)
-        .map(|n| (overlap_along(mesh_a, &contact_a, mesh_b, &contact_b, &n), n))
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .map(|(_, n)| n)
-    else {
-        return true;
-    };
+    }
+    let Some(normal) = contact_normal(step, k, time, result) else { return true };
     let dt = step.model.dt;
     let (end_a, end_b) = (ma.pose_at(dt), mb.pose_at(dt));
     let penetration = PENETRATION_SCRATCH
@@ -478,6 +468,23 @@ fn rapier_end_fails(
         }
         Err(_) => true,
     }
+}
+
+/// The normal of pair `k`'s contact at `time` into the sweep (`result`),
+/// from `a` towards `b`: of the directions the contact may be along
+/// ([`contact_normals`]), the one along which the meshes are farthest apart
+/// there (for two convex meshes, the separating direction; their closest
+/// points alone say nothing once within rounding of each other). `None`
+/// without closest points.
+fn contact_normal(step: &StepContext<'_>, k: usize, time: Real, result: &MeshCcdResult) -> Option<Vector> {
+    let pair = &step.world.pairs[k];
+    let (mesh_a, mesh_b) = (&step.model.bodies[pair.a].mesh, &step.model.bodies[pair.b].mesh);
+    let (pose_a, pose_b) =
+        (step.world.motions[pair.a].pose_at(time), step.world.motions[pair.b].pose_at(time));
+    contact_normals(mesh_a, &pose_a, mesh_b, &pose_b, result.closest?, result.axis)
+        .map(|n| (overlap_along(mesh_a, &pose_a, mesh_b, &pose_b, &n), n))
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, n)| n)
 }
 
 /// The directions (from `a` towards `b`, world frame, not normalised) a

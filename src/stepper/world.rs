@@ -56,8 +56,10 @@ pub(crate) struct Rewind {
     /// The pair whose contact needs it.
     pub a: usize,
     pub b: usize,
-    /// The contact's closest points (world frame).
-    pub points: Option<(Point, Point)>,
+    /// The contact's point (world frame) and normal (from `a` towards
+    /// `b`).
+    pub point: Option<Point>,
+    pub normal: Option<Vector>,
 }
 
 /// A contact the guard stops at (see `World::stops`): the dynamic bodies
