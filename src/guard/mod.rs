@@ -15,28 +15,35 @@
 //!   within rapier's prediction distance), the guard only reads: the poses
 //!   and velocities are rapier's, step for step, bit for bit. It adds no
 //!   contact skin unless asked ([`GuardOptions::skin`]).
-//! - **Decisive where rapier would not.** A pair arriving in a step from
-//!   beyond rapier's reach, whose motion after the contact could take it
-//!   deeper than the tolerated depth ([`GuardOptions::tolerated_depth`],
-//!   rapier's allowed linear error by default), is stopped at its contact:
-//!   the world goes back to the contact's time and rapier solves the rest
-//!   of the step from there (its masses, friction and restitution at the
-//!   contact; no velocity thrown away). So no mesh passes through another,
-//!   and no pair ends a step deeper than the tolerated depth, whatever its
-//!   speed or spin. A touching pair that rapier's contact lets sink deeper
-//!   than that (a body squeezed by a kinematic one) is pushed apart to half
-//!   the tolerated depth at the step's end ([`GuardEvent::Overlap`]).
-//! - **Never frozen.** No body is held still while rapier moves it: a pair
-//!   already in contact at a sweep's start is rapier's, so the guard never
-//!   holds a body at the pose it started the step in. (When a step needs
-//!   more than [`GuardOptions::max_substeps`] rewinds, the rest of its
-//!   arrivals hold their dynamic bodies at their contacts for the rest of
-//!   that step, as rapier's own CCD does, after moving to them; a body
-//!   touching a kinematic one is carried along.)
+//! - **Decisive where rapier would not.** A pair that arrives within a
+//!   step, and that rapier's step takes deeper than the pair's tolerated
+//!   depth ([`GuardOptions::tolerated_depth`], rapier's allowed linear error
+//!   by default, never more than [`THIN_BODY_FRACTION`] of the thinner
+//!   body) or to the far side, is stopped at its contact: the world goes
+//!   back to the contact's time and rapier solves the rest of the step from
+//!   there (its masses, friction and restitution at the contact; forces act
+//!   once; no velocity thrown away). So no mesh passes through another, and
+//!   no pair ends a step deeper than its tolerated depth, whatever its speed
+//!   or spin (a body turns less than a quarter turn a step: the side tests'
+//!   one assumption). A touching pair that rapier's contact lets sink deeper
+//!   (a body pushed by a kinematic one) is pushed apart to
+//!   [`PUSHED_DEPTH_FRACTION`] of it at the step's end, back along its own
+//!   side if it went through ([`GuardEvent::Overlap`]).
+//! - **Never frozen** (the liveness rule beside that safety rule). No body
+//!   is held still while rapier moves it: a pair overlapping at a sweep's
+//!   start is rapier's, and where the guard must stop a pair (a contact at
+//!   the sweep's start, which rapier already stepped from; a pair's second
+//!   in a step; the rewinds spent) its dynamic bodies stay at the contact
+//!   for the rest of the step with an inelastic impulse there, so their
+//!   approach is gone and they move on at the next step, as rapier's own
+//!   CCD clamps a body at its time of impact. A body touching a kinematic
+//!   one is carried along.
 //! - **rapier's own rules.** A pair rapier would not solve is not guarded:
 //!   sensors, disabled colliders, collision and solver groups, the bodies'
-//!   types (`ActiveCollisionTypes`: two fixed or kinematic bodies), and,
-//!   with [`Guard::step_with_hooks`], the application's pair filter.
+//!   types (`ActiveCollisionTypes`: two fixed or kinematic bodies), pairs
+//!   joined with contacts disabled ([`Guard::honour_joints`]), the
+//!   application's pair filter ([`Guard::step_with_hooks`]); a body whose
+//!   colliders modify their solver contacts is left to rapier.
 //! - Contacts are reported never late ([`GuardEvent::Started`], with
 //!   nearmiss's time of impact, points and features). A pair the CCD cannot
 //!   decide ends the step with [`GuardError::Undecided`], never a guess.
@@ -46,29 +53,33 @@
 //! [`Guard::step`] steps rapier, then sweeps every guarded pair from the
 //! step's start poses to rapier's end poses (a body's motion over a step is
 //! the constant linear and angular velocity that takes its start pose to
-//! its end pose, the turn nearest rapier's angular velocity).
-//! - A pair **apart** (not in contact since it last left rapier's
-//!   prediction distance) is swept for its first contact. Where it arrives,
-//!   a bound of how much closer it could come before the step's end (the
-//!   approach of the two surfaces along the contact normal for convex
-//!   meshes, of any point otherwise, and each body's turn times its radius)
-//!   decides: within the tolerated depth, rapier's contact takes it from
-//!   there (a pair rapier saw coming arrives at the step's end and closes
-//!   no farther); beyond it, the world is moved back to the contact (every
-//!   moving body to its pose then, velocities interpolated between the
-//!   step's ends so that forces act once, the pair woken) and rapier steps
-//!   the rest of the step, which is swept again; up to
-//!   [`GuardOptions::max_substeps`] times a step.
-//! - A pair **touching** is rapier's until its distance at a step's end
+//! its end pose, the turn nearest rapier's angular velocity) for its first
+//! contact (`watch.rs`).
+//! - A pair overlapping at the sweep's start is rapier's.
+//! - Where another pair touches, a cheap bound decides first whether it
+//!   could end the step past its tolerated depth (the overlap along the
+//!   contact's directions at the contact and at rapier's end poses, plus
+//!   each body's turn; or any point's travel after the contact); only then
+//!   are rapier's end poses judged exactly (two convex meshes: the depth by
+//!   separating axes, and the side the pair ends on; others count as
+//!   failing). If rapier's step stands, the contact is only reported (a
+//!   pair rapier saw coming arrives at the step's end and closes no
+//!   farther). If not, the world is moved back to the contact (every moving
+//!   body to its pose then, velocities interpolated between the step's ends
+//!   so that forces act once, the pair woken) and rapier steps the rest of
+//!   the step, which is swept again; up to [`GuardOptions::max_substeps`]
+//!   times a step; where that cannot help, the pair stops there (above),
+//!   and the step is swept again with it stopped.
+//! - A pair **touching** stays so until its distance at a step's end
 //!   exceeds rapier's prediction distance ([`GuardEvent::Stopped`]). At
-//!   each step's end the guard checks its depth: convex pairs by the
-//!   overlap along their last direction of penetration (exactly, by
-//!   separating axes, only where that is over the tolerated depth), others
-//!   by the deepest vertex where their surfaces cross, measured once the
-//!   pair can have closed by the tolerated depth since it was last.
+//!   each step's end the guard checks its depth (`depth.rs`): convex pairs
+//!   along their side (two support lookups; exactly by separating axes only
+//!   where that is over the tolerated depth), others by the deepest vertex
+//!   where their surfaces cross, once they can have closed that far.
 //! - **A kinematic body has infinite mass**: after a rewind to its contact
-//!   with a dynamic body, the dynamic body leaves at least as fast as the
-//!   kinematic body's contact point along the normal.
+//!   with a dynamic body, the dynamic body takes an inelastic impulse
+//!   there, leaving at least as fast as the kinematic body's point along
+//!   the normal.
 //! - **Skins, when asked for** ([`GuardOptions::skin`] > 0): each guarded
 //!   collider gets a contact skin, rapier rests pairs the two skins apart,
 //!   and the guard's wall is the meshes themselves: pairs apart are swept
