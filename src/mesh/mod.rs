@@ -36,6 +36,7 @@ pub use obj::{load_obj, parse_obj, ObjError};
 pub use penetration::{
     convex_penetration, MeshPenetration, NotConvex, FLAT_EDGE_TOLERANCE, PARALLEL_EDGE_SINE,
 };
+#[cfg(feature = "rapier")]
 pub(crate) use penetration::{convex_penetration_with, PenetrationScratch};
 pub use point_query::{point_signed_distance, PointQueryScratch, PointSignedDistance};
 pub use primitives::{
