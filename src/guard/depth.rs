@@ -1,9 +1,10 @@
 //! The guard's depth watch: how deep rapier's contacts let touching pairs
 //! overlap at a step's end.
 //!
-//! A pair in contact is rapier's: its soft contact holds it within rapier's
-//! allowed error, and the guard does not sweep it. The watch checks that it
-//! did: after each step, every touching pair whose overlap could exceed the
+//! A pair overlapping is rapier's: its soft contact holds it within
+//! rapier's allowed error, and the guard's sweep leaves it be (it cannot
+//! sweep a pair already inside another). The watch checks that rapier held
+//! it: after each step, every touching pair whose overlap could exceed the
 //! tolerated depth is measured, and one found deeper is handed back to the
 //! guard, which pushes its dynamic bodies apart (rapier's contact failed to
 //! hold it: a body squeezed by a kinematic one, a pile under a load rapier's
