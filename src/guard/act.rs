@@ -10,7 +10,7 @@ use super::{Guard, GuardEvent, PUSHED_DEPTH_FRACTION};
 use crate::math::{Point, Pose, Real, Vector};
 use crate::motion::StepMotion;
 use crate::response::{apply_impulse, ImpactBody};
-use crate::stepper::Stop;
+use crate::stepper::GuardHit;
 
 impl<B: RapierBodies> Guard<B> {
     /// The depth watch after the step's last sweep (`scale`: its length over
@@ -137,7 +137,10 @@ impl<B: RapierBodies> Guard<B> {
     /// two points' approach along the normal removed, by the bodies' masses
     /// and inertias: a bullet stopped at a corner turns about it). Returns
     /// whether a body stopped. `scale`: the sweep's real length over `dt`.
-    pub(super) fn stop_bodies(&mut self, bodies: &mut B, stops: &[Stop], scale: Real) -> bool {
+    pub(super) fn stop_bodies(&mut self, bodies: &mut B, stops: &[GuardHit], scale: Real) -> bool {
+        if stops.is_empty() {
+            return false;
+        }
         let mut stopped = false;
         for i in 0..self.stoppable.len() {
             let first = stops.iter().filter(|s| s.a == i || s.b == i).map(|s| s.time).reduce(Real::min);

@@ -12,9 +12,9 @@
 //!
 //! - **Two convex meshes**: the overlap along any direction (two support
 //!   lookups) bounds the depth. The pair keeps its *side*: the direction
-//!   from `a` towards `b` it came into contact along (the contact's face
-//!   normal, or its closest points'), then its last direction of
-//!   penetration. Within the tolerated depth along it, the pair is fine.
+//!   from `a` towards `b` it came into contact along (of the contact's
+//!   directions, the one the meshes were farthest apart along), then its
+//!   last direction of penetration. Within the tolerated depth along it, the pair is fine.
 //!   Otherwise the exact depth is measured ([`convex_penetration_with`]:
 //!   separating axes): if the shortest way out points to the pair's side,
 //!   it is the depth (and the new side); if it points the other way, one
@@ -35,8 +35,7 @@
 
 use std::collections::HashMap;
 
-use super::watch::overlap_along;
-use crate::kernels::Feature;
+use super::watch::{contact_directions, overlap_along};
 use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::{
     convex_penetration_with, local_depths, mesh_intersection, MeshIntersection, MeshIntersectionScratch,
@@ -171,28 +170,18 @@ impl DepthWatch {
     }
 }
 
-/// The side of a contact of two convex meshes: the unit direction from `a`
-/// towards `b` along the outward normal of the face one of them touches
-/// with, or else along its closest points (`None` where those are within
-/// rounding of each other).
+/// The side of a contact of two convex meshes: of the directions it may be
+/// along ([`contact_directions`]), the one the meshes are farthest apart
+/// along at the contact (from `a` towards `b`).
 fn contact_side(contact: &Contact, mesh_a: &TriMesh, mesh_b: &TriMesh) -> Option<Vector> {
     if !(mesh_a.is_convex() && mesh_b.is_convex()) {
         return None;
     }
-    let closest = &contact.closest;
-    let face = |mesh: &TriMesh, pose: &Pose, t: usize| {
-        let [p, q, r] = mesh.triangle(t);
-        (pose.rotation * (q - p).cross(&(r - p)) * mesh.orientation()).try_normalize(0.0)
-    };
-    match (closest.feature_a, closest.feature_b) {
-        (Feature::Face, _) => face(mesh_a, &contact.pose_a, closest.triangle_a),
-        (_, Feature::Face) => face(mesh_b, &contact.pose_b, closest.triangle_b).map(|n| -n),
-        _ => {
-            let between = closest.point_b - closest.point_a;
-            let scale = closest.point_a.coords.abs().max().max(1.0);
-            (between.norm() > 1e3 * Real::EPSILON * scale).then(|| between.normalize())
-        }
-    }
+    let (pose_a, pose_b) = (&contact.pose_a, &contact.pose_b);
+    contact_directions(mesh_a, pose_a, mesh_b, pose_b, &contact.closest, None)
+        .map(|n| (overlap_along(mesh_a, pose_a, mesh_b, pose_b, &n), n))
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, n)| n)
 }
 
 /// The depth of the deepest vertex of either closed mesh inside the other
@@ -223,9 +212,11 @@ fn deepest_vertex(
         Side::B => out,
         Side::A => -out,
     };
+    // A vertex exactly on the other surface has no way out of its own: the
+    // line between the centres (or, with the centres together, up).
     let direction = direction.try_normalize(0.0).unwrap_or_else(|| {
-        let centres: Point = Point::from(pose_b.translation.vector - pose_a.translation.vector);
-        centres.coords.try_normalize(0.0).unwrap_or_else(Vector::z)
+        let centres = pose_b.translation.vector - pose_a.translation.vector;
+        centres.try_normalize(0.0).unwrap_or_else(Vector::z)
     });
     Some((deepest.lower, direction, deepest.nearest))
 }

@@ -459,7 +459,7 @@ pub struct Guard<B: RapierBodies = RigidBodySet> {
     /// Each body's centre of mass in its body frame.
     centers: Vec<Vector>,
     /// Per body: whether the guard may stop it at a contact (dynamic bodies;
-    /// none for a watcher).
+    /// none for `--compare rapier`'s watcher).
     stoppable: Vec<bool>,
     /// The poses of the centres of mass at the sweep's start.
     start: Vec<Pose>,
@@ -699,7 +699,7 @@ impl<B: RapierBodies> Guard<B> {
             velocities: model.bodies.iter().map(|b| (b.velocity, b.angular_velocity)).collect(),
             handles: setup.handles,
             centers: setup.centers,
-            stoppable: if setup.acts { setup.stoppable } else { Vec::new() },
+            stoppable: setup.stoppable,
             started: false,
             stepper,
             world,

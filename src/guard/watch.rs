@@ -12,13 +12,14 @@
 //!   skins above the scene's `minimum_separation`, where rapier's contact
 //!   starts; a pair touching: the wall, the meshes themselves). A new
 //!   contact is recorded (a [`GuardEvent::Started`](super::GuardEvent)).
-//!   The guard steps in only where the pair could go on past the pair's
-//!   tolerated depth after that time ([`Watch::needs_guard`]: a bound of
-//!   how much closer it can come, from the bodies' velocities over the
-//!   sweep). A pair that rapier's own contact stops (it saw it within its
-//!   prediction distance) arrives at the step's end and closes no farther;
-//!   a bullet, a blade or a body falling from beyond rapier's prediction
-//!   distance arrives early in the step with the rest of its motion ahead.
+//!   The guard steps in only where rapier's step takes the pair past its
+//!   tolerated depth after that time, or to the far side
+//!   ([`Watch::needs_guard`]: a bound of how much closer it can come first,
+//!   then rapier's end poses, exactly for convex meshes). A pair that
+//!   rapier's own contact stops (it saw it within its prediction distance)
+//!   arrives at the step's end and closes no farther; a bullet, a blade or
+//!   a body falling from beyond rapier's prediction distance arrives early
+//!   in the step with the rest of its motion ahead.
 //!
 //! What the guard does there: when rewinds are allowed (`World::may_rewind`)
 //! and the contact is after the sweep's start, the earliest such contact
@@ -50,7 +51,7 @@ use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::{convex_penetration_with, MeshDistance, PenetrationScratch, TriMesh};
 use crate::motion::StepMotion;
 use crate::response::{approach_speed, contact_frame, Response, StepContext};
-use crate::stepper::{pair_query, Found, PairState, Rewind, Stop};
+use crate::stepper::{pair_query, Found, GuardHit, PairState};
 
 /// A pair at the wall at a sweep's start and moving apart is a hit again
 /// only once it comes within this fraction of its distance there (the
@@ -219,7 +220,8 @@ impl Response for Watch {
             let (k, time) = (entry.pair, time_of(&entry));
             let pair = &step.world.pairs[k];
             let (a, b, touching) = (pair.a, pair.b, pair.touching.is_some());
-            if !self.needs_guard(step, k, time, &entry.result) {
+            let directions = Directions::of(step, k, time, &entry.result);
+            if !self.needs_guard(step, k, time, &entry.result, &directions) {
                 if !touching {
                     step.world.record_contact(k, step.t0, time, &entry.result);
                     recorded = true;
@@ -236,15 +238,16 @@ impl Response for Watch {
                 step.world.record_contact(k, step.t0, time, &entry.result);
                 recorded = true;
             }
-            let normal = contact_normal(step, k, time, &entry.result);
+            let normal = directions.normal();
             let point =
                 entry.result.closest.map(|c| Point::from((c.point_a.coords + c.point_b.coords) / 2.0));
+            let hit = GuardHit { time, a, b, point, normal };
             if rewinds {
-                step.world.rewind = Some(Rewind { time, a, b, point, normal });
+                step.world.rewind = Some(hit);
                 // What comes after is swept again from the rewind.
                 break;
             }
-            step.world.stops.push(Stop { a, b, time, normal, point });
+            step.world.stops.push(hit);
         }
         recorded
     }
@@ -273,31 +276,56 @@ impl Watch {
         if approaching(step, entry.pair, &entry.result, 0.0) {
             return true;
         }
-        let again =
-            self.query_pair(step, entry.pair, 0.0, ContactRule::Absolute(WALL_REDETECT_FRACTION * distance));
-        if again.time_of_impact == Some(0.0) && again.status != CcdStatus::OutOfIterations {
-            return true;
+        match self.comes_back(step, entry.pair, 0.0, distance) {
+            Some(again) => {
+                entry.result = again;
+                false
+            }
+            None => true,
         }
-        entry.result = again;
-        entry.result.time_of_impact.is_none()
     }
 
-    /// Whether pair `k`'s contact at `time` into the sweep needs the guard.
-    /// Without skins: whether it could go past the contact by more than the
-    /// pair's tolerated depth by the sweep's end ([`overshoot_bound`]), and
-    /// rapier's end poses say it did ([`rapier_end_fails`]). With
-    /// skins: a touching pair's (at the wall) always; a pair apart's (at
-    /// the skins) if it would go on to the wall.
-    fn needs_guard(&self, step: &mut StepContext<'_>, k: usize, time: Real, result: &MeshCcdResult) -> bool {
+    /// Pair `k`, at `distance` at `time` into the sweep and moving apart
+    /// there: its contact when it comes back within
+    /// [`WALL_REDETECT_FRACTION`] of that distance later in the sweep (a
+    /// turning body can catch up with one pushed straight), or an undecided
+    /// query (never apart); `None` when it does not, or only at once (apart
+    /// at the rounding floor).
+    fn comes_back(
+        &self,
+        step: &mut StepContext<'_>,
+        k: usize,
+        time: Real,
+        distance: Real,
+    ) -> Option<MeshCcdResult> {
+        let again = self.query_pair(step, k, time, ContactRule::Absolute(WALL_REDETECT_FRACTION * distance));
+        let later = again.time_of_impact.is_some_and(|t| t > time);
+        (later || again.status == CcdStatus::OutOfIterations).then_some(again)
+    }
+
+    /// Whether pair `k`'s contact at `time` into the sweep (`result`, along
+    /// `directions`) needs the guard. Without skins: whether it could go
+    /// past the contact by more than the pair's tolerated depth by the
+    /// sweep's end ([`overshoot_bound`]), and rapier's end poses say it did
+    /// ([`rapier_end_fails`]). With skins: a touching pair's (at the wall)
+    /// always; a pair apart's (at the skins) if it would go on to the wall.
+    fn needs_guard(
+        &self,
+        step: &mut StepContext<'_>,
+        k: usize,
+        time: Real,
+        result: &MeshCcdResult,
+        directions: &Directions,
+    ) -> bool {
         let pair = &step.world.pairs[k];
         let (a, b, touching) = (pair.a, pair.b, pair.touching.is_some());
         if !(self.dynamic[a] || self.dynamic[b]) {
             return false;
         }
-        let closing = overshoot_bound(step, k, time, result);
+        let closing = overshoot_bound(step, k, time, directions);
         if !self.has_skins() {
             let tolerated = self.tolerated(a, b);
-            return closing > tolerated && rapier_end_fails(step, k, time, result, tolerated);
+            return closing > tolerated && rapier_end_fails(step, k, directions.normal(), tolerated);
         }
         if touching {
             return true;
@@ -318,12 +346,8 @@ impl Watch {
         }
         // At the wall at once: a hit if approaching; moving apart, only if
         // it comes back within a fraction of its distance.
-        if approaching(step, k, &result, time) {
-            return true;
-        }
         let distance = result.closest.map_or(0.0, |c| c.distance);
-        let again = self.query_pair(step, k, time, ContactRule::Absolute(WALL_REDETECT_FRACTION * distance));
-        again.status == CcdStatus::OutOfIterations || again.time_of_impact.is_some_and(|t| t > time)
+        approaching(step, k, &result, time) || self.comes_back(step, k, time, distance).is_some()
     }
 
     /// The CCD of pair `k` from `time` into the step to its end under `rule`
@@ -384,8 +408,8 @@ pub(crate) fn thickness(mesh: &TriMesh) -> Real {
 }
 
 /// A bound of how far pair `k` goes past its contact at `time` into the
-/// sweep (`result`) by the sweep's end: how deep it could overlap had
-/// nothing stopped it.
+/// sweep (along `directions`) by the sweep's end: how deep it could overlap
+/// had nothing stopped it.
 ///
 /// - Two convex meshes: their overlap along any direction `n` bounds their
 ///   depth. It is measured exactly (two support lookups) at the contact and
@@ -394,10 +418,8 @@ pub(crate) fn thickness(mesh: &TriMesh) -> Real {
 ///   turn, whose curvature is at most `|ω|² r`, so the overlap never
 ///   exceeds the larger of its ends by more than
 ///   `(r_a |ω_a|² + r_b |ω_b|²) τ² / 8` (`τ` the time left). The
-///   directions tried are the contact's: along its closest points, the
-///   hulls' separating axis, and the normals of its two triangles (the
-///   closest points alone say nothing once they are within rounding of
-///   each other); the least bound is kept. A pair rapier's contact holds
+///   directions tried are the contact's ([`Directions`]); the least bound
+///   is kept. A pair rapier's contact holds
 ///   ends the sweep at its depth, whatever its slide or spin; one passing
 ///   through a plate ends far along the contact's normal.
 /// - Any pair: a point of one mesh inside the other entered it after
@@ -405,33 +427,26 @@ pub(crate) fn thickness(mesh: &TriMesh) -> Real {
 ///   relative speed of the centres plus each body's turn times its radius.
 ///
 /// The smaller of the two.
-pub(crate) fn overshoot_bound(step: &StepContext<'_>, k: usize, time: Real, result: &MeshCcdResult) -> Real {
+pub(crate) fn overshoot_bound(step: &StepContext<'_>, k: usize, time: Real, directions: &Directions) -> Real {
     let pair = &step.world.pairs[k];
     let (ma, mb) = (&step.world.motions[pair.a], &step.world.motions[pair.b]);
     let (mesh_a, mesh_b) = (&step.model.bodies[pair.a].mesh, &step.model.bodies[pair.b].mesh);
     let (ra, rb) = (mesh_a.radius(), mesh_b.radius());
     let (wa, wb) = (ma.angular_velocity.norm(), mb.angular_velocity.norm());
-    let dt = step.model.dt;
-    let rest = (dt - time).max(0.0);
-    let relative = mb.velocity - ma.velocity;
-    let any_point = rest * (relative.norm() + ra * wa + rb * wb);
-    let (Some(closest), true) = (result.closest, mesh_a.is_convex() && mesh_b.is_convex()) else {
+    let rest = (step.model.dt - time).max(0.0);
+    let any_point = rest * ((mb.velocity - ma.velocity).norm() + ra * wa + rb * wb);
+    if !(mesh_a.is_convex() && mesh_b.is_convex()) {
         return any_point;
-    };
-    let (contact_a, contact_b) = (ma.pose_at(time), mb.pose_at(time));
-    let (end_a, end_b) = (ma.pose_at(dt), mb.pose_at(dt));
+    }
     let curvature = (ra * wa * wa + rb * wb * wb) * rest * rest / 8.0;
-    contact_normals(mesh_a, &contact_a, mesh_b, &contact_b, closest, result.axis)
-        .map(|n| {
-            let at_contact = overlap_along(mesh_a, &contact_a, mesh_b, &contact_b, &n);
-            let at_end = overlap_along(mesh_a, &end_a, mesh_b, &end_b, &n);
-            at_contact.max(at_end).max(0.0) + curvature
-        })
+    directions
+        .iter()
+        .map(|&(_, at_contact, at_end)| at_contact.max(at_end).max(0.0) + curvature)
         .fold(any_point, Real::min)
 }
 
 /// Whether rapier's end poses of pair `k` (the sweep's end), after its
-/// contact at `time` (`result`), are past what the guard lets through:
+/// contact along `normal`, are past what the guard lets through:
 /// overlapping deeper than `tolerated`, or with one mesh on the far side of
 /// the other (the direction that separates them at the end points against
 /// the contact's normal: it went through). Exact for two convex meshes
@@ -440,20 +455,11 @@ pub(crate) fn overshoot_bound(step: &StepContext<'_>, k: usize, time: Real, resu
 /// turning more than a quarter turn within the sweep could cross and turn
 /// back unseen by the side test; the overshoot bound lets such a pair
 /// through here only where its depth stays within the tolerated one.
-fn rapier_end_fails(
-    step: &StepContext<'_>,
-    k: usize,
-    time: Real,
-    result: &MeshCcdResult,
-    tolerated: Real,
-) -> bool {
+fn rapier_end_fails(step: &StepContext<'_>, k: usize, normal: Option<Vector>, tolerated: Real) -> bool {
     let pair = &step.world.pairs[k];
     let (ma, mb) = (&step.world.motions[pair.a], &step.world.motions[pair.b]);
     let (mesh_a, mesh_b) = (&step.model.bodies[pair.a].mesh, &step.model.bodies[pair.b].mesh);
-    if !(mesh_a.is_convex() && mesh_b.is_convex()) {
-        return true;
-    }
-    let Some(normal) = contact_normal(step, k, time, result) else { return true };
+    let (Some(normal), true) = (normal, mesh_a.is_convex() && mesh_b.is_convex()) else { return true };
     let dt = step.model.dt;
     let (end_a, end_b) = (ma.pose_at(dt), mb.pose_at(dt));
     let penetration = PENETRATION_SCRATCH
@@ -470,34 +476,58 @@ fn rapier_end_fails(
     }
 }
 
-/// The normal of pair `k`'s contact at `time` into the sweep (`result`),
-/// from `a` towards `b`: of the directions the contact may be along
-/// ([`contact_normals`]), the one along which the meshes are farthest apart
-/// there (for two convex meshes, the separating direction; their closest
-/// points alone say nothing once within rounding of each other). `None`
-/// without closest points.
-fn contact_normal(step: &StepContext<'_>, k: usize, time: Real, result: &MeshCcdResult) -> Option<Vector> {
-    let pair = &step.world.pairs[k];
-    let (mesh_a, mesh_b) = (&step.model.bodies[pair.a].mesh, &step.model.bodies[pair.b].mesh);
-    let (pose_a, pose_b) =
-        (step.world.motions[pair.a].pose_at(time), step.world.motions[pair.b].pose_at(time));
-    contact_normals(mesh_a, &pose_a, mesh_b, &pose_b, result.closest?, result.axis)
-        .map(|n| (overlap_along(mesh_a, &pose_a, mesh_b, &pose_b, &n), n))
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .map(|(_, n)| n)
+/// The directions pair `k`'s contact at `time` into the sweep may be along
+/// ([`contact_directions`]), each with the meshes' overlap along it ([`overlap_along`]) at the
+/// contact and at the sweep's end. Computed once a contact: the overshoot
+/// bound, the end check and the guard's normal read them.
+pub(crate) struct Directions {
+    list: [(Vector, Real, Real); 4],
+    len: usize,
 }
 
-/// The directions (from `a` towards `b`, world frame, not normalised) a
-/// contact of two convex meshes at these poses may be along: its closest
-/// points' (which say nothing once within rounding of each other), the
-/// hulls' separating `axis` of its query, and its two triangles' outward
-/// normals.
-fn contact_normals(
+impl Directions {
+    /// The directions of `result`'s contact (none without closest points).
+    fn of(step: &StepContext<'_>, k: usize, time: Real, result: &MeshCcdResult) -> Directions {
+        let mut directions = Directions { list: [(Vector::zeros(), 0.0, 0.0); 4], len: 0 };
+        let Some(closest) = result.closest else { return directions };
+        let pair = &step.world.pairs[k];
+        let (mesh_a, mesh_b) = (&step.model.bodies[pair.a].mesh, &step.model.bodies[pair.b].mesh);
+        let (ma, mb) = (&step.world.motions[pair.a], &step.world.motions[pair.b]);
+        let (contact_a, contact_b) = (ma.pose_at(time), mb.pose_at(time));
+        let dt = step.model.dt;
+        let (end_a, end_b) = (ma.pose_at(dt), mb.pose_at(dt));
+        for n in contact_directions(mesh_a, &contact_a, mesh_b, &contact_b, &closest, result.axis) {
+            let at_contact = overlap_along(mesh_a, &contact_a, mesh_b, &contact_b, &n);
+            let at_end = overlap_along(mesh_a, &end_a, mesh_b, &end_b, &n);
+            directions.list[directions.len] = (n, at_contact, at_end);
+            directions.len += 1;
+        }
+        directions
+    }
+
+    /// Each direction, its overlap at the contact and at the sweep's end.
+    fn iter(&self) -> impl Iterator<Item = &(Vector, Real, Real)> {
+        self.list[..self.len].iter()
+    }
+
+    /// The contact's normal: the direction the meshes are farthest apart
+    /// along at the contact (for two convex meshes, the separating one).
+    fn normal(&self) -> Option<Vector> {
+        self.iter().min_by(|x, y| x.1.total_cmp(&y.1)).map(|&(n, ..)| n)
+    }
+}
+
+/// The unit directions (from `a` towards `b`, world frame) a contact of
+/// meshes `a` and `b` at these poses (its closest points `closest`) may be
+/// along: its closest points' (which say nothing once within rounding of
+/// each other), the hulls' separating `axis` of its query if known, and its
+/// two triangles' outward normals.
+pub(crate) fn contact_directions(
     mesh_a: &TriMesh,
     pose_a: &Pose,
     mesh_b: &TriMesh,
     pose_b: &Pose,
-    closest: MeshDistance,
+    closest: &MeshDistance,
     axis: Option<Vector>,
 ) -> impl Iterator<Item = Vector> {
     let face = |mesh: &TriMesh, pose: &Pose, t: usize| {

@@ -46,11 +46,11 @@ pub(crate) use narrow::{
 };
 pub use parameters::StepParameters;
 pub use result::{Contact, Counters, RunResult, Solver, StageSeconds, Termination, Work};
+#[cfg(feature = "rapier")]
+pub(crate) use world::GuardHit;
 #[cfg(test)]
 pub(crate) use world::Touching;
 pub(crate) use world::{PairState, World};
-#[cfg(feature = "rapier")]
-pub(crate) use world::{Rewind, Stop};
 
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;

@@ -29,51 +29,40 @@ pub(crate) struct World {
     /// The pairs in contact that separated in the current step (re-armed,
     /// or apart for the whole step), `(a, b)`.
     pub separated: Vec<(usize, usize)>,
-    /// The contacts the guard's response stops at in the current sweep
-    /// (read by the guard, which needs the `rapier` feature).
+    /// The contacts the guard's response stops at in the current sweep:
+    /// their pairs' dynamic bodies stay at their poses then for the rest of
+    /// the step, their approach at the contact removed (read by the guard,
+    /// which needs the `rapier` feature).
     #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
-    pub stops: Vec<Stop>,
+    pub stops: Vec<GuardHit>,
     /// The pairs `(a, b)` the guard moved the world back to in the current
     /// step (their next contact in the step stops them).
     #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
     pub rewound: Vec<(usize, usize)>,
     /// The guard may ask for a rewind in this sweep (it has substeps left;
-    /// read by its clamp, which needs the `rapier` feature).
+    /// read by its response, which needs the `rapier` feature).
     #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
     pub may_rewind: bool,
-    /// The guard's response asks to move the world back to this time into
-    /// the sweep and let the engine solve from there.
-    pub rewind: Option<Rewind>,
+    /// The guard's response asks to move the world back to this contact's
+    /// time into the sweep and let the engine solve from there.
+    pub rewind: Option<GuardHit>,
 }
 
-/// A contact the guard steps the world back to (see `World::rewind`; read
-/// by the guard, which needs the `rapier` feature).
+/// A contact that needs the guard: the world goes back to it
+/// (`World::rewind`) or its pair stops at it (`World::stops`). Read by the
+/// guard, which needs the `rapier` feature.
 #[derive(Copy, Clone, Debug)]
 #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
-pub(crate) struct Rewind {
+pub(crate) struct GuardHit {
     /// Time into the sweep.
     pub time: Real,
-    /// The pair whose contact needs it.
+    /// The pair.
     pub a: usize,
     pub b: usize,
     /// The contact's point (world frame) and normal (from `a` towards
     /// `b`).
     pub point: Option<Point>,
     pub normal: Option<Vector>,
-}
-
-/// A contact the guard stops at (see `World::stops`): the dynamic bodies
-/// of the pair stay at their poses at `time` into the sweep for the rest of
-/// it, and their approach along `normal` (from `a` towards `b`) at `point`
-/// (the contact's, world frame, where they stay) is removed.
-#[derive(Copy, Clone, Debug)]
-#[cfg_attr(not(feature = "rapier"), allow(dead_code))]
-pub(crate) struct Stop {
-    pub a: usize,
-    pub b: usize,
-    pub time: Real,
-    pub normal: Option<Vector>,
-    pub point: Option<Point>,
 }
 
 /// A CCD query that ran out of iterations: the pair (index into `pairs`),
