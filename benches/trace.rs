@@ -29,8 +29,8 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use nearmiss::math::{pose_to_parry, to_parry, Real, Vector};
 use nearmiss::mesh::{mesh_distance_relative, DistanceKernel, DistanceSearch, MeshDistanceScratch};
+use nearmiss::run::{run_with, RunOptions};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{run_with, RunOptions};
 use std::hint::black_box;
 use std::time::Duration;
 

@@ -13,8 +13,8 @@
 //!
 //! Run: `cargo run --release --example scene_from_code`
 
+use nearmiss::run::run;
 use nearmiss::scene::Scene;
-use nearmiss::stepper::run;
 
 fn main() {
     let text = r#"Scene(

@@ -6,16 +6,17 @@
 //! kernels finds the time of first contact without stepping past it.
 //!
 //! The pipeline: a [`scene`] (RON) is validated into bodies with shared
-//! [`mesh`] assets (BVH built once) and motion state; the [`stepper`]
-//! advances them step by step, one stage after another: integrate
-//! ([`motion`]: exact free motion, or semi-implicit Euler / explicit Euler /
-//! RK4 with an implicit gyroscopic step), broad phase ([`broad_phase`]),
-//! narrow phase (conservative advancement, [`ccd::mesh_time_of_impact`],
-//! with the exact triangle [`kernels`] as the proximity query and the
-//! contact distance of [`ccd::ContactContract`]), respond ([`response`]:
-//! stop, record, bounce), re-arm, observe (the distance [`trace`], the
-//! [`poses`]). `guard` (the `rapier` feature) keeps rapier bodies from
-//! tunnelling, and runs `on_contact: Simulate`.
+//! [`mesh`] assets (BVH built once) and motion state; [`run`](mod@run) picks the
+//! scene's driver and steps it to the end. The [`stepper`] advances the
+//! bodies one stage after another: integrate ([`motion`]: exact free
+//! motion, or semi-implicit Euler / explicit Euler / RK4 with an implicit
+//! gyroscopic step), broad phase ([`broad_phase`]), narrow phase
+//! (conservative advancement, [`ccd::mesh_time_of_impact`], with the exact
+//! triangle [`kernels`] as the proximity query and the contact distance of
+//! [`ccd::ContactContract`]), respond (stop, record, bounce), re-arm,
+//! observe (the distance trace, the poses, the near misses). `guard` (the
+//! `rapier` feature) keeps rapier bodies from tunnelling, and drives
+//! `on_contact: Simulate`.
 //!
 //! Underneath: the distance [`kernels`] (exact triangle–triangle,
 //! point–segment by vector and Heron formulas, the seed paper's DyOP
@@ -44,7 +45,7 @@
 //!         (name: "ball", mesh: Icosphere(radius: 0.5, subdivisions: 2), position: (0.0, 0.0, 1.5)),
 //!     ],
 //! )"#)?;
-//! let result = nearmiss::stepper::run(&scene);
+//! let result = nearmiss::run(&scene);
 //! let contact = result.first_contact.expect("the ball lands");
 //! let landing = (2.0_f64 / 9.81).sqrt();
 //! assert!(contact.time <= landing && landing - contact.time < 1e-6);
@@ -73,11 +74,10 @@ pub mod kernels;
 pub mod math;
 pub mod mesh;
 pub mod motion;
-pub mod near_miss;
-pub mod poses;
-pub mod response;
+pub mod run;
 #[cfg(any(test, feature = "testing"))]
 pub mod samples;
 pub mod scene;
 pub mod stepper;
-pub mod trace;
+
+pub use run::run;

@@ -61,13 +61,15 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(nearmiss::motion::TURN_ROUNDING_ULPS, 4.0);
     // broad_phase.rs: the tree re-optimised at every second refit.
     assert_eq!(nearmiss::broad_phase::OPTIMIZE_EVERY_REFITS, 2);
-    let parameters = nearmiss::stepper::StepParameters::default();
+    let parameters = nearmiss::scene::StepParameters::default();
     assert_eq!(parameters.divergence_energy_growth, 10.0);
     assert_eq!(parameters.rearm_distance_factor, 2.0);
     assert_eq!(parameters.bounce_redetect_fraction, 0.5);
     assert_eq!(parameters.broad_phase_rounding_ulps, 1e3);
-    assert_eq!(parameters.parallel_integration_bodies, 64);
-    assert_eq!(parameters.parallel_narrow_phase_seconds, 1e-4);
+    let options = nearmiss::run::RunOptions::default();
+    assert_eq!(options.parallel_integration_bodies, 64);
+    assert_eq!(options.parallel_narrow_phase_seconds, 1e-4);
+    assert_eq!(options.parallel_trace_pairs, 64);
     #[cfg(feature = "rapier")]
     assert_eq!(nearmiss::guard::PARALLEL_NARROW_PHASE_SECONDS, 3e-4);
     assert_eq!(scene.model().parameters, parameters);

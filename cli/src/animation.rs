@@ -18,7 +18,7 @@
 use serde_json::json;
 
 use nearmiss::math::Real;
-use nearmiss::poses::PoseRecord;
+use nearmiss::run::PoseRecord;
 use nearmiss::scene::{Axis, Scene};
 
 /// Body colours (RGBA, linear), in body order.

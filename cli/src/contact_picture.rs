@@ -30,8 +30,8 @@ use nearmiss::mesh::{
     mesh_intersection, signed_distance, MeshDistance, MeshIntersection, MeshIntersectionScratch,
     SignedDistanceScratch, TriMesh,
 };
-use nearmiss::near_miss::NearMiss;
-use nearmiss::stepper::Contact;
+use nearmiss::run::Contact;
+use nearmiss::run::NearMiss;
 
 /// Contacts pictured per run: the first ones, and any the scene's `plot`
 /// names (`contacts: [12, 40]`).

@@ -21,9 +21,9 @@ use serde::Serialize;
 use crate::report::PeerComparison;
 use nearmiss::math::Real;
 use nearmiss::mesh::MeshDistance;
+use nearmiss::run::write_trace_csv;
+use nearmiss::run::{Contact, RunResult, StageSeconds, Work};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{Contact, RunResult, StageSeconds, Work};
-use nearmiss::trace::write_trace_csv;
 
 /// The `summary.json` document (its fields are listed in `scenes/README.md`).
 #[derive(Serialize)]
@@ -146,7 +146,7 @@ pub struct NearMissJson<'a> {
 
 impl<'a> NearMissJson<'a> {
     /// The near miss of a run, named.
-    pub fn of(result: &'a RunResult, miss: &'a nearmiss::near_miss::NearMiss) -> NearMissJson<'a> {
+    pub fn of(result: &'a RunResult, miss: &'a nearmiss::run::NearMiss) -> NearMissJson<'a> {
         NearMissJson {
             bodies: [&result.bodies[miss.body_a], &result.bodies[miss.body_b]],
             closest: &miss.closest,
@@ -403,7 +403,7 @@ fn write_run_files(
     }
     if scene.run().poses.is_some() {
         let mut csv = Vec::new();
-        nearmiss::poses::write_poses_csv(&result.poses, &result.bodies, &mut csv)?;
+        nearmiss::run::write_poses_csv(&result.poses, &result.bodies, &mut csv)?;
         write_synced(&folder.join("poses.csv"), &csv)?;
         written.push("poses.csv".to_string());
         let glb = crate::animation::glb(scene, &result.poses).map_err(std::io::Error::other)?;

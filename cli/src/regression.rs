@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use crate::text;
 use nearmiss::math::Real;
+use nearmiss::run::{RunResult, Termination};
 use nearmiss::scene::{Expectation, Scene};
-use nearmiss::stepper::{RunResult, Termination};
 
 /// The verdict on one scene.
 #[derive(Clone, Debug, PartialEq)]
@@ -27,13 +27,17 @@ pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
     let name = |i: usize| scene.model().bodies[i].name.as_str();
     let obtained = match (&result.termination, &result.first_contact) {
         (Termination::Diverged { reason, .. }, _) => format!("diverged: {reason}"),
+        (Termination::NotStarted { .. } | Termination::Failed { .. }, _) => result.termination_text(),
         (Termination::Undecided { .. }, None) => result.termination_text(),
         (_, Some(c)) => {
             format!("contact {} / {} at t = {}", name(c.body_a), name(c.body_b), text::time(c.time))
         }
         (_, None) => format!("no contact up to t = {}", text::time(result.end_time)),
     };
-    let diverged = matches!(result.termination, Termination::Diverged { .. });
+    let diverged = matches!(
+        result.termination,
+        Termination::Diverged { .. } | Termination::NotStarted { .. } | Termination::Failed { .. }
+    );
     let undecided = matches!(result.termination, Termination::Undecided { .. });
     Some(match expectation {
         Expectation::NoContact => Verdict {
@@ -156,7 +160,7 @@ pub fn record(path: &Path, max_steps: u64) -> Result<Recorded, String> {
         return Ok(Recorded::KeptDerived);
     }
     let first_contact_only = scene.stopping_at_first_contact();
-    let result = nearmiss::stepper::run(&first_contact_only);
+    let result = nearmiss::run(&first_contact_only);
     if !matches!(result.termination, Termination::Completed | Termination::FirstContact) {
         return Err(format!("{}: not recorded: {}", path.display(), result.termination_text()));
     }

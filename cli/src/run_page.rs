@@ -6,8 +6,8 @@
 use std::fmt::Write;
 
 use crate::text;
+use nearmiss::run::{Contact, RunResult};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{Contact, RunResult};
 
 /// Contacts listed in the page's table (the first ones; the count is
 /// always given, and `summary.json` has them all).

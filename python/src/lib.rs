@@ -771,7 +771,8 @@ fn run_scene_json<'py>(
     ),
 )> {
     let scene = Scene::load(&path).map_err(|e| SceneError::new_err(e.to_string()))?;
-    let result = py.detach(|| nearmiss::stepper::run(&scene));
+    nearmiss::run::check(&scene).map_err(|e| SceneError::new_err(e.to_string()))?;
+    let result = py.detach(|| nearmiss::run(&scene));
     if let Some(field) = result.first_non_finite() {
         return Err(PyRuntimeError::new_err(format!(
             "{}: the run produced a number that is not finite ({field}). Please report the scene",

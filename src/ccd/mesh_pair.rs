@@ -59,8 +59,8 @@
 //! only otherwise does the BVH search take over from that time.
 
 use super::advance::ROUNDING_FLOOR_ULPS;
-use super::closest_approach::convex_measure;
 use super::contact::{ContactContract, ContactRule};
+use super::convex_measure::convex_measure;
 use super::hull_gap::{first_within, hull_gap_from, WarmSimplex};
 use super::mesh_bound::{first_root, PairFrame, SPIN_SWEEP_AFTER_ITERATIONS, SPIN_SWEEP_MIN_TURN};
 use super::mesh_search::{Front, SearchMeshes, StepLimits, StepOutcome, StepWork};

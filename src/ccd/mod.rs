@@ -45,6 +45,7 @@
 mod advance;
 mod closest_approach;
 mod contact;
+mod convex_measure;
 mod edge_edge;
 mod hull_gap;
 mod mesh_bound;

@@ -9,7 +9,7 @@ use super::watch::pair_tolerance;
 use super::{Guard, GuardEvent, PUSHED_DEPTH_FRACTION};
 use crate::math::{Point, Pose, Real, Vector};
 use crate::motion::StepMotion;
-use crate::response::{apply_impulse, ImpactBody};
+use crate::stepper::respond::{apply_impulse, ImpactBody};
 use crate::stepper::GuardHit;
 
 impl<B: RapierBodies> Guard<B> {

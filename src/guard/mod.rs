@@ -234,7 +234,7 @@ pub const PUSHED_DEPTH_FRACTION: Real = 0.5;
 /// [`GuardOptions::max_substeps`]'s default.
 pub const DEFAULT_MAX_SUBSTEPS: usize = 4;
 
-/// [`StepParameters::parallel_narrow_phase_seconds`](crate::stepper::StepParameters::parallel_narrow_phase_seconds) under a guard: between
+/// [`RunOptions::parallel_narrow_phase_seconds`](crate::stepper::RunOptions::parallel_narrow_phase_seconds) under a guard: between
 /// two of its sweeps rapier steps on one thread and rayon's threads fall
 /// asleep, and waking them cost 1.3e-4 to 1.6e-4 s a step on the 1,000-body
 /// box (2 cores), more than a narrow phase of 0.25 ms gained from the
@@ -676,7 +676,11 @@ impl<B: RapierBodies> Guard<B> {
         if let Err((body, contact_distance, limit)) = contact_within(&model.ccd, model.bodies.iter(), limit) {
             return Err(GuardError::ContactDistance { body, contact_distance, limit });
         }
-        let options = RunOptions { parallel: setup.parallel, broad_phase: true };
+        let options = RunOptions {
+            parallel: setup.parallel,
+            parallel_narrow_phase_seconds: PARALLEL_NARROW_PHASE_SECONDS,
+            ..RunOptions::default()
+        };
         let thickness: Arc<[Real]> = model.bodies.iter().map(|b| thickness(&b.mesh)).collect();
         let response = Box::new(Watch {
             dynamic: setup.stoppable.clone(),
@@ -692,7 +696,6 @@ impl<B: RapierBodies> Guard<B> {
         });
         let mut stepper = Stepper::with_response(Arc::clone(&model), run, options, response);
         stepper.set_extra_box_margin(setup.skin);
-        stepper.set_parallel_narrow_phase_seconds(PARALLEL_NARROW_PHASE_SECONDS);
         let world = stepper.new_world(false);
         Ok(Guard {
             start: model.bodies.iter().map(|b| b.pose).collect(),

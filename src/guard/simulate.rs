@@ -362,12 +362,13 @@ impl Driver for Guarded {
         });
         match outcome {
             Ok(_) => Ok(StepEnd::Continue),
-            Err(GuardError::Undecided { .. }) => {
-                Err(self.guard.undecided.take().unwrap_or(Termination::Completed))
+            Err(error @ GuardError::Undecided { .. }) => {
+                Err(self.guard.undecided.take().unwrap_or_else(|| Termination::Failed {
+                    step,
+                    reason: format!("the guard failed: {error}"),
+                }))
             }
-            Err(error) => {
-                Err(Termination::Diverged { body: 0, step, reason: format!("the guard failed: {error}") })
-            }
+            Err(error) => Err(Termination::Failed { step, reason: format!("the guard failed: {error}") }),
         }
     }
 

@@ -50,7 +50,7 @@ use crate::ccd::{hull_gap, mesh_time_of_impact, CcdStatus, ContactRule, MeshCcdR
 use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::{convex_penetration_with, MeshDistance, PenetrationScratch, TriMesh};
 use crate::motion::StepMotion;
-use crate::response::{approach_speed, contact_frame, Response, StepContext};
+use crate::stepper::respond::{approach_speed, contact_frame, Response, StepContext};
 use crate::stepper::{pair_query, Found, GuardHit, PairState};
 
 /// A pair at the wall at a sweep's start and moving apart is a hit again

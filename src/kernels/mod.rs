@@ -49,6 +49,7 @@ mod refine;
 mod scale;
 mod segment_segment;
 mod separated;
+mod triangle_distance;
 mod triangle_intersection;
 mod triangle_overlap;
 mod triangle_triangle;
@@ -67,9 +68,10 @@ pub use refine::{REFINE_BELOW_EXTENT, REFINE_TIE_BAND_ULPS};
 pub(crate) use scale::{largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point};
 pub use scale::{MIN_RELATIVE_SIZE, SAFE_EXPONENT};
 pub use segment_segment::{segment_segment, segment_segment_lanes, Edge, SegmentSegment};
+pub use triangle_distance::{triangle_distance, triangle_distance_with};
 pub use triangle_intersection::triangles_intersect;
 pub use triangle_overlap::{
     triangle_intersection, triangle_penetration, OverlapPolygon, TriangleIntersection, TrianglePenetration,
     MAX_OVERLAP_VERTICES,
 };
-pub use triangle_triangle::{triangle_distance, triangle_distance_with, TriangleDistance};
+pub use triangle_triangle::TriangleDistance;

@@ -30,7 +30,6 @@
 //! pair's 15 candidates side by side in vector lanes (`pair_lanes.rs`),
 //! again bit for bit the same.
 
-use super::dispatch::SimdLevel;
 use super::feature::Feature;
 use super::lanes::V3;
 use super::point_triangle::point_triangle;
@@ -66,40 +65,6 @@ pub struct TriangleDistance {
     pub within_range: bool,
 }
 
-/// Distance between triangles `a` and `b`.
-///
-/// Degenerate triangles (repeated or collinear vertices) are treated as the
-/// segments or points they are. Never panics, never NaN on finite input.
-///
-/// ```
-/// use nearmiss::kernels::{triangle_distance, Feature};
-/// use nearmiss::math::Point;
-/// let a = [Point::new(0.0, 0.0, 0.0), Point::new(1.0, 0.0, 0.0), Point::new(0.0, 1.0, 0.0)];
-/// let b = [Point::new(0.2, 0.2, 0.5), Point::new(2.0, 2.0, 3.0), Point::new(2.0, 0.0, 3.0)];
-/// let d = triangle_distance(&a, &b);
-/// assert_eq!(d.distance, 0.5);
-/// assert_eq!((d.feature_a, d.feature_b), (Feature::Face, Feature::Vertex(0)));
-/// assert_eq!(d.point_a, Point::new(0.2, 0.2, 0.0));
-/// ```
-#[inline]
-pub fn triangle_distance(a: &Triangle, b: &Triangle) -> TriangleDistance {
-    triangle_distance_with(SimdLevel::detect(), a, b)
-}
-
-/// [`triangle_distance`] at the given [`SimdLevel`] (lowered to the best the
-/// CPU supports): for tests and benchmarks. Results are bit-identical at
-/// every level. From AVX2 on, the pair's 15 candidates run side by side in
-/// vector lanes (`pair_lanes.rs`); at the baseline one after another.
-pub fn triangle_distance_with(level: SimdLevel, a: &Triangle, b: &Triangle) -> TriangleDistance {
-    #[cfg(target_arch = "x86_64")]
-    if level.min(SimdLevel::detect()) >= SimdLevel::Avx2 {
-        // SAFETY: the CPU has AVX2 and FMA (the level is lowered to what it supports).
-        return unsafe { super::pair_lanes::triangle_distance(a, b) };
-    }
-    let _ = level;
-    normalised_triangle_distance::<Sequential>(a, b)
-}
-
 /// A pair's sizes, for the normalisation and the range check.
 #[derive(Copy, Clone, Debug)]
 pub(super) struct PairSizes {
@@ -109,7 +74,7 @@ pub(super) struct PairSizes {
     pub extents: [Real; 2],
 }
 
-/// How an instruction set runs the parts of [`triangle_distance`] that
+/// How an instruction set runs the parts of [`triangle_distance`](super::triangle_distance) that
 /// differ between them. Static methods, always inlined: a closure or a
 /// function item passed instead is compiled on its own, without the
 /// caller's target features, and its intrinsics (and `mul_add`) become calls.
@@ -188,7 +153,7 @@ fn within_range(sizes: &PairSizes, distance: Real) -> bool {
     fine(sizes.extents[0]) && fine(sizes.extents[1]) && fine(distance)
 }
 
-/// The body of [`triangle_distance`], inlined into each instruction-set
+/// The body of [`triangle_distance`](super::triangle_distance), inlined into each instruction-set
 /// version and into the batched kernel's scalar pass.
 #[inline(always)]
 pub(crate) fn triangle_distance_kernel<P: PairPass>(a: &Triangle, b: &Triangle) -> TriangleDistance {

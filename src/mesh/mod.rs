@@ -9,6 +9,7 @@
 //! mesh inside another overlaps it there).
 
 mod bvh;
+mod convex_features;
 pub(crate) mod distance;
 mod intersection;
 mod local_depth;
@@ -22,6 +23,7 @@ mod support;
 mod trimesh;
 
 pub use bvh::{BvhNode, MeshBvh, BVH_LEAF_SIZE};
+pub use convex_features::FLAT_EDGE_TOLERANCE;
 pub(crate) use distance::triangle_pair_distance;
 pub use distance::{
     mesh_distance, mesh_distance_brute_force, mesh_distance_relative, DistanceKernel, DistanceSearch,
@@ -33,9 +35,7 @@ pub use intersection::{
 pub use local_depth::{local_depths, LocalDepth, Side};
 pub use mass::MassProperties;
 pub use obj::{load_obj, parse_obj, ObjError};
-pub use penetration::{
-    convex_penetration, MeshPenetration, NotConvex, FLAT_EDGE_TOLERANCE, PARALLEL_EDGE_SINE,
-};
+pub use penetration::{convex_penetration, MeshPenetration, NotConvex, PARALLEL_EDGE_SINE};
 #[cfg(feature = "rapier")]
 pub(crate) use penetration::{convex_penetration_with, PenetrationScratch};
 pub use point_query::{point_signed_distance, PointQueryScratch, PointSignedDistance};

@@ -1,8 +1,8 @@
 //! The validated triangle mesh.
 
 use super::bvh::MeshBvh;
+use super::convex_features::ConvexFeatures;
 use super::mass::MassProperties;
-use super::penetration::ConvexFeatures;
 use super::support::{self, SupportTable};
 use crate::math::{Point, Real, Triangle, Vector};
 
@@ -223,7 +223,7 @@ impl TriMesh {
     /// The faces and edges of a convex mesh for
     /// [`convex_penetration`](super::convex_penetration), built once.
     pub(crate) fn convex_features(&self) -> &ConvexFeatures {
-        self.convex_features.get_or_init(|| ConvexFeatures::of(self))
+        self.convex_features.get_or_init(|| ConvexFeatures::of(&self.vertices, &self.triangles))
     }
 
     /// Whether the surface is closed and consistently oriented

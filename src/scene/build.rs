@@ -176,9 +176,6 @@ impl Builder<'_> {
         let pushed_by_contacts = self.response(&file.on_contact)?;
         self.motions(&file.bodies, &mut bodies, springs, gravity, pushed_by_contacts, dt)?;
         self.materials(&file.on_contact, &file.bodies, &mut bodies)?;
-        if let OnContact::Simulate { skin, .. } = file.on_contact {
-            self.simulate_contact_distances(&ccd, &bodies, skin)?;
-        }
         let trace = self.trace(file.trace.as_ref(), &names, &bodies, steps)?;
         let poses = match &file.poses {
             None => None,
@@ -381,28 +378,6 @@ impl Builder<'_> {
             }
             _ => Ok(false),
         }
-    }
-
-    /// Under `Simulate`, the largest pair's contact distance (its smaller
-    /// body's radius sets it) must lie within the two colliders' contact
-    /// skins: the guard's wall inside rapier's contact
-    /// ([`crate::guard::simulate_contact_limit`]).
-    fn simulate_contact_distances(&self, ccd: &CcdOptions, bodies: &[Body], skin: Real) -> Result<()> {
-        #[cfg(feature = "rapier")]
-        if let Err((body, contact_distance, limit)) = crate::guard::simulate_contact_limit(ccd, bodies, skin)
-        {
-            return self.invalid(
-                "ccd.distance_tolerance",
-                format!(
-                    "a pair with `{body}` would have a contact distance of {} under `Simulate`, not below {} (the two colliders' contact skins, or without skins rapier's prediction distance): the guard's wall would lie outside rapier's contact; lower `distance_tolerance` or `minimum_separation`",
-                    shortest(contact_distance),
-                    shortest(limit)
-                ),
-            );
-        }
-        #[cfg(not(feature = "rapier"))]
-        let _ = (ccd, bodies, skin);
-        Ok(())
     }
 
     /// A coefficient of restitution, in `[0, 1]`.

@@ -32,6 +32,7 @@ mod build_body;
 mod error;
 pub mod file;
 mod overlap;
+mod parameters;
 pub mod record;
 
 use std::path::Path;
@@ -45,6 +46,7 @@ pub use error::SceneError;
 pub use file::OnContact;
 pub use file::PlotSettings;
 pub use overlap::{initial_overlaps, InitialOverlap};
+pub use parameters::StepParameters;
 
 use crate::ccd::CcdOptions;
 use crate::math::{Pose, Real, Vector};
@@ -108,7 +110,7 @@ pub struct Model {
     /// does not copy them; `Arc::make_mut` changes a copy's own.
     pub bodies: Arc<Vec<Body>>,
     /// The stepper's parameters (not part of the file format: defaults).
-    pub parameters: crate::stepper::StepParameters,
+    pub parameters: StepParameters,
 }
 
 /// A body, resolved.
@@ -364,8 +366,8 @@ impl Scene {
     /// is done: thresholds for threads, the broad phase's rounding and the
     /// like; not part of the file format).
     ///
-    /// [`StepParameters`]: crate::stepper::StepParameters
-    pub fn with_parameters(&self, parameters: crate::stepper::StepParameters) -> Scene {
+    /// [`StepParameters`]: StepParameters
+    pub fn with_parameters(&self, parameters: StepParameters) -> Scene {
         let mut scene = self.clone();
         scene.model.parameters = parameters;
         scene

@@ -47,7 +47,7 @@ impl Stepper {
             }
             _ => None,
         };
-        if self.options.parallel && model.bodies.len() >= parameters.parallel_integration_bodies {
+        if self.options.parallel && model.bodies.len() >= self.options.parallel_integration_bodies {
             model.bodies.par_iter().zip(&world.states).map(advance).collect_into_vec(advanced);
         } else {
             advanced.clear();

@@ -1,27 +1,28 @@
 //! The time-stepper: each fixed step runs the stages below in order, one
-//! file each, each timed by its counter ([`Counters`]):
+//! file or folder each, each timed by its counter ([`Counters`]):
 //!
 //! 1. **integrate** (`integrate.rs`): each body's motion over the step (or,
 //!    under `Simulate`, rapier's step read back as motions: [`crate::guard`]);
 //! 2. **broad phase** (`broad.rs`): the pairs whose swept boxes overlap
 //!    (scenes of more than two bodies; with two, the one pair is queried);
 //! 3. **narrow phase** (`narrow.rs`): the CCD of every pair in play, on
-//!    rayon's threads when it is long enough to gain from them, results in
-//!    pair order (a run is the same whatever the threads); with
-//!    `near_misses`, each pair's screen ([`crate::near_miss`]) runs first,
-//!    and a pair it proves farther than the contact distance over the step
-//!    is not asked again;
-//! 4. **respond** ([`crate::response`]): what the scene's `on_contact` does
-//!    with the contacts found (stop, record, bounce), then the near misses'
-//!    screens up to the contacts and their brackets;
+//!    rayon's threads when it is long enough to gain from them
+//!    (`threads.rs`), results in pair order (a run is the same whatever the
+//!    threads); with `near_misses`, each pair's screen runs first, and a
+//!    pair it proves farther than the contact distance over the step is not
+//!    asked again;
+//! 4. **respond** (`respond/`): what the scene's `on_contact` does with the
+//!    contacts found (stop, record, bounce), then the near misses' screens
+//!    up to the contacts and their brackets;
 //! 5. **re-arm** (`rearm.rs`): touching pairs that separated are armed again;
-//! 6. **observe** ([`crate::trace`]): the distance trace, when asked for.
+//! 6. **observe** (`observe/`): the distance trace, the poses and the near
+//!    misses, each when the scene asks for it.
 //!
-//! One run loop ([`run_with`]) serves every response: it asks the scene's
-//! driver for each step, the stepper's own integration (`Stop`, `Record`,
-//! `Bounce`) or rapier guarded by nearmiss (`Simulate`: rapier steps, the
-//! guard runs stages 2 to 5 on its motions, rewinding to a contact where
-//! rapier would let a pair through, then stage 6).
+//! A run's steps are made by a driver (`driver.rs`): the stepper's own
+//! integration (`Stop`, `Record`, `Bounce`) or rapier guarded by nearmiss
+//! (`Simulate`: rapier steps, the guard runs stages 2 to 5 on its motions,
+//! rewinding to a contact where rapier would let a pair through, then
+//! stage 6). The loop around it is [`crate::run`](mod@crate::run), on top.
 //!
 //! The world state (bodies' states and motions, pairs, contacts:
 //! `world.rs`) is passed to each stage; the `Stepper` owns only the run's
@@ -31,20 +32,27 @@
 //! two bodies and no trace unless asked for.
 
 mod broad;
+mod driver;
+mod found;
 mod integrate;
 mod narrow;
-mod parameters;
+pub(crate) mod observe;
+mod options;
 mod rearm;
+pub(crate) mod respond;
 mod result;
+mod threads;
 mod world;
 
 use std::sync::Arc;
 use std::time::Instant;
 
-pub(crate) use narrow::{
-    gains_from_threads, one_thread_seconds, pair_query, CcdVerdict, Found, THREAD_SCRATCH,
-};
-pub use parameters::StepParameters;
+pub(crate) use driver::{Driver, StepEnd};
+pub(crate) use found::{pair_query, CcdVerdict, Found};
+pub use observe::near_miss::NearMiss;
+pub use observe::poses::{write_poses_csv, PoseRecord};
+pub use observe::trace::{write_trace_csv, TraceRecord};
+pub use options::RunOptions;
 pub use result::{Contact, Counters, RunResult, Solver, StageSeconds, Termination, Work};
 #[cfg(feature = "rapier")]
 pub(crate) use world::GuardHit;
@@ -55,98 +63,16 @@ pub(crate) use world::{PairState, World};
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;
 use crate::math::Real;
-use crate::near_miss::NearMissObserver;
-use crate::poses::PoseObserver;
-use crate::response::{Response, StepContext};
-use crate::scene::{Model, RunSpec, Scene};
-use crate::trace::TraceObserver;
-
-/// Runs a scene: the bodies move step by step, and every contact is found
-/// at its time, never late (see the module for the stages).
-///
-/// Two unit cubes 1 apart closing at 2 touch at `t = 0.5`:
-///
-/// ```
-/// use nearmiss::scene::Scene;
-/// let scene = Scene::from_ron_str(r#"Scene(name: "meet", dt: 0.1, duration: 1.0, bodies: [
-///     (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), velocity: (1.0, 0.0, 0.0)),
-///     (name: "b", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (2.0, 0.0, 0.0), velocity: (-1.0, 0.0, 0.0)),
-/// ])"#).unwrap();
-/// let result = nearmiss::stepper::run(&scene);
-/// let contact = result.first_contact.unwrap();
-/// assert!(contact.time <= 0.5 && contact.time > 0.5 - 1e-6);
-/// assert_eq!((result.bodies[contact.body_a].as_str(), result.bodies[contact.body_b].as_str()), ("a", "b"));
-/// ```
-pub fn run(scene: &Scene) -> RunResult {
-    run_observed(scene, &mut |_| {})
-}
-
-/// How a run is carried out (not what it computes: results are the same
-/// whatever the options).
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub struct RunOptions {
-    /// Run the pairs' CCD on several threads (rayon's pool). Default: true.
-    pub parallel: bool,
-    /// Select pairs with the broad phase when there are more than two
-    /// bodies (otherwise every pair not both fixed is queried). Default: true.
-    pub broad_phase: bool,
-}
-
-impl Default for RunOptions {
-    fn default() -> Self {
-        RunOptions { parallel: true, broad_phase: true }
-    }
-}
-
-/// Runs a scene, calling `observer` with the number of steps done after
-/// each step (for progress display).
-pub fn run_observed(scene: &Scene, observer: &mut dyn FnMut(u64)) -> RunResult {
-    run_with(scene, RunOptions::default(), observer)
-}
-
-/// Runs a scene with options: the one run loop of every response, its
-/// steps made by the scene's driver (the stepper's integration, or rapier
-/// guarded by nearmiss under `Simulate`).
-pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64)) -> RunResult {
-    let start = Instant::now();
-    let mut driver = match driver_for(scene, options) {
-        Ok(driver) => driver,
-        Err(reason) => return not_started(scene, reason),
-    };
-    driver.start();
-    let mut termination = Termination::Completed;
-    let mut steps = 0;
-    for step in 0..scene.run.steps {
-        steps = step + 1;
-        match driver.step(step) {
-            Ok(StepEnd::Continue) => observer(steps),
-            Ok(StepEnd::FirstContact) => {
-                termination = Termination::FirstContact;
-                break;
-            }
-            Err(ended) => {
-                termination = ended;
-                break;
-            }
-        }
-    }
-    driver.finish(steps, termination, start)
-}
-
-/// What makes a run's steps: the bodies' motions over each step and the
-/// sweep of that step (stages 1 to 6). [`run_with`] is the loop around it.
-pub(crate) trait Driver {
-    /// The observers' samples at the run's start.
-    fn start(&mut self);
-    /// Step `step` (0-based): how it ended, or why the run ends there.
-    fn step(&mut self, step: u64) -> Result<StepEnd, Termination>;
-    /// The run's result after `steps` steps, ended by `termination`.
-    fn finish(self: Box<Self>, steps: u64, termination: Termination, start: Instant) -> RunResult;
-}
+use crate::scene::{Model, RunSpec, Scene, StepParameters};
+use observe::near_miss::NearMissObserver;
+use observe::poses::PoseObserver;
+use observe::trace::TraceObserver;
+use respond::{Response, StepContext};
+use threads::Batches;
 
 /// The stepper integrating the scene's bodies itself (`Stop`, `Record`,
 /// `Bounce`).
-struct Integrated {
+pub(crate) struct Integrated {
     stepper: Stepper,
     world: World,
     /// The scene's name.
@@ -168,51 +94,16 @@ impl Driver for Integrated {
     }
 }
 
-/// The scene's driver: rapier guarded by nearmiss under `Simulate`, the
-/// stepper's integration otherwise. `Err`: why it could not be set up.
-fn driver_for(scene: &Scene, options: RunOptions) -> Result<Box<dyn Driver>, String> {
-    #[cfg(feature = "rapier")]
-    if let crate::scene::OnContact::Simulate { .. } = scene.model.on_contact {
-        return crate::guard::simulate::driver(scene, options)
-            .map(|driver| Box::new(driver) as Box<dyn Driver>)
-            .map_err(|error| format!("rapier could not be set up: {error}"));
+impl Integrated {
+    /// The stepper's own integration of `scene` (`Stop`, `Record`,
+    /// `Bounce`); `None` under `Simulate`, whose steps rapier makes.
+    pub(crate) fn of(scene: &Scene, options: RunOptions) -> Option<Integrated> {
+        let response = respond::for_model(&scene.model)?;
+        let stepper =
+            Stepper::with_response(Arc::new(scene.model.clone()), Some(&scene.run), options, response);
+        let world = stepper.new_world(stepper.response.stops_kinematic_bodies());
+        Some(Integrated { stepper, world, name: scene.run.name.clone() })
     }
-    let Some(response) = crate::response::for_model(&scene.model) else {
-        return Err(
-            "`Simulate` solves contacts with rapier3d: build nearmiss with the `rapier` feature".into()
-        );
-    };
-    let stepper = Stepper::with_response(Arc::new(scene.model.clone()), Some(&scene.run), options, response);
-    let world = stepper.new_world(stepper.response.stops_kinematic_bodies());
-    Ok(Box::new(Integrated { stepper, world, name: scene.run.name.clone() }))
-}
-
-/// The result of a run whose driver could not be set up (the scene loader
-/// checks what the guard needs, so only a scene built by hand gets here):
-/// no step, and why.
-fn not_started(scene: &Scene, reason: String) -> RunResult {
-    RunResult {
-        scene: scene.run.name.clone(),
-        bodies: scene.model.bodies.iter().map(|b| b.name.clone()).collect(),
-        steps: 0,
-        end_time: 0.0,
-        wall_time_s: 0.0,
-        first_contact: None,
-        contacts: Vec::new(),
-        trace: Vec::new(),
-        poses: Vec::new(),
-        solver: None,
-        termination: Termination::Diverged { body: 0, step: 0, reason },
-        counters: Counters::default(),
-        final_states: Vec::new(),
-        near_misses: Vec::new(),
-    }
-}
-
-/// How a step ended, when the run goes on or stops at a contact.
-pub(crate) enum StepEnd {
-    Continue,
-    FirstContact,
 }
 
 /// A run's set-up and scratch buffers (the world state is passed in).
@@ -251,9 +142,8 @@ struct Scratch {
     spare_pairs: Vec<PairState>,
     /// The pairs queried in the narrow phase (indices into the pairs).
     work: Vec<usize>,
-    /// Whether the next narrow phase runs on several threads (see
-    /// [`StepParameters::parallel_narrow_phase_seconds`]).
-    narrow_parallel: bool,
+    /// Whether the narrow phase's queries go on rayon's threads.
+    batches: Batches,
     /// The narrow phase's results.
     results: Vec<narrow::PairOutcome>,
     /// The contacts found in a step.
@@ -277,7 +167,9 @@ impl Stepper {
             options,
             response,
             broad: (options.broad_phase && model.bodies.len() > 2).then(BroadPhase::default),
-            trace: run.and_then(|run| TraceObserver::of(&model, run, options.parallel)),
+            trace: run.and_then(|run| {
+                TraceObserver::of(&model, run, options.parallel.then_some(options.parallel_trace_pairs))
+            }),
             poses: run
                 .and_then(|run| run.poses.as_ref().map(|spec| PoseObserver::new(spec.every, run.steps))),
             near_misses: run.and_then(|run| {
@@ -285,12 +177,15 @@ impl Stepper {
                     NearMissObserver::new(
                         spec,
                         options.parallel,
-                        model.parameters.parallel_narrow_phase_seconds,
-                        (model.bodies.len(), model.parameters.parallel_integration_bodies),
+                        options.parallel_narrow_phase_seconds,
+                        (model.bodies.len(), options.parallel_integration_bodies),
                     )
                 })
             }),
-            scratch: Scratch::default(),
+            scratch: Scratch {
+                batches: Batches::new(options.parallel, options.parallel_narrow_phase_seconds),
+                ..Scratch::default()
+            },
             counters: Counters::default(),
             // The near misses' pairs must be candidates: boxes grown by half
             // their distance.
@@ -440,12 +335,6 @@ impl Stepper {
     #[cfg(feature = "rapier")]
     pub(crate) fn set_extra_box_margin(&mut self, margin: Real) {
         self.extra_box_margin = margin;
-    }
-
-    /// Sets [`StepParameters::parallel_narrow_phase_seconds`].
-    #[cfg(feature = "rapier")]
-    pub(crate) fn set_parallel_narrow_phase_seconds(&mut self, seconds: Real) {
-        self.parameters.parallel_narrow_phase_seconds = seconds;
     }
 
     /// The work done so far.

@@ -1,82 +1,20 @@
 //! Stage 3, narrow phase: the CCD of every pair in play over the step. The
 //! queries are independent: on rayon's threads when there are several and
 //! the narrow phase is long enough to gain from them
-//! ([`StepParameters::parallel_narrow_phase_seconds`](super::StepParameters)),
+//! ([`RunOptions::parallel_narrow_phase_seconds`](super::RunOptions), the
+//! rule of `threads.rs`),
 //! results applied in pair order, so a run gives the same result whatever
 //! the threads. A far pair is settled without a mesh query by its bounding
 //! spheres or the distance bound carried from its previous step.
 
-use std::cell::RefCell;
 use std::sync::Arc;
 use std::time::Instant;
 
-use rayon::prelude::*;
-
-use super::world::{PairState, World};
+use super::found::{pair_query, CcdVerdict, Found};
+use super::world::World;
 use super::Stepper;
-use crate::ccd::{
-    mesh_time_of_impact, CcdStatus, ContactRule, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh,
-    WarmSimplex,
-};
+use crate::ccd::{mesh_time_of_impact, CcdStatus, MeshCcdResult, MeshCcdScratch, WarmSimplex};
 use crate::math::Real;
-use crate::motion::StepMotion;
-use crate::scene::Model;
-
-thread_local! {
-    /// Each rayon thread's CCD scratch, kept between steps and runs (the
-    /// narrow phase's and the near misses' batches).
-    pub(crate) static THREAD_SCRATCH: RefCell<MeshCcdScratch> = RefCell::new(MeshCcdScratch::default());
-}
-
-/// What a batch that took `seconds` would have taken on one thread: the
-/// time itself, or, where it ran on `threads` threads, what they spent
-/// after handing it over (`handing_over` seconds).
-pub(crate) fn one_thread_seconds(seconds: Real, parallel: bool, threads: Real, handing_over: Real) -> Real {
-    if parallel {
-        threads * (seconds - handing_over).max(0.0)
-    } else {
-        seconds
-    }
-}
-
-/// Whether a batch of `on_one_thread` seconds gains from `threads`
-/// threads, handing it over costing `handing_over` seconds
-/// ([`StepParameters::parallel_narrow_phase_seconds`](super::StepParameters)).
-pub(crate) fn gains_from_threads(on_one_thread: Real, threads: Real, handing_over: Real) -> bool {
-    threads > 1.0 && on_one_thread > handing_over * threads / (threads - 1.0)
-}
-
-/// What a pair's CCD result means to the stepper (the narrow phase's and
-/// a response's re-checks alike).
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub(crate) enum CcdVerdict {
-    /// The query ran out of iterations: undecided is not a contact; the
-    /// run ends after this step ([`World::note_undecided`]).
-    Undecided,
-    /// A contact at this time (in the query's interval).
-    Contact(Real),
-    /// No contact within the interval.
-    Apart,
-}
-
-impl CcdVerdict {
-    /// The verdict of `result`.
-    pub(crate) fn of(result: &MeshCcdResult) -> CcdVerdict {
-        match (result.status, result.time_of_impact) {
-            (CcdStatus::OutOfIterations, _) => CcdVerdict::Undecided,
-            (_, Some(time)) => CcdVerdict::Contact(time),
-            (_, None) => CcdVerdict::Apart,
-        }
-    }
-}
-
-/// A contact the narrow phase found: the pair (index into `world.pairs`)
-/// and its CCD result (with a time of impact).
-#[derive(Clone, Debug)]
-pub(crate) struct Found {
-    pub pair: usize,
-    pub result: MeshCcdResult,
-}
 
 /// What the stepper keeps of a pair's CCD result: the counters and what
 /// carries to the next step, and the full result only at a contact (a few
@@ -113,25 +51,6 @@ impl From<MeshCcdResult> for PairOutcome {
             },
             contact: result.time_of_impact.is_some().then(|| Box::new(result)),
         }
-    }
-}
-
-/// The mesh CCD query of `pair` over `duration`, its bodies moving by
-/// `motions`, under the scene's options and kernel and the rule `contact`.
-pub(crate) fn pair_query<'a>(
-    model: &'a Model,
-    pair: &PairState,
-    motions: [&'a StepMotion; 2],
-    duration: Real,
-    contact: ContactRule,
-) -> MeshCcdQuery<'a> {
-    MeshCcdQuery {
-        a: MovingMesh { mesh: &model.bodies[pair.a].mesh, motion: motions[0] },
-        b: MovingMesh { mesh: &model.bodies[pair.b].mesh, motion: motions[1] },
-        duration,
-        options: model.ccd,
-        contact,
-        kernel: model.kernel,
     }
 }
 
@@ -172,16 +91,7 @@ impl Stepper {
         // Results go into a buffer kept between steps, and each thread keeps
         // its own scratch: a step allocates nothing once they have grown.
         let results = &mut self.scratch.results;
-        let parallel = self.options.parallel && self.scratch.narrow_parallel && work.len() > 1;
-        if parallel {
-            work.par_iter()
-                .map(|&k| THREAD_SCRATCH.with(|scratch| query(k, &mut scratch.borrow_mut())))
-                .collect_into_vec(results);
-        } else {
-            results.clear();
-            let scratch = &mut self.scratch.ccd;
-            results.extend(work.iter().map(|&k| query(k, scratch)));
-        }
+        self.scratch.batches.run(work, results, &mut self.scratch.ccd, |&mut k, scratch| query(k, scratch));
         for (&k, outcome) in work.iter().zip(results.iter_mut()) {
             let pair = &mut world.pairs[k];
             let result = outcome.summary;
@@ -199,10 +109,6 @@ impl Stepper {
             }
         }
         let seconds = clock.elapsed().as_secs_f64();
-        let threads = rayon::current_num_threads() as Real;
-        let handing_over = self.parameters.parallel_narrow_phase_seconds;
-        let on_one_thread = one_thread_seconds(seconds, parallel, threads, handing_over);
-        self.scratch.narrow_parallel = gains_from_threads(on_one_thread, threads, handing_over);
         self.counters.seconds.ccd += seconds;
     }
 }

@@ -4,8 +4,8 @@ use crate::ccd::CcdStatus;
 use crate::math::{Pose, Real};
 use crate::mesh::MeshDistance;
 use crate::motion::RigidState;
-use crate::poses::PoseRecord;
-use crate::trace::TraceRecord;
+use crate::stepper::observe::poses::PoseRecord;
+use crate::stepper::observe::trace::TraceRecord;
 
 /// The outside engine that solved a run's contact response.
 #[derive(Clone, Debug, PartialEq)]
@@ -83,6 +83,22 @@ pub enum Termination {
         /// What happened.
         reason: String,
     },
+    /// The driver failed during a step (the guard of a `Simulate` run
+    /// refusing what it was handed): the run ends there, nothing after is
+    /// known.
+    Failed {
+        /// The step (0-based).
+        step: u64,
+        /// Why.
+        reason: String,
+    },
+    /// The run could not start: its driver could not be set up (a scene
+    /// built by hand that `nearmiss::run::check` refuses, or rapier
+    /// refusing a body). No step was made.
+    NotStarted {
+        /// Why.
+        reason: String,
+    },
 }
 
 /// Work and time per stage: `summary.json`'s `work` and
@@ -117,7 +133,7 @@ pub struct Work {
     pub max_energy_drift: Real,
     /// Trace samples settled without a search: the gap between the two
     /// meshes' vertex hulls met the distance of a triangle pair (see
-    /// [`crate::trace::TraceObserver::sample`]).
+    /// `TraceObserver::sample`).
     pub trace_certified: usize,
 }
 
@@ -198,7 +214,7 @@ pub struct RunResult {
     pub final_states: Vec<RigidState>,
     /// With `near_misses` in the scene: every pair that came within its
     /// distance without touching, nearest first.
-    pub near_misses: Vec<crate::near_miss::NearMiss>,
+    pub near_misses: Vec<crate::stepper::observe::near_miss::record::NearMiss>,
 }
 
 impl RunResult {
@@ -210,6 +226,8 @@ impl RunResult {
             Termination::Completed => "completed".into(),
             Termination::FirstContact => "first_contact".into(),
             Termination::Diverged { step, reason, .. } => format!("diverged at step {step}: {reason}"),
+            Termination::NotStarted { reason } => format!("not started: {reason}"),
+            Termination::Failed { step, reason } => format!("failed at step {step}: {reason}"),
             Termination::Undecided { pair: (a, b), time, step, iterations } => format!(
                 "undecided at step {step}: the CCD of `{}` / `{}` could not decide in {iterations} iterations whether they touch after t = {} (they are apart until then; nothing later is known). Raise `ccd.max_iterations`, lower `dt`, or raise `ccd.distance_tolerance`",
                 self.bodies[*a], self.bodies[*b], crate::math::shortest(*time)

@@ -7,8 +7,8 @@ use super::result::Contact;
 use crate::ccd::{MeshCcdResult, WarmSimplex, WarmStart};
 use crate::math::{Point, Real, Vector};
 use crate::motion::{RigidState, StepMotion};
-use crate::response::ImpactBody;
 use crate::scene::{BodyMotion, Model};
+use crate::stepper::respond::ImpactBody;
 
 /// The world state of a run.
 pub(crate) struct World {

@@ -196,8 +196,8 @@ fn a_fast_spin_that_never_reaches_a_wall_is_decided() {
         ])"#,
     )
     .unwrap();
-    let result = nearmiss::stepper::run(&scene);
-    assert_eq!(result.termination, nearmiss::stepper::Termination::Completed);
+    let result = nearmiss::run(&scene);
+    assert_eq!(result.termination, nearmiss::run::Termination::Completed);
     assert!(result.contacts.is_empty());
     // The same spin with the wall's face at 0.7: a corner reaches it
     // (0.7 < 0.707), at the turn where x = r cos θ = 0.7 first.
@@ -208,7 +208,7 @@ fn a_fast_spin_that_never_reaches_a_wall_is_decided() {
         ])"#,
     )
     .unwrap();
-    let contact = nearmiss::stepper::run(&scene).first_contact.expect("a corner reaches the wall");
+    let contact = nearmiss::run(&scene).first_contact.expect("a corner reaches the wall");
     let r = 0.5f64.hypot(0.5);
     let analytic = (std::f64::consts::FRAC_PI_4 - (0.7 / r).acos()) / 1e6;
     assert!(contact.time <= analytic && analytic - contact.time < 1e-9, "{} vs {analytic}", contact.time);

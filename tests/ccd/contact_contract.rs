@@ -9,8 +9,8 @@ use nearmiss::ccd::{
 use nearmiss::math::{Point, Pose, Real, Vector};
 use nearmiss::mesh::{box_mesh, icosphere};
 use nearmiss::motion::StepMotion;
+use nearmiss::run::{run_with, RunOptions};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{run_with, RunOptions};
 
 /// A tolerance far above every rounding floor, so the contract's value is
 /// the scale-relative one exactly.

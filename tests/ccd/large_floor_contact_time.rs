@@ -3,8 +3,8 @@
 //! reported at t = 0.49, 0.71 units above it (true contact t = 1), and at
 //! 1e7 "initially touching". The contact distance follows the smaller body.
 
+use nearmiss::run::run;
 use nearmiss::scene::Scene;
-use nearmiss::stepper::run;
 
 #[test]
 fn a_unit_box_meets_a_floor_of_any_size_on_time() {

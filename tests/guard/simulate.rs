@@ -8,9 +8,9 @@
 #![cfg(feature = "rapier")]
 
 use nearmiss::math::{pose_to_parry, to_parry, Pose, Real};
-use nearmiss::poses::PoseRecord;
+use nearmiss::run::PoseRecord;
+use nearmiss::run::{run, RunResult, Termination};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{run, RunResult, Termination};
 use parry3d_f64::shape::ConvexPolyhedron;
 
 /// The overlap of the convex hulls allowed after a step: rapier 0.36's

@@ -11,9 +11,9 @@
 #![cfg(feature = "rapier")]
 
 use nearmiss::math::{pose_to_parry, to_parry, Pose, Real, Vector};
-use nearmiss::poses::PoseRecord;
+use nearmiss::run::PoseRecord;
+use nearmiss::run::{run, RunResult, Termination};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{run, RunResult, Termination};
 use parry3d_f64::shape::ConvexPolyhedron;
 
 crate::rapier_app!(rapier3d_f64);

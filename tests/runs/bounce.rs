@@ -3,9 +3,9 @@
 
 use crate::ball_rest;
 use nearmiss::math::{Real, Vector};
+use nearmiss::run::run;
 use nearmiss::samples::Rng;
 use nearmiss::scene::Scene;
-use nearmiss::stepper::run;
 
 #[test]
 fn equal_spheres_head_on_exchange_velocities() {
@@ -128,11 +128,7 @@ fn a_ball_pressed_on_the_floor_keeps_its_redetection_distance() {
     // rounding floor: the 10,000-body box stopped undecided.)
     let scene = Scene::from_ron_str(&ball_rest::under_bounce()).unwrap();
     let result = run(&scene);
-    assert!(
-        matches!(result.termination, nearmiss::stepper::Termination::Completed),
-        "{:?}",
-        result.termination
-    );
+    assert!(matches!(result.termination, nearmiss::run::Termination::Completed), "{:?}", result.termination);
     assert!(
         result.contacts.len() > 100,
         "{} contacts: the ball should come to lie on the floor",

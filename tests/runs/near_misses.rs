@@ -7,8 +7,8 @@ use crate::crowd;
 use nearmiss::kernels::point_triangle;
 use nearmiss::math::Real;
 use nearmiss::mesh::{mesh_distance, DistanceKernel, DistanceSearch};
+use nearmiss::run::{run, run_with, RunOptions};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{run, run_with, RunOptions, StepParameters};
 
 /// A cube passes a fixed cube 0.25 from its face (t in [2/3, 4/3]); a ball
 /// of radius 0.3 drops towards its top face, its lowest vertex 0.2 above
@@ -222,15 +222,16 @@ fn the_threads_change_no_near_miss() {
         "density: 1.0",
     );
     let quiet = &mut |_| {};
-    let one = run_with(&scene, RunOptions { parallel: false, broad_phase: true }, quiet);
+    let one = run_with(&scene, RunOptions { parallel: false, ..RunOptions::default() }, quiet);
     assert!(one.near_misses.len() >= 10, "{} near misses", one.near_misses.len());
-    let handed_over = StepParameters {
+    let handed_over = RunOptions {
         parallel_narrow_phase_seconds: 0.0,
         parallel_integration_bodies: 0,
-        ..StepParameters::default()
+        parallel_trace_pairs: 0,
+        ..RunOptions::default()
     };
-    for scene in [scene.with_parameters(handed_over), scene.clone()] {
-        let threads = run_with(&scene, RunOptions { parallel: true, broad_phase: true }, quiet);
+    for options in [handed_over, RunOptions::default()] {
+        let threads = run_with(&scene, options, quiet);
         assert_eq!(one.near_misses, threads.near_misses);
         assert_eq!(one.contacts, threads.contacts);
     }

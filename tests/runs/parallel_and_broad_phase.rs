@@ -9,8 +9,8 @@
 //! contract: never late, early by less than the contact distance allows).
 
 use crate::crowd;
+use nearmiss::run::{run_with, RunOptions, RunResult};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{run_with, RunOptions, RunResult};
 
 /// Tumbling icospheres and boxes in a 6-unit cube, contacts recorded.
 fn random_scene(bodies: usize, seed: u64) -> Scene {
@@ -45,14 +45,15 @@ fn same_outcome(a: &RunResult, b: &RunResult) {
 fn threads_and_broad_phase_change_nothing() {
     let scene = random_scene(40, 9);
     let quiet = &mut |_| {};
-    let reference = run_with(&scene, RunOptions { parallel: false, broad_phase: false }, quiet);
+    let reference =
+        run_with(&scene, RunOptions { parallel: false, broad_phase: false, ..RunOptions::default() }, quiet);
     assert!(reference.contacts.len() >= 5, "the scene should have contacts: {}", reference.contacts.len());
-    let broad = run_with(&scene, RunOptions { parallel: false, broad_phase: true }, quiet);
+    let broad = run_with(&scene, RunOptions { parallel: false, ..RunOptions::default() }, quiet);
     same_contacts(&reference, &broad);
     // The broad phase hands far fewer pairs to CCD than all 780.
     assert!(broad.counters.work.candidate_pairs < reference.counters.work.candidate_pairs / 4);
-    let threaded = run_with(&scene, RunOptions { parallel: true, broad_phase: true }, quiet);
+    let threaded = run_with(&scene, RunOptions::default(), quiet);
     same_outcome(&broad, &threaded);
     let pairs = 40 * 39 / 2;
-    assert!(pairs >= nearmiss::trace::PARALLEL_TRACE_PAIRS && threaded.trace.len() > pairs);
+    assert!(pairs >= RunOptions::default().parallel_trace_pairs && threaded.trace.len() > pairs);
 }

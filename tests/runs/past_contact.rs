@@ -1,8 +1,8 @@
 //! Traces past contact: under `Record` bodies pass through each other and
 //! the trace reads minus the depth, against analysis.
 
+use nearmiss::run::run;
 use nearmiss::scene::Scene;
-use nearmiss::stepper::run;
 
 /// A box (half extent 0.5) moving down at 1 through a fixed floor box
 /// (top at z = 0, 0.5 thick, 4 wide): contact at t = 0.5; then both are

@@ -2,8 +2,8 @@
 //! distance tolerance 1e-9: never later than the true time, and earlier by
 //! at most the contact distance over the closing speed.
 
+use nearmiss::run::{run, Contact, RunResult};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{run, Contact, RunResult};
 
 fn run_ron(text: &str) -> RunResult {
     let scene = Scene::from_ron_str(text).unwrap_or_else(|e| panic!("{e}\n{text}"));

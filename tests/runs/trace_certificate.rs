@@ -36,7 +36,7 @@ fn samples_equal_a_cold_search(every: u64) {
         ])"#
     );
     let scene = Scene::from_ron_str(&text).unwrap();
-    let result = nearmiss::stepper::run(&scene);
+    let result = nearmiss::run(&scene);
     assert_eq!(result.trace.len(), 3 * (result.steps as usize).div_ceil(every as usize) + 3);
     let pose = |step: u64, body: usize| {
         let r = result.poses.iter().find(|r| r.step == step && r.body == body).expect("a pose record");

@@ -14,8 +14,8 @@ use std::time::Instant;
 use serde::Serialize;
 
 use nearmiss::math::{motion_to_parry, pose_to_parry, vector_to_parry, Real};
+use nearmiss::run::RunResult;
 use nearmiss::scene::{BodyMotion, Scene};
-use nearmiss::stepper::RunResult;
 
 /// One pair, both answers.
 #[derive(Clone, Debug, PartialEq, Serialize)]

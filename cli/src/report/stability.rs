@@ -4,8 +4,8 @@
 
 use nearmiss::math::Real;
 use nearmiss::motion::{integrate, Dynamics, Gyroscopic, Integrator, RigidState};
+use nearmiss::run::{run, Termination};
 use nearmiss::scene::{BodyMotion, Scene};
-use nearmiss::stepper::{run, Termination};
 
 use super::sweep::integrator_name;
 
@@ -83,7 +83,9 @@ pub fn spring_sweep(scene: &Scene, omega_dts: &[Real], integrators: &[Integrator
             let dt = omega_dt / omega;
             let result = run(&scene.with_settings(dt, scene.model().kernel, integrator));
             let (diverged, message) = match &result.termination {
-                Termination::Diverged { reason, .. } => (true, reason.clone()),
+                Termination::Diverged { reason, .. }
+                | Termination::NotStarted { reason }
+                | Termination::Failed { reason, .. } => (true, reason.clone()),
                 _ => (false, String::new()),
             };
             rows.push(SpringRow {
@@ -189,7 +191,7 @@ pub fn spring_chart(rows: &[SpringRow]) -> crate::plot::Chart {
     }
     // One marker series for every stopped run (a word at each point
     // overprinted the others).
-    let growth = nearmiss::stepper::StepParameters::default().divergence_energy_growth;
+    let growth = nearmiss::scene::StepParameters::default().divergence_energy_growth;
     series.push(Series {
         label: format!("stopped: energy past {growth}×"),
         points: rows
@@ -255,7 +257,7 @@ pub fn stability_markdown(
          Stable is not accurate: semi-implicit Euler's energy swings between bounds in the ratio (2 + ω·dt) / (2 − ω·dt) \
          (19 at ω·dt = 1.8, 39 at 1.9, 399 at 1.99), so below its limit too it can pass {0}× and be stopped; that is the criterion, not a divergence.\n\n\
          | integrator | ω·dt | dt | max energy drift | stopped (energy > {0}×) |\n|---|---|---|---|---|\n",
-        nearmiss::stepper::StepParameters::default().divergence_energy_growth
+        nearmiss::scene::StepParameters::default().divergence_energy_growth
     ));
     for r in springs {
         out.push_str(&format!(

@@ -73,7 +73,7 @@ pub fn run_case(path: &Path, max_steps: u64) -> SuiteCase {
     case.scene = Some(scene.run().name.clone());
     case.status = CaseStatus::Skipped;
     if scene.run().expect.is_some() {
-        let result = nearmiss::stepper::run(&scene);
+        let result = nearmiss::run(&scene);
         if let Some(v) = verdict(&scene, &result) {
             case.status = if v.passed { CaseStatus::Passed } else { CaseStatus::Failed };
             (case.expected, case.obtained, case.error) = (Some(v.expected), Some(v.obtained), v.error);

@@ -22,8 +22,8 @@ use nearmiss::kernels::PointEdgeFormula;
 use nearmiss::math::Real;
 use nearmiss::mesh::DistanceKernel;
 use nearmiss::motion::Integrator;
+use nearmiss::run::{run, RunResult, Termination};
 use nearmiss::scene::{Expectation, Scene, TraceSpec};
-use nearmiss::stepper::{run, RunResult, Termination};
 
 use super::{merge_positions, Shard};
 
@@ -206,6 +206,7 @@ fn sweep_row(scene: &Scene, setting: &SweepSetting, reference: Option<Real>) -> 
         wall_time_s,
         termination: match &result.termination {
             Termination::Diverged { reason, .. } => format!("diverged: {reason}"),
+            Termination::NotStarted { .. } | Termination::Failed { .. } => result.termination_text(),
             Termination::FirstContact => "first contact".into(),
             Termination::Completed => "completed".into(),
             Termination::Undecided { time, .. } => format!("undecided after t = {time:?}"),

@@ -3,8 +3,8 @@
 //! query that cannot decide ends the run as undecided, never as a contact;
 //! and the spin-swept bound makes this motion decidable.
 
+use nearmiss::run::{run, Termination};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{run, Termination};
 
 /// The plate (half 1 × 1 × 0.01, spinning about z) reaches at most √2 from
 /// the spin axis; the wall's face is at `x = wall − 0.1`.

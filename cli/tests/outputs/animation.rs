@@ -11,7 +11,7 @@ use nearmiss::scene::Scene;
 #[test]
 fn bodies_sharing_a_mesh_keep_their_colours() {
     let scene = Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/box_stack.ron")).unwrap();
-    let result = nearmiss::stepper::run(&scene);
+    let result = nearmiss::run(&scene);
     let bytes = nearmiss_cli::animation::glb(&scene, &result.poses).unwrap();
     let gltf = gltf::Gltf::from_slice(&bytes).expect("valid glTF");
     let colours: std::collections::HashSet<_> =
@@ -44,7 +44,7 @@ fn a_spinning_blade_replays() {
 
 fn check(scene: &Scene, moving: &str) {
     assert!(scene.run().poses.is_some());
-    let result = nearmiss::stepper::run(scene);
+    let result = nearmiss::run(scene);
     let out = std::env::temp_dir().join(format!("nearmiss-animation-{moving}-{}", std::process::id()));
     let written = nearmiss_cli::output::write_outputs(&out, &result, scene).unwrap();
     let path = written.iter().find(|p| p.ends_with("animation.glb")).expect("animation.glb written");

@@ -18,7 +18,7 @@ fn scene(near_misses: &str) -> Scene {
 fn near_misses_are_written_where_asked() {
     let out = std::env::temp_dir().join(format!("nearmiss-near-misses-{}", std::process::id()));
     let asked = scene("near_misses: (within: 0.5),");
-    nearmiss_cli::output::write_outputs(&out, &nearmiss::stepper::run(&asked), &asked).unwrap();
+    nearmiss_cli::output::write_outputs(&out, &nearmiss::run(&asked), &asked).unwrap();
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("pass_by/summary.json")).unwrap()).unwrap();
     let list = summary["near_misses"].as_array().expect("a near_misses list");
@@ -53,7 +53,7 @@ fn near_misses_are_written_where_asked() {
     assert!(page.contains("## Near misses") && page.contains("| fixed / passer | 0.25 |"), "{page}");
 
     let plain = scene("");
-    nearmiss_cli::output::write_outputs(&out, &nearmiss::stepper::run(&plain), &plain).unwrap();
+    nearmiss_cli::output::write_outputs(&out, &nearmiss::run(&plain), &plain).unwrap();
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("pass_by/summary.json")).unwrap()).unwrap();
     assert!(summary.get("near_misses").is_none(), "{summary}");

@@ -60,7 +60,7 @@ fn every_picture_of_a_run_is_whole() {
         "ring_through_slab",
     ] {
         let scene = scene(name);
-        let result = nearmiss::stepper::run(&scene);
+        let result = nearmiss::run(&scene);
         let written = nearmiss_cli::output::write_outputs(&out, &result, &scene).unwrap();
         let pictures: Vec<_> = written.iter().filter(|p| p.extension().is_some_and(|e| e == "png")).collect();
         assert!(pictures.len() >= 2, "{name}: a distance chart and a contact picture at least");
@@ -88,7 +88,7 @@ fn an_overlap_is_pictured_with_its_curve_and_listed_on_the_page() {
         ])"#,
     )
     .unwrap();
-    let result = nearmiss::stepper::run(&scene);
+    let result = nearmiss::run(&scene);
     // The icosphere has a vertex at its bottom: 0.15 deep exactly.
     assert!((result.trace[0].distance + 0.15).abs() < 1e-12, "{:?}", result.trace[0]);
     let written = nearmiss_cli::output::write_outputs(&out, &result, &scene).unwrap();

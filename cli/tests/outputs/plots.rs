@@ -17,7 +17,7 @@ fn png_size(bytes: &[u8]) -> (u32, u32) {
 fn scene_with_a_plot_writes_distance_png() {
     let scene = Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/spinning_blade.ron")).unwrap();
     assert!(scene.run().plot.is_some());
-    let result = nearmiss::stepper::run(&scene);
+    let result = nearmiss::run(&scene);
     let out = std::env::temp_dir().join(format!("nearmiss-plots-{}", std::process::id()));
     let written = nearmiss_cli::output::write_outputs(&out, &result, &scene).unwrap();
     let png = written.iter().find(|p| p.ends_with("distance.png")).expect("distance.png written");
@@ -50,7 +50,7 @@ fn a_plot_needs_a_trace() {
 fn hundreds_of_contacts_stay_legible() {
     let text = ball_rest::under_bounce().replace("plot: (log_y: false)", "plot: ()");
     let scene = Scene::from_ron_str(&text).unwrap();
-    let result = nearmiss::stepper::run(&scene);
+    let result = nearmiss::run(&scene);
     assert!(result.contacts.len() > 100, "{} contacts", result.contacts.len());
     let chart = nearmiss_cli::output::distance_chart(&result, scene.run().plot.as_ref().unwrap().log_y);
     assert_eq!(chart.marks.len(), nearmiss_cli::output::LABELLED_CONTACTS);
@@ -80,7 +80,7 @@ fn the_first_contacts_and_the_named_ones_are_pictured() {
     let text = ball_rest::under_bounce();
     let named = text.replace("plot: (log_y: false)", "plot: (log_y: false, contacts: [7, 100000])");
     let scene = Scene::from_ron_str(&named).unwrap();
-    let result = nearmiss::stepper::run(&scene);
+    let result = nearmiss::run(&scene);
     assert!(result.contacts.len() > 7 && result.contacts.len() < 100000);
     let out = std::env::temp_dir().join(format!("nearmiss-contact-pictures-{}", std::process::id()));
     let written = nearmiss_cli::output::write_outputs(&out, &result, &scene).unwrap();
@@ -102,7 +102,7 @@ fn the_first_contacts_and_the_named_ones_are_pictured() {
     assert!(page.contains("asked for pictures of contact 100000, but the run had"), "{page}");
     // The same scene without the named contact: contact_7.png goes.
     let plain = Scene::from_ron_str(&text).unwrap();
-    nearmiss_cli::output::write_outputs(&out, &nearmiss::stepper::run(&plain), &plain).unwrap();
+    nearmiss_cli::output::write_outputs(&out, &nearmiss::run(&plain), &plain).unwrap();
     assert!(out.join("ball_rest/contact_3.png").exists());
     assert!(!out.join("ball_rest/contact_7.png").exists());
     let _ = std::fs::remove_dir_all(&out);

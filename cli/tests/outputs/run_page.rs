@@ -12,7 +12,7 @@ fn link_targets(page: &str) -> Vec<String> {
 #[test]
 fn the_page_links_only_files_written_beside_it() {
     let scene = Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/falling_box.ron")).unwrap();
-    let result = nearmiss::stepper::run(&scene);
+    let result = nearmiss::run(&scene);
     let out = std::env::temp_dir().join(format!("nearmiss-run-page-{}", std::process::id()));
     let written = nearmiss_cli::output::write_outputs(&out, &result, &scene).unwrap();
     let page_path = written.iter().find(|p| p.ends_with("report.md")).expect("report.md written");
@@ -45,7 +45,7 @@ fn a_pipe_in_a_body_name_stays_in_its_cell() {
         ])"#,
     )
     .unwrap();
-    let result = nearmiss::stepper::run(&scene);
+    let result = nearmiss::run(&scene);
     assert!(!result.contacts.is_empty());
     let page = nearmiss_cli::run_page::run_page(&result, &scene, &["summary.json", "report.md"]);
     let row = page.lines().find(|l| l.starts_with("| 1 |")).expect("a contact row");

@@ -1,8 +1,8 @@
 //! `--compare parry`: parry's answer beside nearmiss's, for the pairs that
 //! parry can follow.
 
+use nearmiss::run::run;
 use nearmiss::scene::Scene;
-use nearmiss::stepper::run;
 use nearmiss_cli::report::compare_with_parry;
 
 fn shipped(name: &str) -> Scene {

@@ -73,7 +73,7 @@ fn extreme_cases_meet_their_expectations_and_are_never_late() {
     for file in files {
         let scene = Scene::load(&file).unwrap();
         let Some(expectation) = scene.run().expect.clone() else { continue };
-        let result = nearmiss::stepper::run(&scene);
+        let result = nearmiss::run(&scene);
         let verdict = nearmiss_cli::regression::verdict(&scene, &result).unwrap();
         assert!(verdict.passed, "{}: {verdict:?}", file.display());
         if let (Expectation::Contact { time, .. }, Some(contact)) = (expectation, &result.first_contact) {
@@ -86,7 +86,7 @@ fn extreme_cases_meet_their_expectations_and_are_never_late() {
 
 #[test]
 fn a_1e6_offset_gives_the_same_time_within_1e_9() {
-    let time = |name: &str| nearmiss::stepper::run(&scene(name)).first_contact.unwrap().time;
+    let time = |name: &str| nearmiss::run(&scene(name)).first_contact.unwrap().time;
     let (origin, far) = (time("offset_origin.ron"), time("offset_1e6.ron"));
     assert!((origin - far).abs() <= 1e-9 * origin, "{origin} vs {far}");
 }

@@ -23,9 +23,9 @@
 //! triangles) is the Stanford bunny (3,674 triangles, scaled to radius
 //! 0.29; `scripts/fetch-bunny.sh` fetches it).
 //! Usage: `cargo run --release -p nearmiss-tools --bin many_bodies -- 10 100 1000 [--steps 240] [--simulate] [--trace N] [--bunnies]`.
+use nearmiss::run::{run_with, RunOptions};
 use nearmiss::samples::Rng;
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{run_with, RunOptions};
 
 /// The scene's options beside its body count.
 #[derive(Copy, Clone)]

@@ -5,8 +5,8 @@
 //! Usage: `cargo run --release -p nearmiss-tools --bin scene_repeat --
 //! benches/scenes/bunny_tumble_plain.ron benches/scenes/bunny_tumble_nm.ron
 //! [--repeats 300]`; the scenes are run in turn, round after round.
+use nearmiss::run::{run_with, RunOptions};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{run_with, RunOptions};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -159,7 +159,11 @@ fn main() -> ExitCode {
 /// Loads a scene and checks that its run takes at most `max_steps` steps;
 /// a bad one is [`CliError::BadInput`] naming the file and field.
 pub fn load_scene(path: &Path, max_steps: u64) -> Result<Scene, CliError> {
-    Scene::load_within(path, max_steps).map_err(|error| CliError::BadInput(error.to_string()))
+    let scene = Scene::load_within(path, max_steps).map_err(|error| CliError::BadInput(error.to_string()))?;
+    // What the scene needs of this build (a `Simulate` scene's contact
+    // distances): refused here as bad input, not as a run that never started.
+    nearmiss::run::check(&scene).map_err(|error| CliError::BadInput(error.to_string()))?;
+    Ok(scene)
 }
 
 /// Writes a report file through the library's one writer; failure is bad

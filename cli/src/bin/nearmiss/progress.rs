@@ -1,8 +1,8 @@
 //! Progress display for long runs: a bar on a terminal; elsewhere (a log,
 //! CI) a line every few seconds with the time left.
 
+use nearmiss::run::RunResult;
 use nearmiss::scene::Scene;
-use nearmiss::stepper::RunResult;
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
@@ -30,7 +30,7 @@ pub fn run_with_progress(scene: &Scene) -> RunResult {
     bar.set_message(scene.run().name.clone());
     let start = Instant::now();
     let mut shown = false;
-    let result = nearmiss::stepper::run_observed(scene, &mut |done| {
+    let result = nearmiss::run::run_observed(scene, &mut |done| {
         if !shown && start.elapsed() > SHOW_AFTER {
             shown = true;
             bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
@@ -47,7 +47,7 @@ pub fn run_with_progress(scene: &Scene) -> RunResult {
 fn run_with_lines(scene: &Scene) -> RunResult {
     let start = Instant::now();
     let mut next = LINE_EVERY;
-    nearmiss::stepper::run_observed(scene, &mut |done| {
+    nearmiss::run::run_observed(scene, &mut |done| {
         if done % CHECK_EVERY_STEPS != 0 {
             return;
         }

@@ -3,8 +3,8 @@
 
 use crate::progress::run_with_progress;
 use crate::{load_scene, CliError, CommandResult};
+use nearmiss::run::{RunResult, Termination};
 use nearmiss::scene::Scene;
-use nearmiss::stepper::{RunResult, Termination};
 use nearmiss_cli::text;
 use std::path::PathBuf;
 
@@ -132,7 +132,10 @@ fn run_one(args: &Args, path: &std::path::Path, scene: &Scene) -> CommandResult 
         }
     }
     match result.termination {
-        Termination::Diverged { .. } => Err(CliError::Failed(result.termination_text())),
+        Termination::Diverged { .. } | Termination::Failed { .. } => {
+            Err(CliError::Failed(result.termination_text()))
+        }
+        Termination::NotStarted { .. } => Err(CliError::BadInput(result.termination_text())),
         Termination::Undecided { .. } => Err(CliError::Undecided(result.termination_text())),
         _ if verdict.is_some_and(|v| !v.passed) => {
             Err(CliError::Failed(format!("{}: the run did not meet the scene's expectation", path.display())))
@@ -165,7 +168,13 @@ fn print_result(scene: &Scene, result: &RunResult) {
             text::count(result.contacts.len() as u64, "contact")
         ),
         // Said by the error that follows: not "no contact".
-        (None, Termination::Undecided { .. } | Termination::Diverged { .. }) => {}
+        (
+            None,
+            Termination::Undecided { .. }
+            | Termination::Diverged { .. }
+            | Termination::NotStarted { .. }
+            | Termination::Failed { .. },
+        ) => {}
         (None, _) => println!("no contact up to t = {}", text::time(result.end_time)),
     }
     if let Some(spec) = &scene.run().near_misses {

@@ -62,8 +62,11 @@ pub struct TraceObserver {
     records: Vec<TraceRecord>,
     /// What each traced pair's next sample starts from.
     states: Vec<PairTrace>,
-    /// Sample the pairs on rayon's threads (the run's `parallel` option).
-    parallel: bool,
+    /// Sample the pairs on rayon's threads (the run's `parallel` option)
+    /// from this many pairs on ([`RunOptions::parallel_trace_pairs`]).
+    ///
+    /// [`RunOptions::parallel_trace_pairs`]: crate::stepper::RunOptions::parallel_trace_pairs
+    parallel_from: Option<usize>,
     /// The bodies in traced pairs (each once, in order).
     traced_bodies: Vec<usize>,
     /// Kept between samples: the bodies' orientations at the sample's time
@@ -114,13 +117,13 @@ struct SampleAt<'a> {
 
 impl TraceObserver {
     /// The observer of the trace `run` asks for on `model` (its pairs
-    /// sampled on rayon's threads when `parallel`; the samples are the same
-    /// either way), or `None` if it asks for none.
-    pub fn of(model: &Arc<Model>, run: &RunSpec, parallel: bool) -> Option<TraceObserver> {
+    /// sampled on rayon's threads from `parallel_from` pairs on; the
+    /// samples are the same either way), or `None` if it asks for none.
+    pub fn of(model: &Arc<Model>, run: &RunSpec, parallel_from: Option<usize>) -> Option<TraceObserver> {
         run.trace.clone().map(|spec| TraceObserver {
             steps: run.steps,
             states: vec![PairTrace::default(); spec.pairs.len()],
-            parallel,
+            parallel_from,
             traced_bodies: {
                 let mut bodies: Vec<usize> = spec.pairs.iter().flat_map(|&(a, b)| [a, b]).collect();
                 bodies.sort_unstable();
@@ -186,7 +189,7 @@ impl TraceObserver {
             reference: self.spec.reference,
         };
         let pairs = &self.spec.pairs;
-        if self.parallel && pairs.len() >= PARALLEL_TRACE_PAIRS {
+        if self.parallel_from.is_some_and(|from| pairs.len() >= from) {
             self.states
                 .par_iter_mut()
                 .zip(pairs.par_iter())
@@ -227,12 +230,6 @@ impl TraceObserver {
 /// extent for the same reason). Nearer pairs take the kernel's distance of
 /// the closest features' triangles. Default `1e-12`.
 pub const CONVEX_VALUE_RELATIVE_ERROR: Real = 1e-12;
-
-/// Traces of at least this many pairs are sampled on rayon's threads (when
-/// the run is parallel); fewer are sampled in turn. Not tuned: a sample of
-/// two convex meshes is a few hundred nanoseconds, so a handful of pairs is
-/// not worth handing out. Default `64`.
-pub const PARALLEL_TRACE_PAIRS: usize = 64;
 
 thread_local! {
     /// Each rayon thread's search scratch, kept between samples and runs.

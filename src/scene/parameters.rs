@@ -1,6 +1,8 @@
-//! The stepper's tunable numbers, documented and defaulted in one place
-//! (like rapier's `IntegrationParameters`). The CCD's own tolerances are
-//! [`CcdOptions`](crate::ccd::CcdOptions); these are the stepper's.
+//! The stepper's tunable numbers that shape a run's results, documented
+//! and defaulted in one place (like rapier's `IntegrationParameters`). The
+//! CCD's own tolerances are [`CcdOptions`](crate::ccd::CcdOptions); how a
+//! run is carried out (threads, the broad phase) is the stepper's
+//! `RunOptions`, which never changes a result.
 
 use crate::math::Real;
 
@@ -31,20 +33,6 @@ pub struct StepParameters {
     /// distance, so that box rounding never drops a pair that the CCD's
     /// tolerance floor would count as touching (ulps). Default: `1e3`.
     pub broad_phase_rounding_ulps: Real,
-    /// Bodies are integrated on several threads from this many bodies on
-    /// (a count; the results do not depend on it). Default: `64`.
-    pub parallel_integration_bodies: usize,
-    /// What handing a narrow phase to rayon's threads costs in wall time
-    /// (waking them and gathering their results; seconds): the next step's
-    /// narrow phase runs on `n` threads when this step's, on one thread,
-    /// took more than `n / (n − 1)` times it (estimated from a parallel
-    /// step as `n` × (its time − this)). The results do not depend on it.
-    /// Default: `1e-4` (every pair of 50 tumbling bodies traced: 8.7 ms a
-    /// run on one thread, 15.3 on two; the 1,000-body box's narrow phase
-    /// under `Bounce`, 0.43 ms a step on one thread, 0.30 on two). The
-    /// guard uses
-    /// [`PARALLEL_NARROW_PHASE_SECONDS`](crate::guard::PARALLEL_NARROW_PHASE_SECONDS).
-    pub parallel_narrow_phase_seconds: Real,
 }
 
 impl Default for StepParameters {
@@ -54,8 +42,6 @@ impl Default for StepParameters {
             bounce_redetect_fraction: 0.5,
             divergence_energy_growth: 10.0,
             broad_phase_rounding_ulps: 1e3,
-            parallel_integration_bodies: 64,
-            parallel_narrow_phase_seconds: 1e-4,
         }
     }
 }

@@ -12,7 +12,7 @@
 //!
 //! A pair that bounced stays "touching" until it separates; meanwhile it is
 //! queried for coming within
-//! [`bounce_redetect_fraction`](crate::stepper::StepParameters) of its
+//! [`bounce_redetect_fraction`](crate::scene::StepParameters) of its
 //! distance at the bounce (an absolute contact distance,
 //! [`ContactRule::Absolute`]), which is a new contact of the same episode.
 //! The episode keeps its largest contact distance: a pair pressed together

@@ -73,7 +73,7 @@ pub(crate) trait Response: Sync {
 
     /// The distance beyond which a touching pair whose contact had
     /// `contact_distance` is armed again. Default: `factor` (the stepper's
-    /// [`rearm_distance_factor`](crate::stepper::StepParameters)) times it.
+    /// [`rearm_distance_factor`](crate::scene::StepParameters)) times it.
     fn rearm_distance(&self, contact_distance: Real, factor: Real) -> Real {
         factor * contact_distance
     }
