@@ -98,10 +98,18 @@ impl std::fmt::Debug for BroadPhase {
 impl BroadPhase {
     /// The overlapping pairs `(i, j)`, `i < j`, sorted, through parry's BVH.
     pub fn pairs(&mut self, boxes: &[SweptBox]) -> Vec<(usize, usize)> {
+        let mut pairs = Vec::new();
+        self.pairs_into(boxes, &mut pairs);
+        pairs
+    }
+
+    /// [`BroadPhase::pairs`] into `pairs` (cleared first): a buffer kept
+    /// between steps, so that a step allocates nothing once it has grown.
+    pub fn pairs_into(&mut self, boxes: &[SweptBox], pairs: &mut Vec<(usize, usize)>) {
+        pairs.clear();
         self.leaves.clear();
         let corner = |p: &Point| parry3d_f64::math::Vector::new(p.x, p.y, p.z);
         self.leaves.extend(boxes.iter().map(|(low, high)| Aabb::new(corner(low), corner(high))));
-        let mut pairs = Vec::new();
         if boxes.len() >= 2 {
             let bvh = match self.tree.as_mut() {
                 // The same bodies: move the leaves and refit (cheaper than a
@@ -134,7 +142,6 @@ impl BroadPhase {
         }
         pairs.sort_unstable();
         pairs.dedup();
-        pairs
     }
 }
 

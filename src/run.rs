@@ -50,6 +50,7 @@ pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64
         Ok(driver) => driver,
         Err(reason) => return not_started(scene, reason, start),
     };
+    let initial_overlaps = crate::scene::initial_overlaps(&scene.model.bodies);
     driver.start();
     let mut termination = Termination::Completed;
     let mut steps = 0;
@@ -67,7 +68,7 @@ pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64
             }
         }
     }
-    driver.finish(steps, termination, start)
+    RunResult { initial_overlaps, ..driver.finish(steps, termination, start) }
 }
 
 /// What a scene needs of this build to run, beyond what its file says:
@@ -141,5 +142,6 @@ fn not_started(scene: &Scene, reason: String, start: Instant) -> RunResult {
         counters: Counters::default(),
         final_states: Vec::new(),
         near_misses: Vec::new(),
+        initial_overlaps: Vec::new(),
     }
 }

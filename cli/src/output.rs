@@ -291,7 +291,7 @@ impl<'a> Summary<'a> {
                 .near_misses
                 .is_some()
                 .then(|| result.near_misses.iter().map(|m| NearMissJson::of(result, m)).collect()),
-            initial_overlaps: scene.initial_overlaps().iter().map(|o| OverlapJson::of(scene, o)).collect(),
+            initial_overlaps: result.initial_overlaps.iter().map(|o| OverlapJson::of(scene, o)).collect(),
             ..Summary::with_peer(result, peers.parry)
         }
     }

@@ -55,14 +55,14 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
             verdict.obtained
         );
     }
-    let overlaps = scene.initial_overlaps();
+    let overlaps = &result.initial_overlaps;
     if !overlaps.is_empty() {
         let _ = writeln!(
             page,
             "## Overlapping at the start\n\nBodies whose solids overlap at t = 0: the depth is the shortest move that separates them (both meshes convex), or the deepest local depth where their surfaces cross (closed meshes, not both convex); the curve is where their surfaces cross (green in the contact pictures).\n"
         );
         let _ = writeln!(page, "| bodies | depth | moving the second body along | curve | crossing triangle pairs |\n|---|---|---|---|---|");
-        for overlap in &overlaps {
+        for overlap in overlaps {
             let (depth, along) = match &overlap.depth {
                 Some(d) => (
                     text::approx(d.depth, 6),

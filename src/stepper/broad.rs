@@ -36,14 +36,15 @@ impl Stepper {
                     + self.parameters.broad_phase_rounding_ulps * Real::EPSILON * reach;
                 boxes.push(swept_box(&body.mesh, motion, model.dt, margin));
             }
-            let candidates = broad.pairs(boxes);
+            let candidates = &mut self.scratch.candidates;
+            broad.pairs_into(boxes, candidates);
             let fixed = |i: usize| model.bodies[i].motion == BodyMotion::Fixed;
             // The new pairs go into the previous step's spare buffer.
             let mut old = std::mem::replace(&mut world.pairs, std::mem::take(&mut self.scratch.spare_pairs));
             world.pairs.clear();
             world.pairs.reserve(candidates.len());
             let mut next_old = 0;
-            for (a, b) in candidates.into_iter().filter(|&(a, b)| !(fixed(a) && fixed(b))) {
+            for &(a, b) in candidates.iter().filter(|&&(a, b)| !(fixed(a) && fixed(b))) {
                 while let Some(gone) = old.get(next_old).filter(|p| (p.a, p.b) < (a, b)) {
                     if gone.touching.is_some() {
                         world.pairs.push(gone.clone());

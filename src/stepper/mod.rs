@@ -138,6 +138,8 @@ struct Scratch {
     ccd: MeshCcdScratch,
     /// The swept boxes of the current step.
     boxes: Vec<SweptBox>,
+    /// The broad phase's candidate pairs of the current step.
+    candidates: Vec<(usize, usize)>,
     /// The previous step's pairs.
     spare_pairs: Vec<PairState>,
     /// The pairs queried in the narrow phase (indices into the pairs).
@@ -148,6 +150,8 @@ struct Scratch {
     results: Vec<narrow::PairOutcome>,
     /// The contacts found in a step.
     found: Vec<Found>,
+    /// The buffers of a response that stops bodies in time order.
+    stops: respond::Stops,
     /// The integrated states of a step.
     advanced: integrate::Advanced,
 }
@@ -278,6 +282,7 @@ impl Stepper {
             model: &self.model,
             world,
             scratch: &mut self.scratch.ccd,
+            stops: &mut self.scratch.stops,
             counters: &mut self.counters,
             t0,
         };
@@ -419,6 +424,7 @@ impl Stepper {
             counters: self.counters,
             final_states,
             near_misses,
+            initial_overlaps: Vec::new(),
         }
     }
 }

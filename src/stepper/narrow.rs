@@ -17,12 +17,14 @@ use crate::ccd::{mesh_time_of_impact, CcdStatus, MeshCcdResult, MeshCcdScratch, 
 use crate::math::Real;
 
 /// What the stepper keeps of a pair's CCD result: the counters and what
-/// carries to the next step, and the full result only at a contact (a few
-/// pairs a step), so that thousands of pairs cost little memory.
+/// carries to the next step, and the full result only at a contact. The
+/// result is kept in place, not boxed: the outcomes live in a buffer kept
+/// between steps, so that a step allocates nothing, also where pairs rest
+/// in contact (under `Simulate` every such pair finds one each step).
 #[derive(Clone, Debug)]
 pub(crate) struct PairOutcome {
     summary: OutcomeSummary,
-    contact: Option<Box<MeshCcdResult>>,
+    contact: Option<MeshCcdResult>,
 }
 
 /// The part of every pair's result that the stepper reads.
@@ -49,7 +51,7 @@ impl From<MeshCcdResult> for PairOutcome {
                 simplex: result.simplex,
                 end_lower_bound: result.end_lower_bound,
             },
-            contact: result.time_of_impact.is_some().then(|| Box::new(result)),
+            contact: result.time_of_impact.is_some().then_some(result),
         }
     }
 }
@@ -104,7 +106,7 @@ impl Stepper {
             let Some(contact) = outcome.contact.take() else { continue };
             match CcdVerdict::of(&contact) {
                 CcdVerdict::Undecided => world.note_undecided(k, &contact),
-                CcdVerdict::Contact(_) => found.push(Found { pair: k, result: *contact }),
+                CcdVerdict::Contact(_) => found.push(Found { pair: k, result: contact }),
                 CcdVerdict::Apart => {}
             }
         }

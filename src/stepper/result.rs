@@ -215,6 +215,9 @@ pub struct RunResult {
     /// With `near_misses` in the scene: every pair that came within its
     /// distance without touching, nearest first.
     pub near_misses: Vec<crate::stepper::observe::near_miss::record::NearMiss>,
+    /// The pairs of bodies that overlap at time 0, with their depth where
+    /// both meshes are convex (computed once, before the first step).
+    pub initial_overlaps: Vec<crate::scene::InitialOverlap>,
 }
 
 impl RunResult {

@@ -20,7 +20,7 @@
 //! same re-detection distance, instead of halving it at each bounce down to
 //! the rounding floor, where conservative advancement would crawl.
 
-use super::stop::{hold_stopped_bodies, stop_in_time_order, Stops};
+use super::stop::{hold_stopped_bodies, stop_in_time_order};
 use super::{apply_impulse, approach_speed, contact_frame, Response, StepContext};
 use crate::ccd::{ContactRule, MeshCcdResult};
 use crate::math::Real;
@@ -69,11 +69,14 @@ impl Response for Bounce {
         let model = step.model;
         // Kinematic bodies stop too (for the rest of the step); fixed ones never move.
         let can_stop = |i: usize| model.bodies[i].motion != BodyMotion::Fixed;
-        let Stops { committed, stopped } =
-            stop_in_time_order(step, found, &|pair| self.contact_rule(pair), &can_stop);
-        self.apply_impulses(step, &committed, &stopped);
-        hold_stopped_bodies(step, &stopped);
-        !committed.is_empty()
+        // The stepper's buffers, lent for the step (taking them allocates nothing).
+        let mut stops = std::mem::take(&mut *step.stops);
+        stop_in_time_order(step, found, &|pair| self.contact_rule(pair), &can_stop, &mut stops);
+        self.apply_impulses(step, &stops.committed, &stops.stopped);
+        hold_stopped_bodies(step, &stops.stopped);
+        let any = !stops.committed.is_empty();
+        *step.stops = stops;
+        any
     }
 }
 

@@ -24,6 +24,7 @@ mod record;
 mod stop;
 
 pub use impulse::{apply_impulse, approach_speed, contact_frame, ImpactBody};
+pub(crate) use stop::Stops;
 
 use crate::ccd::{ContactRule, MeshCcdScratch};
 use crate::math::Real;
@@ -38,6 +39,8 @@ pub(crate) struct StepContext<'a> {
     pub world: &'a mut World,
     /// CCD scratch, for queries the response makes itself.
     pub scratch: &'a mut MeshCcdScratch,
+    /// The buffers of bodies stopped in time order (`stop.rs`).
+    pub stops: &'a mut Stops,
     /// The run's counters.
     pub counters: &'a mut Counters,
     /// The time at the step's start.

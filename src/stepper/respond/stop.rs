@@ -18,12 +18,23 @@ use crate::motion::StepMotion;
 use crate::scene::BodyMotion;
 use crate::stepper::{pair_query, CcdVerdict, Found, PairState};
 
-/// What [`stop_in_time_order`] committed.
-pub(super) struct Stops {
+/// What [`stop_in_time_order`] committed, and its buffers: kept between
+/// steps (in the stepper's scratch), so that a step allocates nothing once
+/// they have grown.
+#[derive(Default)]
+pub(crate) struct Stops {
     /// The committed contacts (indices into `world.contacts`), in time order.
-    pub committed: Vec<usize>,
+    pub(super) committed: Vec<usize>,
     /// When each body stopped (time into the step), if it did.
-    pub stopped: Vec<Option<Real>>,
+    pub(super) stopped: Vec<Option<Real>>,
+    /// The candidates, earliest on top.
+    candidates: BinaryHeap<Candidate>,
+    /// Each candidate pair's CCD result.
+    results: HashMap<usize, MeshCcdResult>,
+    /// Each pair's recheck count.
+    versions: Vec<u32>,
+    /// A stopped body's other pairs.
+    partners: Vec<usize>,
 }
 
 /// A candidate contact within a step.
@@ -56,26 +67,33 @@ impl Ord for Candidate {
 }
 
 /// Commits the step's contacts `found` (drained) in time order (see the
-/// module); bodies for which `can_stop` holds stop at their contacts, and
-/// their other pairs are queried again under `rule`.
+/// module) into `stops`; bodies for which `can_stop` holds stop at their
+/// contacts, and their other pairs are queried again under `rule`.
 pub(super) fn stop_in_time_order(
     step: &mut StepContext<'_>,
     found: &mut Vec<Found>,
     rule: &dyn Fn(&PairState) -> ContactRule,
     can_stop: &dyn Fn(usize) -> bool,
-) -> Stops {
+    stops: &mut Stops,
+) {
     let model = step.model;
     let dt = model.dt;
-    let mut candidates = BinaryHeap::new();
-    let mut results: HashMap<usize, MeshCcdResult> = HashMap::new();
+    let Stops { committed, stopped, candidates, results, versions, partners } = stops;
+    committed.clear();
+    stopped.clear();
+    stopped.resize(model.bodies.len(), None);
+    candidates.clear();
+    results.clear();
+    if found.is_empty() {
+        return;
+    }
     for Found { pair, result } in found.drain(..) {
         let Some(time) = result.time_of_impact else { continue };
         candidates.push(Candidate { time, pair, version: 0 });
         results.insert(pair, result);
     }
-    let mut stopped: Vec<Option<Real>> = vec![None; model.bodies.len()];
-    let mut versions = vec![0u32; step.world.pairs.len()];
-    let mut committed = Vec::new();
+    versions.clear();
+    versions.resize(step.world.pairs.len(), 0);
     while let Some(candidate) = candidates.pop() {
         let k = candidate.pair;
         if candidate.version != versions[k] {
@@ -92,11 +110,13 @@ pub(super) fn stop_in_time_order(
             }
             stopped[body] = Some(time);
             // Every other pair of this body: again from `time`.
-            let partners: Vec<usize> = (step.world.pairs.iter().enumerate())
-                .filter(|&(other, pair)| other != k && (pair.a == body || pair.b == body))
-                .map(|(other, _)| other)
-                .collect();
-            for other in partners {
+            partners.clear();
+            partners.extend(
+                (step.world.pairs.iter().enumerate())
+                    .filter(|&(other, pair)| other != k && (pair.a == body || pair.b == body))
+                    .map(|(other, _)| other),
+            );
+            for &other in partners.iter() {
                 let pair = step.world.pairs[other].clone();
                 versions[other] += 1;
                 results.remove(&other);
@@ -135,7 +155,6 @@ pub(super) fn stop_in_time_order(
             }
         }
     }
-    Stops { committed, stopped }
 }
 
 /// Stopped bodies stay where they stopped for the rest of the step (their

@@ -203,9 +203,9 @@ fn print_result(scene: &Scene, result: &RunResult) {
     }
     // Bodies overlapping at the start: each said with its depth; meshes
     // only touching: said, not only written as a status.
-    let overlaps = scene.initial_overlaps();
+    let overlaps = &result.initial_overlaps;
     let bodies = &scene.model().bodies;
-    for overlap in &overlaps {
+    for overlap in overlaps {
         eprintln!(
             "warning: at t = 0 {}. The run starts overlapped; move them apart, or add `initial_overlap: Refuse` to refuse such scenes",
             overlap.describe(bodies)
