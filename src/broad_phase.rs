@@ -16,7 +16,7 @@
 //! moved boxes at each step while the number of bodies stays the same (on
 //! 1,000 bouncing bodies: 0.47 ms per step instead of 0.72 for a rebuild),
 //! and incrementally re-optimised at every second refit
-//! ([`OPTIMIZE_EVERY_REFITS`]; parry rebuilds a few subtrees a call): a
+//! (`OPTIMIZE_EVERY_REFITS`; parry rebuilds a few subtrees a call): a
 //! refitted tree alone degrades as the bodies mix (the 1,000-body box's
 //! broad phase went from 0.2 to 1.1 ms a step over 2,400 steps).
 //! Pairs of two fixed bodies are dropped.
@@ -32,7 +32,7 @@ use crate::motion::StepMotion;
 /// many refits: on the 1,000-body box, every second refit kept the
 /// traversal as fast as every refit (0.135 against 0.147 ms a step for the
 /// whole broad phase over 2,400 steps) for half the optimisation's cost.
-pub const OPTIMIZE_EVERY_REFITS: u64 = 2;
+pub(crate) const OPTIMIZE_EVERY_REFITS: u64 = 2;
 
 /// A swept box: smallest and largest corners.
 pub type SweptBox = (Point, Point);

@@ -66,10 +66,12 @@
 
 pub mod broad_phase;
 pub mod ccd;
+#[cfg(test)]
+mod documented_defaults;
 pub mod exact;
 #[cfg(feature = "rapier")]
 pub mod guard;
-pub mod input;
+mod input;
 pub mod kernels;
 pub mod math;
 pub mod mesh;

@@ -215,7 +215,7 @@ impl QueryFile {
 /// file stem ending in `ee`/`vf`.
 /// A query, truth or time file as text (regular files only, bounded size).
 fn read_data(path: &Path) -> Result<String, QueryFileError> {
-    nearmiss::input::read_text(path, nearmiss::input::MAX_DATA_BYTES, "query file")
+    nearmiss::scene::read_text(path, nearmiss::scene::MAX_DATA_BYTES, "query file")
         .map_err(|error| QueryFileError::Io { path: path.into(), source: error.into_io() })
 }
 

@@ -145,8 +145,8 @@ pub const RECORD_TOLERANCE_FACTOR: Real = 2.0;
 /// (not recorded) is left alone, as is a run that diverged or could not
 /// decide (an error). Returns what was recorded, in words.
 pub fn record(path: &Path, max_steps: u64) -> Result<Recorded, String> {
-    use nearmiss::scene::record::{set_expectation, RECORDED_COMMENT};
-    let text = nearmiss::input::read_text(path, nearmiss::input::MAX_SCENE_BYTES, "scene file")
+    use nearmiss::scene::{set_expectation, RECORDED_COMMENT};
+    let text = nearmiss::scene::read_text(path, nearmiss::scene::MAX_SCENE_BYTES, "scene file")
         .map_err(|e| format!("{}: {e}", path.display()))?;
     let scene = Scene::load_within(path, max_steps).map_err(|e| e.to_string())?;
     let derived = match &scene.run().expect {

@@ -46,36 +46,36 @@ pub const DEFAULT_APPROACH_TOLERANCE: Real = 1e-6;
 /// first finds a point closer than the best by at least half the width,
 /// or closes the bracket; a query that needs more ends as
 /// [`ApproachStatus::OutOfIterations`] with the bracket reached.
-pub const MAX_APPROACH_RUNS: usize = 64;
+pub(crate) const MAX_APPROACH_RUNS: usize = 64;
 
 /// Each CCD run's contract tolerance, as a fraction of the bracket's
 /// width: `0.25`. A run that finds nothing certifies the distance stays
 /// above its target; one that finds a time stops within this tolerance of
 /// the target.
-pub const RUN_TOLERANCE_FRACTION: Real = 0.25;
+pub(crate) const RUN_TOLERANCE_FRACTION: Real = 0.25;
 
 /// After a closer point is found, the next run asks whether anything comes
 /// closer than it less this fraction of the width: `0.75`. If nothing
 /// does, the bracket is this fraction of the width (within the
 /// tolerance); if something does, it is at least `0.75 − 0.25 / 2` of the
 /// width closer, so the runs make progress.
-pub const PROOF_MARGIN_FRACTION: Real = 0.75;
+pub(crate) const PROOF_MARGIN_FRACTION: Real = 0.75;
 
 /// The contract tolerance of a run that screens an interval for a
 /// caller's near misses (does the pair come within a distance?), at least,
 /// as a fraction of that distance: `0.25`. Such a run certifies that the
 /// pair stays farther than the distance, or stops where it comes within
 /// 1.125 times it: it only chooses the intervals to bracket.
-pub const SCREEN_TOLERANCE_FRACTION: Real = 0.25;
+pub(crate) const SCREEN_TOLERANCE_FRACTION: Real = 0.25;
 
 /// The descent to a local minimum stops once the distance cannot move by
 /// this fraction of the width across its time bracket: `0.125` (the upper
 /// bound is then that close to the local minimum).
-pub const DESCENT_PRECISION_FRACTION: Real = 0.125;
+pub(crate) const DESCENT_PRECISION_FRACTION: Real = 0.125;
 
 /// The descent's first step, a fraction of the rest of the interval:
 /// `1/256` (then doubling while the distance falls).
-pub const DESCENT_FIRST_STEP_FRACTION: Real = 1.0 / 256.0;
+pub(crate) const DESCENT_FIRST_STEP_FRACTION: Real = 1.0 / 256.0;
 
 /// A closest-approach query: two meshes moving as in
 /// [`mesh_time_of_impact`](crate::ccd::mesh_time_of_impact) over `[0, duration]`.
@@ -154,7 +154,7 @@ pub enum ApproachStatus {
     /// The meshes stay farther than `within` over the whole interval:
     /// `lower ≥ within` is certified; nothing closer was looked for.
     Beyond,
-    /// [`MAX_APPROACH_RUNS`] runs did not close the bracket: `lower` and
+    /// `MAX_APPROACH_RUNS` runs did not close the bracket: `lower` and
     /// `upper` still hold, only wider than the tolerance.
     OutOfIterations,
     /// A CCD run could not decide within its iterations: `upper` holds (it

@@ -29,7 +29,7 @@ pub const TARGET_FRACTION: Real = 0.5;
 /// that two boxes together cover any pair's contact distance
 /// `minimum_separation + distance_tolerance × min(r_a, r_b)` (and its
 /// rounding floor) with room to spare. `2.0`.
-pub const BOX_MARGIN_TOLERANCE_FACTOR: Real = 2.0;
+pub(crate) const BOX_MARGIN_TOLERANCE_FACTOR: Real = 2.0;
 
 /// How a query's contact distance is chosen.
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
@@ -89,7 +89,7 @@ impl ContactContract {
 
 /// How far a body's swept box must grow (before rounding) so that the
 /// broad phase never drops a pair the CCD would report under `options`'
-/// scale-relative rule: see [`BOX_MARGIN_TOLERANCE_FACTOR`].
+/// scale-relative rule: see `BOX_MARGIN_TOLERANCE_FACTOR`.
 #[inline]
 pub fn box_margin(options: &CcdOptions, radius: Real) -> Real {
     options.minimum_separation + BOX_MARGIN_TOLERANCE_FACTOR * options.distance_tolerance * radius

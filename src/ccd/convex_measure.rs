@@ -9,7 +9,7 @@ use crate::mesh::{MeshDistance, TriMesh};
 
 /// A descent's GJK probe is certified once its bounds agree to this many
 /// ulps of the pair's scale (its centres' distance plus both radii): `64`.
-pub const PROBE_CERTIFICATE_ULPS: Real = 64.0;
+pub(crate) const PROBE_CERTIFICATE_ULPS: Real = 64.0;
 
 /// The exact distance between two convex meshes (`b` at `pos_ab` in `a`'s
 /// frame), points in `a`'s frame: GJK on their hulls, certified to

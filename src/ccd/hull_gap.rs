@@ -44,12 +44,12 @@ use crate::mesh::TriMesh;
 /// GJK iterations at most. A warm-started query takes one to three; 24 is
 /// ample for the polytopes of a few thousand vertices GJK meets here (it
 /// converges in a few iterations per face of the final simplex).
-pub const HULL_GAP_MAX_ITERATIONS: usize = 24;
+pub(crate) const HULL_GAP_MAX_ITERATIONS: usize = 24;
 
 /// GJK stops once its upper bound (the distance to its simplex) and its
 /// best gap agree to this fraction: the bound is then within 1e-9 of the
 /// hulls' distance, far below any contact distance.
-pub const HULL_GAP_RELATIVE_TOLERANCE: Real = 1e-9;
+pub(crate) const HULL_GAP_RELATIVE_TOLERANCE: Real = 1e-9;
 
 /// The answer of [`hull_gap`].
 #[derive(Copy, Clone, Debug, PartialEq)]

@@ -156,18 +156,18 @@ pub(crate) fn first_root(gap: Real, rate: Real, curvature: Real) -> Real {
 /// `node_pair_time`) once the two bodies together turn at least this many
 /// radians over the rest of the interval: then the rate bounds, which grow
 /// with the spin, are short. `1.0`.
-pub const SPIN_SWEEP_MIN_TURN: Real = 1.0;
+pub(crate) const SPIN_SWEEP_MIN_TURN: Real = 1.0;
 
 /// ... and only while the rate bounds give less than this fraction of the
 /// rest of the interval (a spin-swept region is far larger than the node,
 /// so it helps only where the rates leave almost nothing). `1/64`.
-pub const SPIN_SWEEP_MAX_RATE_FRACTION: Real = 1.0 / 64.0;
+pub(crate) const SPIN_SWEEP_MAX_RATE_FRACTION: Real = 1.0 / 64.0;
 
 /// ... and only in a query that has already taken this many advancement
 /// steps (a query that advances well needs no more; a fast spin takes
 /// thousands of tiny steps). `32`: the tumbling benchmark's queries take
 /// 9 to 16.
-pub const SPIN_SWEEP_AFTER_ITERATIONS: usize = 32;
+pub(crate) const SPIN_SWEEP_AFTER_ITERATIONS: usize = 32;
 
 /// A lower bound on the time before any triangle pair below nodes `na` and
 /// `nb` comes within `target`, and a lower bound on their distance now.

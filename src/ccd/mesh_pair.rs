@@ -76,7 +76,7 @@ use crate::motion::StepMotion;
 /// between one step's end and the next step's start (the step's velocity
 /// is `(x1 − x0) / dt`, and `x0 + v dt` rounds back to `x1` only to a few
 /// ulps); the tolerance never drops below them.
-pub const INTEGRATED_JUMP_ULPS: Real = 8.0;
+pub(crate) const INTEGRATED_JUMP_ULPS: Real = 8.0;
 
 /// The most advancement steps taken on the hulls' gap alone before the BVH
 /// search takes over (see the module). Each costs one warm-started GJK (a
@@ -84,7 +84,7 @@ pub const INTEGRATED_JUMP_ULPS: Real = 8.0;
 /// slower than their bound `|n × ω| r` says, so the steps shrink slowly:
 /// on the 1,000-body box, 16 steps left 1,418 queries to the search, 64
 /// left 97 (and the CCD's time fell by a third).
-pub const HULL_ADVANCE_MAX_STEPS: usize = 64;
+pub(crate) const HULL_ADVANCE_MAX_STEPS: usize = 64;
 
 /// One body of a mesh CCD query: its mesh (vertices relative to the centre
 /// of mass) and its motion over the step.
@@ -780,13 +780,13 @@ fn support(mesh: &TriMesh, direction: &Vector) -> Real {
 /// The slack of [`GapMotion`]'s support lookups, in ulps of the radius
 /// times the lengths of their directions: `16` (a dot product of three
 /// terms, and the tilted direction, round by a few).
-pub const SUPPORT_ROUNDING_ULPS: Real = 16.0;
+pub(crate) const SUPPORT_ROUNDING_ULPS: Real = 16.0;
 
 /// The hulls' second-order bound looks this many of the head-on bound's
 /// steps ahead first, and then this many times farther each time it
 /// outlasts its horizon: `4` (its rates, which must hold over the
 /// horizon, grow with it).
-pub const HULL_HORIZON_STEPS: Real = 4.0;
+pub(crate) const HULL_HORIZON_STEPS: Real = 4.0;
 
 /// At `s`, where the hulls touch: the pair's last closest triangles (the
 /// `hint`), or else the first triangle pair around the hulls' closest

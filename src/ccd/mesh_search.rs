@@ -45,13 +45,13 @@ use crate::mesh::{DistanceKernel, TriMesh};
 /// `1 − STEP_SLACK` of what a full search would give. `0.1`: on the
 /// tumbling benchmark, 0.1 to 0.25 all take about 12–14 steps per query,
 /// and 0.1 the fewest triangle and node pairs.
-pub const STEP_SLACK: Real = 0.1;
+pub(crate) const STEP_SLACK: Real = 0.1;
 
 /// A node pair is opened only if the sum of its radii is at least this
 /// many times its distance (or its time is below `min_step`): smaller
 /// nodes, far apart, are bounded about as well as their children would be.
 /// `1.0`: 0.5 and 2 took more steps and pairs on the tumbling benchmark.
-pub const OPEN_RATIO: Real = 1.0;
+pub(crate) const OPEN_RATIO: Real = 1.0;
 
 /// What the step search is asked.
 #[derive(Copy, Clone, Debug)]

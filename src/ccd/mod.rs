@@ -55,21 +55,25 @@ mod options;
 mod vertex_face;
 
 pub use advance::ROUNDING_FLOOR_ULPS;
+pub(crate) use closest_approach::PROOF_MARGIN_FRACTION;
 pub use closest_approach::{
     closest_approach, ApproachStatus, ClosestApproach, ClosestApproachQuery, DEFAULT_APPROACH_TOLERANCE,
-    DESCENT_FIRST_STEP_FRACTION, DESCENT_PRECISION_FRACTION, MAX_APPROACH_RUNS, PROOF_MARGIN_FRACTION,
-    RUN_TOLERANCE_FRACTION, SCREEN_TOLERANCE_FRACTION,
 };
 pub(crate) use closest_approach::{measure as distance_at, screen as screen_approach, Run as ApproachRun};
-pub use contact::{box_margin, ContactContract, ContactRule, BOX_MARGIN_TOLERANCE_FACTOR, TARGET_FRACTION};
+#[cfg(test)]
+pub(crate) use contact::BOX_MARGIN_TOLERANCE_FACTOR;
+pub use contact::{box_margin, ContactContract, ContactRule, TARGET_FRACTION};
 pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
+pub use hull_gap::WarmSimplex;
 pub(crate) use hull_gap::{convex_distance, first_within, hull_gap, hull_gap_from, ConvexDistance};
-pub use hull_gap::{WarmSimplex, HULL_GAP_MAX_ITERATIONS, HULL_GAP_RELATIVE_TOLERANCE};
-pub use mesh_bound::{SPIN_SWEEP_AFTER_ITERATIONS, SPIN_SWEEP_MAX_RATE_FRACTION, SPIN_SWEEP_MIN_TURN};
-pub use mesh_pair::INTEGRATED_JUMP_ULPS;
+#[cfg(test)]
+pub(crate) use mesh_bound::{SPIN_SWEEP_AFTER_ITERATIONS, SPIN_SWEEP_MAX_RATE_FRACTION, SPIN_SWEEP_MIN_TURN};
+#[cfg(test)]
+pub(crate) use mesh_pair::INTEGRATED_JUMP_ULPS;
 pub use mesh_pair::{
     mesh_time_of_impact, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart,
 };
-pub use mesh_search::{OPEN_RATIO, STEP_SLACK};
+#[cfg(test)]
+pub(crate) use mesh_search::{OPEN_RATIO, STEP_SLACK};
 pub use options::{CcdOptions, CcdResult, CcdStatus};
 pub use vertex_face::{vertex_face_time_of_impact, vertex_face_time_of_impact_detailed};

@@ -35,7 +35,7 @@ use crate::scene::{BodyMotion, Scene};
 /// intersecting: 2. rapier's soft contacts settle under load a little beyond
 /// the allowed error (a stack of five unit boxes: 1.92e-3 at an allowed
 /// error of 0.001, measured with an earlier rapier).
-pub const PENETRATION_LIMIT_FACTOR: Real = 2.0;
+pub(crate) const PENETRATION_LIMIT_FACTOR: Real = 2.0;
 
 /// rapier alone beside nearmiss: per pair and per body (see the module).
 #[derive(Clone, Debug, PartialEq, Serialize)]

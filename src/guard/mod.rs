@@ -18,7 +18,7 @@
 //! - **Decisive where rapier would not.** A pair that arrives within a
 //!   step, and that rapier's step takes deeper than the pair's tolerated
 //!   depth ([`GuardOptions::tolerated_depth`], rapier's allowed linear error
-//!   by default, never more than [`THIN_BODY_FRACTION`] of the thinner
+//!   by default, never more than `THIN_BODY_FRACTION` of the thinner
 //!   body) or to the far side, is stopped at its contact: the world goes
 //!   back to the contact's time and rapier solves the rest of the step from
 //!   there (its masses, friction and restitution at the contact; forces act
@@ -27,7 +27,7 @@
 //!   or spin (a body turns less than a quarter turn a step: the side tests'
 //!   one assumption). A touching pair that rapier's contact lets sink deeper
 //!   (a body pushed by a kinematic one) is pushed apart to
-//!   [`PUSHED_DEPTH_FRACTION`] of it at the step's end, back along its own
+//!   `PUSHED_DEPTH_FRACTION` of it at the step's end, back along its own
 //!   side if it went through ([`GuardEvent::Overlap`]).
 //! - **Never frozen** (the liveness rule beside that safety rule). No body
 //!   is held still while rapier moves it: a pair overlapping at a sweep's
@@ -119,9 +119,9 @@
 //! triangles of a body's solid colliders relative to the body's centre of
 //! mass (triangle meshes, convex polyhedra, cuboids and heightfields as they
 //! are; balls, capsules and cylinders as polyhedra drawn around them, at
-//! most [`BALL_EXCESS_OF_SKIN`] of the skin, or of rapier's allowed error
+//! most `BALL_EXCESS_OF_SKIN` of the skin, or of rapier's allowed error
 //! without one, outside, so that the shapes themselves are guarded too; a
-//! half-space as a box [`HALF_SPACE_EXTENT`] length units wide and deep
+//! half-space as a box `HALF_SPACE_EXTENT` length units wide and deep
 //! under its plane; compounds part by part). The scene runner's
 //! `on_contact: Simulate` is built on the same type.
 //!
@@ -146,7 +146,7 @@ mod watch;
 
 pub use compare::{
     compare_with_rapier, rapier_markdown, run_rapier_alone, RapierAlone, RapierBody, RapierComparison,
-    RapierPair, PENETRATION_LIMIT_FACTOR,
+    RapierPair,
 };
 
 use std::sync::Arc;
@@ -156,9 +156,10 @@ use rapier3d_f64::prelude::{IntegrationParameters, RigidBodyHandle, RigidBodySet
 
 pub use bodies::{BodyKind, BodyView, ColliderPart, ContactHooks, RapierBodies, ShapePart};
 
+#[cfg(test)]
+pub(crate) use shapes::HALF_SPACE_EXTENT;
 pub use shapes::{
-    circumscribed_ball, collider_for, is_convex, mesh_of_body, ColliderShape, CONVEXITY_TOLERANCE,
-    HALF_SPACE_EXTENT, MAX_BALL_SEGMENTS,
+    circumscribed_ball, collider_for, is_convex, mesh_of_body, ColliderShape, MAX_BALL_SEGMENTS,
 };
 
 use crate::ccd::{CcdOptions, ContactContract, ContactRule};
@@ -169,7 +170,8 @@ use crate::stepper::{Contact, PairState, RunOptions, Stepper, Termination, World
 use act::is_kinematic;
 use bodies::center_pose;
 use depth::{Deep, DepthWatch};
-pub use watch::THIN_BODY_FRACTION;
+#[cfg(test)]
+pub(crate) use watch::THIN_BODY_FRACTION;
 use watch::{thickness, PairRules, Watch};
 
 /// How a [`Guard`] sweeps.
@@ -196,7 +198,7 @@ pub struct GuardOptions {
     /// themselves from ever overlapping (a resting box floats the two
     /// skins, less what rapier lets it sink, above its floor). A collider
     /// with a larger skin keeps it. Finite and at least 0 ([`Guard::new`]
-    /// checks it). Default: [`DEFAULT_SKIN`].
+    /// checks it). Default: `DEFAULT_SKIN`.
     pub skin: Real,
     /// The deepest overlap the guard lets rapier's step take two meshes to,
     /// as a multiple of rapier's allowed linear error (without skins): an
@@ -204,35 +206,35 @@ pub struct GuardOptions {
     /// there, and a touching pair found deeper at a step's end is pushed
     /// apart. A body thinner than twice this depth can be crossed by a slow
     /// arrival: lower it, or ask for a skin. Finite and above 0
-    /// ([`Guard::new`] checks it). Default: [`DEFAULT_TOLERATED_DEPTH`].
+    /// ([`Guard::new`] checks it). Default: `DEFAULT_TOLERATED_DEPTH`.
     pub tolerated_depth: Real,
     /// How many times per step [`Guard::step`] may move the world back to a
     /// contact and let rapier solve from there; after that, arrivals hold
     /// their dynamic bodies at their contacts for the rest of the step.
-    /// Default: [`DEFAULT_MAX_SUBSTEPS`].
+    /// Default: `DEFAULT_MAX_SUBSTEPS`.
     pub max_substeps: usize,
 }
 
 /// How far outside a ball, capsule or cylinder collider its swept
 /// polyhedron may stand, as a fraction of the contact skin (of rapier's
 /// allowed linear error when the skin is 0): `0.25`.
-pub const BALL_EXCESS_OF_SKIN: Real = 0.25;
+pub(crate) const BALL_EXCESS_OF_SKIN: Real = 0.25;
 
 /// [`GuardOptions::skin`]'s default: `0`, no skin (rapier's contacts as they
 /// are).
-pub const DEFAULT_SKIN: Real = 0.0;
+pub(crate) const DEFAULT_SKIN: Real = 0.0;
 
 /// [`GuardOptions::tolerated_depth`]'s default: `1.0`, rapier's allowed
 /// linear error (0.005 × `length_unit`), which its soft contacts keep
 /// resting pairs within.
-pub const DEFAULT_TOLERATED_DEPTH: Real = 1.0;
+pub(crate) const DEFAULT_TOLERATED_DEPTH: Real = 1.0;
 
 /// What a touching pair found deeper than the tolerated depth is pushed
 /// back to, as a fraction of it: `0.5` (room for rapier's next step).
-pub const PUSHED_DEPTH_FRACTION: Real = 0.5;
+pub(crate) const PUSHED_DEPTH_FRACTION: Real = 0.5;
 
 /// [`GuardOptions::max_substeps`]'s default.
-pub const DEFAULT_MAX_SUBSTEPS: usize = 4;
+pub(crate) const DEFAULT_MAX_SUBSTEPS: usize = 4;
 
 /// [`RunOptions::parallel_narrow_phase_seconds`](crate::stepper::RunOptions::parallel_narrow_phase_seconds) under a guard: between
 /// two of its sweeps rapier steps on one thread and rayon's threads fall
@@ -240,7 +242,7 @@ pub const DEFAULT_MAX_SUBSTEPS: usize = 4;
 /// box (2 cores), more than a narrow phase of 0.25 ms gained from the
 /// second thread (and their spinning afterwards slowed rapier's step).
 /// Seconds.
-pub const PARALLEL_NARROW_PHASE_SECONDS: Real = 3e-4;
+pub(crate) const PARALLEL_NARROW_PHASE_SECONDS: Real = 3e-4;
 
 impl Default for GuardOptions {
     fn default() -> Self {

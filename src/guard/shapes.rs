@@ -32,10 +32,10 @@ impl ColliderShape {
 /// How far a vertex may lie outside a face's plane, relative to the mesh's
 /// radius, for the mesh to count as convex: rounding of the vertices, not
 /// shape.
-pub const CONVEXITY_TOLERANCE: Real = 1e-9;
+pub(crate) const CONVEXITY_TOLERANCE: Real = 1e-9;
 
 /// Whether a closed mesh is convex: every vertex on the same side of every
-/// face's plane (within [`CONVEXITY_TOLERANCE`] of the radius;
+/// face's plane (within `CONVEXITY_TOLERANCE` of the radius;
 /// [`TriMesh::convex_within`]). An open mesh (a plate of triangles, a single
 /// triangle) is not a solid: `false`.
 pub fn is_convex(mesh: &TriMesh) -> bool {
@@ -143,7 +143,7 @@ fn circumscribed_cylinder(
 /// `1e4`. The guard sweeps a half-space as the box below its plane that is
 /// twice this wide (centred under the collider's origin) and this deep:
 /// bodies farther out along the plane are not guarded against it.
-pub const HALF_SPACE_EXTENT: Real = 1e4;
+pub(crate) const HALF_SPACE_EXTENT: Real = 1e4;
 
 /// The box below a half-space's plane (through the origin, outward unit
 /// `normal`): [`HALF_SPACE_EXTENT`] `× length_unit` to each side and deep.

@@ -62,7 +62,7 @@ pub(crate) const WALL_REDETECT_FRACTION: Real = 0.5;
 /// thickness (a convex mesh's least width across its faces, another's
 /// least box extent), whatever the tolerated depth: `0.5`. A point of one
 /// body that deep into a plate is still on its near side.
-pub const THIN_BODY_FRACTION: Real = 0.5;
+pub(crate) const THIN_BODY_FRACTION: Real = 0.5;
 
 /// Which pairs of guarded bodies (indices in the guard's list) rapier
 /// solves: their colliders' collision and solver groups, sensors, disabled

@@ -40,7 +40,7 @@ mod dispatch;
 mod double_double;
 mod dyop;
 mod feature;
-pub mod lanes;
+pub(crate) mod lanes;
 #[cfg(target_arch = "x86_64")]
 mod pair_lanes;
 mod point_segment;
@@ -64,14 +64,14 @@ pub use point_segment::{
     stable_heron_height, PointEdgeFormula,
 };
 pub use point_triangle::{point_face_interior, point_triangle, FacePlane, PointTriangle};
-pub use refine::{REFINE_BELOW_EXTENT, REFINE_TIE_BAND_ULPS};
+#[cfg(test)]
+pub(crate) use refine::{REFINE_BELOW_EXTENT, REFINE_TIE_BAND_ULPS};
+pub use scale::MIN_RELATIVE_SIZE;
 pub(crate) use scale::{largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point};
-pub use scale::{MIN_RELATIVE_SIZE, SAFE_EXPONENT};
 pub use segment_segment::{segment_segment, segment_segment_lanes, Edge, SegmentSegment};
 pub use triangle_distance::{triangle_distance, triangle_distance_with};
 pub use triangle_intersection::triangles_intersect;
 pub use triangle_overlap::{
     triangle_intersection, triangle_penetration, OverlapPolygon, TriangleIntersection, TrianglePenetration,
-    MAX_OVERLAP_VERTICES,
 };
 pub use triangle_triangle::TriangleDistance;

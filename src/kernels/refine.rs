@@ -28,13 +28,13 @@ use crate::math::{Point, Real, Triangle};
 /// relative to `a[0]`), a triangle distance is refined. Above it the plain
 /// result's absolute error, about `2ε·S`, is already below `1e-12`
 /// relative. Default `1e-3`.
-pub const REFINE_BELOW_EXTENT: Real = 1e-3;
+pub(crate) const REFINE_BELOW_EXTENT: Real = 1e-3;
 
 /// The rounding band of the plain candidate pass, in `ε·S`: candidates whose
 /// plain distances are within this of the least may be the true least, and
 /// are all refined. Each plain distance is within about `2ε·S` of its exact
 /// value (measured: at most 1.5); two of them, with room. Default `16`.
-pub const REFINE_TIE_BAND_ULPS: Real = 16.0;
+pub(crate) const REFINE_TIE_BAND_ULPS: Real = 16.0;
 
 impl<L: Lane> ClosestSeparated<L> {
     /// Whether the distance is small enough next to the pair's extent to be

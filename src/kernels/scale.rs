@@ -22,7 +22,7 @@ use crate::math::{Point, Real, Triangle, Vector};
 /// Inputs whose largest coordinate magnitude is within `2^±SAFE_EXPONENT`
 /// are not rescaled. `100`: their fourth powers stay far inside the normal
 /// range.
-pub const SAFE_EXPONENT: i32 = 100;
+pub(crate) const SAFE_EXPONENT: i32 = 100;
 
 /// `2^e` for an exponent `e` of the normal range, exactly (built from its
 /// bits: a constant, not a library call per query).

@@ -35,7 +35,7 @@ use super::triangle_intersection::{orient, orient_projected, triangles_intersect
 use crate::math::{Point, Real, Triangle, Vector};
 
 /// The most vertices two coplanar triangles' common polygon can have.
-pub const MAX_OVERLAP_VERTICES: usize = 6;
+pub(crate) const MAX_OVERLAP_VERTICES: usize = 6;
 
 /// The set two closed triangles share.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -52,7 +52,7 @@ pub enum TriangleIntersection {
     Polygon(OverlapPolygon),
 }
 
-/// A convex polygon of at most [`MAX_OVERLAP_VERTICES`] vertices, in order
+/// A convex polygon of at most `MAX_OVERLAP_VERTICES` vertices, in order
 /// around its boundary.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct OverlapPolygon {

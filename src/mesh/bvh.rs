@@ -11,7 +11,7 @@
 use crate::math::{Point, Real, Vector};
 
 /// The most triangles in a leaf.
-pub const BVH_LEAF_SIZE: usize = 4;
+pub(crate) const BVH_LEAF_SIZE: usize = 4;
 
 /// One node of a [`MeshBvh`].
 #[derive(Copy, Clone, Debug, PartialEq)]

@@ -7,7 +7,7 @@ use crate::math::{Point, Real, Vector};
 /// Adjacent triangles whose unit normals differ by less than this are
 /// coplanar: their shared edge is not an edge of the solid. Default
 /// `1e-12`.
-pub const FLAT_EDGE_TOLERANCE: Real = 1e-12;
+pub(crate) const FLAT_EDGE_TOLERANCE: Real = 1e-12;
 
 /// What a convex mesh offers the separating-axis test, built once per mesh
 /// (in its own frame).

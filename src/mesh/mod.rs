@@ -22,8 +22,11 @@ mod signed_distance;
 mod support;
 mod trimesh;
 
-pub use bvh::{BvhNode, MeshBvh, BVH_LEAF_SIZE};
-pub use convex_features::FLAT_EDGE_TOLERANCE;
+pub use bvh::{BvhNode, MeshBvh};
+
+pub(crate) use bvh::BVH_LEAF_SIZE;
+#[cfg(test)]
+pub(crate) use convex_features::FLAT_EDGE_TOLERANCE;
 pub(crate) use distance::triangle_pair_distance;
 pub use distance::{
     mesh_distance, mesh_distance_brute_force, mesh_distance_relative, DistanceKernel, DistanceSearch,
@@ -35,7 +38,9 @@ pub use intersection::{
 pub use local_depth::{local_depths, LocalDepth, Side};
 pub use mass::MassProperties;
 pub use obj::{load_obj, parse_obj, ObjError};
-pub use penetration::{convex_penetration, MeshPenetration, NotConvex, PARALLEL_EDGE_SINE};
+#[cfg(test)]
+pub(crate) use penetration::PARALLEL_EDGE_SINE;
+pub use penetration::{convex_penetration, MeshPenetration, NotConvex};
 #[cfg(feature = "rapier")]
 pub(crate) use penetration::{convex_penetration_with, PenetrationScratch};
 pub use point_query::{point_signed_distance, PointQueryScratch, PointSignedDistance};
@@ -44,5 +49,4 @@ pub use primitives::{
 };
 pub(crate) use signed_distance::overlap_beyond;
 pub use signed_distance::{overlap_of, signed_distance, Overlap, SignedDistance, SignedDistanceScratch};
-pub use support::{SUPPORT_TABLE_MARGIN, SUPPORT_TABLE_MIN_VERTICES};
-pub use trimesh::{MeshError, TriMesh, CONVEX_SURFACE_TOLERANCE};
+pub use trimesh::{MeshError, TriMesh};

@@ -37,7 +37,7 @@ use crate::math::{Point, Pose, Real, Vector};
 /// skipped: their cross product has no reliable direction, and the facet
 /// they would form is a sliver whose neighbours (the edges' faces) are
 /// tested. Default `1e-10`.
-pub const PARALLEL_EDGE_SINE: Real = 1e-10;
+pub(crate) const PARALLEL_EDGE_SINE: Real = 1e-10;
 
 /// The shortest translation that separates two convex solids.
 #[derive(Copy, Clone, Debug, PartialEq)]

@@ -33,7 +33,7 @@ use crate::math::{Point, Real, Vector};
 
 /// The slack of the table's test, as a fraction of the mesh's radius (see
 /// the module): about 1,000 times the rounding of a dot product.
-pub const SUPPORT_TABLE_MARGIN: Real = 1e-12;
+pub(crate) const SUPPORT_TABLE_MARGIN: Real = 1e-12;
 
 /// How much a cell's chord radius is widened (relatively, and absolutely:
 /// chords are between unit directions) for the rounding of the cell
@@ -43,7 +43,7 @@ const CELL_WIDENING: Real = 1e-9;
 
 /// Meshes with fewer vertices than this are scanned whole: a table would
 /// not shorten the scan enough to pay for its memory.
-pub const SUPPORT_TABLE_MIN_VERTICES: usize = 32;
+pub(crate) const SUPPORT_TABLE_MIN_VERTICES: usize = 32;
 
 /// The table of one mesh (see the module).
 #[derive(Clone, Debug)]

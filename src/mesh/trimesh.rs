@@ -80,7 +80,7 @@ pub struct TriMesh {
 /// rotated convex OBJ), and within what the trace's certificate allows for
 /// rounding (64 ulps of the pair's scale): a mesh taken as convex is its
 /// hull's boundary to that rounding. Default `4e-15`.
-pub const CONVEX_SURFACE_TOLERANCE: Real = 4e-15;
+pub(crate) const CONVEX_SURFACE_TOLERANCE: Real = 4e-15;
 
 impl TriMesh {
     /// Validates the mesh and builds its BVH.
@@ -155,7 +155,7 @@ impl TriMesh {
     /// The first vertex farthest along `direction` (the first largest dot
     /// product, as a scan over every vertex finds it; its index), found by
     /// the mesh's table of directions (see the `support` module) for
-    /// meshes of [`SUPPORT_TABLE_MIN_VERTICES`](super::SUPPORT_TABLE_MIN_VERTICES)
+    /// meshes of `SUPPORT_TABLE_MIN_VERTICES`
     /// vertices or more.
     #[inline]
     pub fn farthest_vertex(&self, direction: &Vector) -> usize {
@@ -212,7 +212,7 @@ impl TriMesh {
 
     /// Whether the mesh is closed (see [`TriMesh::check_closed`]) and every
     /// vertex lies on the same side of every triangle's plane, within
-    /// [`CONVEX_SURFACE_TOLERANCE`] of the radius: then the surface is the
+    /// `CONVEX_SURFACE_TOLERANCE` of the radius: then the surface is the
     /// boundary of its vertices' convex hull, and the closest points of two
     /// such hulls (apart) lie on the meshes. Decided once per mesh
     /// ([`TriMesh::convex_within`]).

@@ -12,7 +12,7 @@ use crate::math::{Real, Vector};
 /// A torque-free spin is taken as steady (no precession) when `|L × ω|` is
 /// at most this many ulps of `|L| |ω|` (`L = I ω`, body frame): a spin
 /// about a principal axis, to rounding. `64`.
-pub const STEADY_SPIN_ULPS: Real = 64.0;
+pub(crate) const STEADY_SPIN_ULPS: Real = 64.0;
 
 /// What acts on a body that is neither fixed nor kinematic.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]

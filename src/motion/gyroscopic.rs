@@ -16,7 +16,7 @@ use nalgebra::Matrix3;
 use crate::math::{Real, Vector};
 
 /// The most Newton iterations of one implicit gyroscopic step.
-pub const GYROSCOPIC_MAX_ITERATIONS: usize = 20;
+pub(crate) const GYROSCOPIC_MAX_ITERATIONS: usize = 20;
 
 /// Newton stops when the update is below this many ulps of `|ω|`.
 const GYROSCOPIC_TOLERANCE_ULPS: Real = 4.0;
@@ -31,7 +31,7 @@ pub struct GyroscopicSolve {
     /// Newton iterations taken.
     pub iterations: usize,
     /// Whether the update fell below the tolerance within
-    /// [`GYROSCOPIC_MAX_ITERATIONS`].
+    /// `GYROSCOPIC_MAX_ITERATIONS`.
     pub converged: bool,
 }
 

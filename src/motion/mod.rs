@@ -9,17 +9,23 @@
 //! integrated ([`integrate`]) with semi-implicit Euler (default), explicit
 //! Euler or RK4.
 //!
-//! Which bodies are integrated is decided in [`classify`].
+//! Which bodies are integrated is decided in `classify`.
 //!
 //! Within a step every body moves with constant linear velocity and
 //! constant angular velocity about its centre of mass, from the pose at the
 //! start of the step to the integrator's pose at its end ([`StepMotion`]).
 
-pub mod classify;
+pub(crate) mod classify;
 mod gyroscopic;
 mod integrator;
 mod step_motion;
 
-pub use gyroscopic::{implicit_gyroscopic_step, GyroscopicSolve, GYROSCOPIC_MAX_ITERATIONS};
+pub use gyroscopic::{implicit_gyroscopic_step, GyroscopicSolve};
+
+#[cfg(test)]
+pub(crate) use gyroscopic::GYROSCOPIC_MAX_ITERATIONS;
 pub use integrator::{integrate, Dynamics, Gyroscopic, Integrator, RigidState, Spring};
-pub use step_motion::{StepMotion, MAX_TURN_PER_STEP, TURN_ROUNDING_ULPS};
+pub use step_motion::StepMotion;
+pub(crate) use step_motion::MAX_TURN_PER_STEP;
+#[cfg(test)]
+pub(crate) use step_motion::TURN_ROUNDING_ULPS;

@@ -8,13 +8,13 @@ use crate::math::{Point, Pose, Real, Vector};
 /// its motion within a step is interpolated with a constant angular
 /// velocity taken the short way, which must be unambiguous. Checked at
 /// load and at every step.
-pub const MAX_TURN_PER_STEP: Real = std::f64::consts::FRAC_PI_2;
+pub(crate) const MAX_TURN_PER_STEP: Real = std::f64::consts::FRAC_PI_2;
 
 /// [`StepMotion::between_near`]: a turn between two poses whose quaternion's
 /// vector part is at most this many ulps (of a unit quaternion) is a whole
 /// number of turns to rounding, its axis rounding noise: the engine's spin
 /// gives the axis. A turn of 4 ulps is about 2e-15 rad.
-pub const TURN_ROUNDING_ULPS: Real = 4.0;
+pub(crate) const TURN_ROUNDING_ULPS: Real = 4.0;
 
 /// Constant linear velocity and constant angular velocity (world frame)
 /// about the centre of mass.

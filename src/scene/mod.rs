@@ -1,4 +1,4 @@
-//! Scenes: the RON file format ([`file`](mod@file)), its validation, and the
+//! Scenes: the RON file format (`file`), its validation, and the
 //! validated [`Scene`] that the [`stepper`](crate::stepper) runs: its
 //! [`Model`] (what is simulated: bodies, step, engine settings; what the
 //! stepper and the guard take) and its [`RunSpec`] (what a run covers and
@@ -30,23 +30,24 @@
 mod build;
 mod build_body;
 mod error;
-pub mod file;
+pub(crate) mod file;
 mod overlap;
 mod parameters;
-pub mod record;
+mod record;
 
 use std::path::Path;
 use std::sync::Arc;
 
 use nalgebra::Matrix3;
 
+pub use crate::input::{read_text, ReadError, MAX_DATA_BYTES, MAX_SCENE_BYTES};
 pub use build::{MAX_MAGNITUDE, MAX_NAME_BYTES, MAX_SOLVER_ITERATIONS, MIN_MAGNITUDE};
 pub use build_body::MAX_TORUS_SEGMENTS;
 pub use error::SceneError;
-pub use file::OnContact;
-pub use file::PlotSettings;
+pub use file::{OnContact, PlotSettings, DEFAULT_FRICTION, DEFAULT_SOLVER_ITERATIONS};
 pub use overlap::{initial_overlaps, InitialOverlap};
 pub use parameters::StepParameters;
+pub use record::{set_expectation, RECORDED_COMMENT};
 
 use crate::ccd::CcdOptions;
 use crate::math::{Pose, Real, Vector};

@@ -30,7 +30,7 @@ use crate::scene::{Model, RunSpec, TraceSpec};
 /// this many ulps of the pair's scale (the centres' distance plus both
 /// radii) below the last closest triangle pair's distance: the rounding of
 /// the two computations, not geometry.
-pub const CERTIFICATE_ULPS: Real = 64.0;
+pub(crate) const CERTIFICATE_ULPS: Real = 64.0;
 
 /// One distance sample of a traced pair.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -229,7 +229,7 @@ impl TraceObserver {
 /// the exact kernel states (its plain pass is used above 1e-3 of the pair's
 /// extent for the same reason). Nearer pairs take the kernel's distance of
 /// the closest features' triangles. Default `1e-12`.
-pub const CONVEX_VALUE_RELATIVE_ERROR: Real = 1e-12;
+pub(crate) const CONVEX_VALUE_RELATIVE_ERROR: Real = 1e-12;
 
 thread_local! {
     /// Each rayon thread's search scratch, kept between samples and runs.

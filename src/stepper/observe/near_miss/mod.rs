@@ -67,7 +67,9 @@ pub(crate) mod record;
 mod screen;
 mod search;
 
-pub use record::{NearMiss, MAX_HELD_STEPS};
+pub use record::NearMiss;
+
+pub(crate) use record::MAX_HELD_STEPS;
 
 /// The near-miss observer of a run.
 #[derive(Debug)]

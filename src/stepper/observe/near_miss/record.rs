@@ -31,4 +31,4 @@ pub struct NearMiss {
 
 /// The most steps of one pair held before they are bracketed: `64` (a
 /// pair that keeps approaching is bracketed once per this many steps).
-pub const MAX_HELD_STEPS: usize = 64;
+pub(crate) const MAX_HELD_STEPS: usize = 64;
