@@ -60,7 +60,8 @@
 //!
 //! This crate computes and never draws: the `nearmiss` binary (the
 //! `nearmiss-cli` crate beside it) writes runs, plots, pictures and
-//! reports. Features: `rapier` (default) the guard and `Simulate`;
+//! reports. Features: `rapier` (off by default; the command line and
+//! the Python package turn it on) the guard and `Simulate`;
 //! `rapier-f32` the guard of an f32 rapier too; `testing` makes `samples`
 //! public for the tests and benchmarks.
 

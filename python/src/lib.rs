@@ -779,7 +779,7 @@ fn run_scene_json<'py>(
             path.display()
         )));
     }
-    let json = nearmiss_cli::output::summary_json(&result, &scene);
+    let json = nearmiss_summary::summary_json(&result, &scene);
     let trace = &result.trace;
     Ok((
         json,

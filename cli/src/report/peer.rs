@@ -11,28 +11,11 @@
 
 use std::time::Instant;
 
-use serde::Serialize;
-
 use nearmiss::math::{motion_to_parry, pose_to_parry, vector_to_parry, Real};
 use nearmiss::run::RunResult;
 use nearmiss::scene::{BodyMotion, Scene};
 
-/// One pair, both answers.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct PeerComparison {
-    /// First body's name.
-    pub body_a: String,
-    /// Second body's name.
-    pub body_b: String,
-    /// nearmiss's first contact time of the pair (`null`: none).
-    pub nearmiss: Option<Real>,
-    /// parry's time of impact (`null`: none, or not computed).
-    pub parry: Option<Real>,
-    /// The parry query used, or why none was.
-    pub parry_query: String,
-    /// parry's wall time for the query, seconds.
-    pub parry_wall_time_s: Real,
-}
+pub use nearmiss_summary::PeerComparison;
 
 /// The comparison as a Markdown table.
 pub fn peer_markdown(peer: &[PeerComparison]) -> String {
