@@ -13,12 +13,12 @@
 //! fixed wall), and never more than the box of the bounding sphere.
 //! The boxes go into parry's `Bvh`, whose self-traversal yields the
 //! overlapping pairs. The tree is built once and then refitted to the
-//! moved boxes at each step while the number of bodies stays the same (on
-//! 1,000 bouncing bodies: 0.47 ms per step instead of 0.72 for a rebuild),
+//! moved boxes at each step while the number of bodies stays the same
+//! (cheaper than a rebuild when they moved little, as between two steps),
 //! and incrementally re-optimised at every second refit
 //! (`OPTIMIZE_EVERY_REFITS`; parry rebuilds a few subtrees a call): a
-//! refitted tree alone degrades as the bodies mix (the 1,000-body box's
-//! broad phase went from 0.2 to 1.1 ms a step over 2,400 steps).
+//! refitted tree alone degrades as the bodies mix, its boxes growing until
+//! a traversal meets most of the tree.
 //! Pairs of two fixed bodies are dropped.
 
 use parry3d_f64::bounding_volume::Aabb;
@@ -29,9 +29,9 @@ use crate::mesh::TriMesh;
 use crate::motion::StepMotion;
 
 /// The tree is re-optimised (parry's `optimize_incremental`) at every this
-/// many refits: on the 1,000-body box, every second refit kept the
-/// traversal as fast as every refit (0.135 against 0.147 ms a step for the
-/// whole broad phase over 2,400 steps) for half the optimisation's cost.
+/// many refits: every second refit keeps the traversal as fast as every
+/// refit for half the optimisation's cost (measured on the 1,000-body box:
+/// `docs/benchmarks-history.md`).
 pub(crate) const OPTIMIZE_EVERY_REFITS: u64 = 2;
 
 /// A swept box: smallest and largest corners.

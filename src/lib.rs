@@ -65,6 +65,10 @@
 //! `rapier-f32` the guard of an f32 rapier too; `testing` makes `samples`
 //! public for the tests and benchmarks.
 
+// `unsafe` only where the SIMD kernels call intrinsics (`kernels/`, which
+// allows it, each block with its `SAFETY:` reason).
+#![deny(unsafe_code)]
+
 pub mod broad_phase;
 pub mod ccd;
 #[cfg(test)]
@@ -73,6 +77,7 @@ pub mod exact;
 #[cfg(feature = "rapier")]
 pub mod guard;
 mod input;
+#[allow(unsafe_code)]
 pub mod kernels;
 pub mod math;
 pub mod mesh;

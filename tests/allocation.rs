@@ -5,27 +5,34 @@
 //! kept); every other step after the warm-up must allocate nothing.
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::cell::Cell;
 
 use nearmiss::run::{run_with, RunOptions, RunResult};
 use nearmiss::scene::Scene;
 
-/// The system allocator, counting allocations and reallocations.
+/// The system allocator, counting each thread's allocations and
+/// reallocations (a run here stays on its thread; rayon's workers, started
+/// on the side as the pool comes up, allocate on theirs).
 struct Counting;
 
-static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
-static TRACE: AtomicU64 = AtomicU64::new(0);
-thread_local! { static INSIDE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) }; }
+thread_local! {
+    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+/// This thread's allocations so far.
+fn allocations() -> u64 {
+    ALLOCATIONS.with(Cell::get)
+}
+
+fn count() {
+    // A thread being torn down has no count to keep.
+    let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+}
 
 // SAFETY: every call is forwarded to the system allocator unchanged.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        if TRACE.load(Ordering::Relaxed) > 0 && !INSIDE.with(|i| i.replace(true)) {
-            TRACE.fetch_sub(1, Ordering::Relaxed);
-            eprintln!("ALLOC {:?}\n{}", layout, std::backtrace::Backtrace::force_capture());
-            INSIDE.with(|i| i.set(false));
-        }
+        count();
         unsafe { System.alloc(layout) }
     }
 
@@ -34,12 +41,12 @@ unsafe impl GlobalAlloc for Counting {
     }
 
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        count();
         unsafe { System.alloc_zeroed(layout) }
     }
 
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        count();
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }
@@ -51,15 +58,12 @@ static GLOBAL: Counting = Counting;
 /// and returns its result and the allocations of each step.
 fn allocations_per_step(scene: &Scene, steps: usize) -> (RunResult, Vec<u64>) {
     let mut counts = Vec::with_capacity(steps + 1);
-    let mut last = ALLOCATIONS.load(Ordering::Relaxed);
+    let mut last = allocations();
     let options = RunOptions { parallel: false, ..RunOptions::default() };
     let result = run_with(scene, options, &mut |_| {
-        let now = ALLOCATIONS.load(Ordering::Relaxed);
+        let now = allocations();
         counts.push(now - last);
-        last = ALLOCATIONS.load(Ordering::Relaxed);
-        if counts.len() == 150 {
-            TRACE.store(3, Ordering::Relaxed);
-        }
+        last = allocations();
     });
     (result, counts)
 }
@@ -97,8 +101,6 @@ fn assert_only_contact_steps_allocate(scene: &Scene, dt: f64, steps: usize, warm
     );
 }
 
-/// One test, so that nothing else in the process (another test, the
-/// harness reporting one) allocates while a run is counted.
 #[test]
 fn steps_allocate_nothing_after_warm_up() {
     bounce_steps_allocate_nothing_after_warm_up();
@@ -157,15 +159,15 @@ fn guard_steps_allocate_nothing_after_warm_up() {
     let (mut quiet, mut acted) = (Vec::new(), 0);
     for step in 0..120 {
         let mut in_rapier = 0;
-        let before = ALLOCATIONS.load(Ordering::Relaxed);
+        let before = allocations();
         let events = guard
             .step(&mut bodies, |bodies, dt| {
-                let start = ALLOCATIONS.load(Ordering::Relaxed);
+                let start = allocations();
                 rapier.step(bodies, &mut colliders, Vector::new(0.0, 0.0, -9.81), &parameters, dt);
-                in_rapier += ALLOCATIONS.load(Ordering::Relaxed) - start;
+                in_rapier += allocations() - start;
             })
             .expect("decided");
-        let by_guard = ALLOCATIONS.load(Ordering::Relaxed) - before - in_rapier;
+        let by_guard = allocations() - before - in_rapier;
         // The events the guard reports are its answer (a list, when it acts).
         if !events.is_empty() {
             acted += 1;

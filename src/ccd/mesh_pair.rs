@@ -81,9 +81,9 @@ pub(crate) const INTEGRATED_JUMP_ULPS: Real = 8.0;
 /// The most advancement steps taken on the hulls' gap alone before the BVH
 /// search takes over (see the module). Each costs one warm-started GJK (a
 /// microsecond or less), a search tens of them; spinning bodies close far
-/// slower than their bound `|n × ω| r` says, so the steps shrink slowly:
-/// on the 1,000-body box, 16 steps left 1,418 queries to the search, 64
-/// left 97 (and the CCD's time fell by a third).
+/// slower than their bound `|n × ω| r` says, so the steps shrink slowly
+/// and a few dozen of them still spare most queries the search
+/// (`docs/benchmarks-history.md`).
 pub(crate) const HULL_ADVANCE_MAX_STEPS: usize = 64;
 
 /// One body of a mesh CCD query: its mesh (vertices relative to the centre
@@ -259,9 +259,8 @@ pub(crate) enum Touching {
     /// The BVH search's (a contact: the responses read its features).
     Searched,
     /// Also any pair GJK on the hulls names within the contact distance
-    /// (the closest approach's runs, which need only the time: on the
-    /// 1,000-body box with near misses this spared 225 of 264 screens a
-    /// run the search, ~80 µs each). Among tied pairs, say a box's face on
+    /// (the closest approach's runs, which need only the time, so that
+    /// most screens need no search). Among tied pairs, say a box's face on
     /// a face, it may name another than the search would.
     Named,
 }

@@ -238,10 +238,9 @@ pub(crate) const DEFAULT_MAX_SUBSTEPS: usize = 4;
 
 /// [`RunOptions::parallel_narrow_phase_seconds`](crate::stepper::RunOptions::parallel_narrow_phase_seconds) under a guard: between
 /// two of its sweeps rapier steps on one thread and rayon's threads fall
-/// asleep, and waking them cost 1.3e-4 to 1.6e-4 s a step on the 1,000-body
-/// box (2 cores), more than a narrow phase of 0.25 ms gained from the
-/// second thread (and their spinning afterwards slowed rapier's step).
-/// Seconds.
+/// asleep, so waking them costs more than under the stepper's own loop,
+/// and their spinning afterwards slows rapier's step (measured on the
+/// 1,000-body box: `docs/benchmarks-history.md`). Seconds.
 pub(crate) const PARALLEL_NARROW_PHASE_SECONDS: Real = 3e-4;
 
 impl Default for GuardOptions {

@@ -275,8 +275,8 @@ pub const FROM_STRING: &str = "<string>";
 
 /// The most steps a run may take unless the caller allows more
 /// (`nearmiss run --max-steps`): 100 million. A scene asking for more is
-/// most likely a typo in `dt` or `duration`; at the 1,000-body box's rate it
-/// would run for days.
+/// most likely a typo in `dt` or `duration`; even a scene of two bodies
+/// would run for hours.
 pub const DEFAULT_MAX_STEPS: u64 = 100_000_000;
 
 /// The most records a run's trace (pairs × samples) or poses (bodies ×

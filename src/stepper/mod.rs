@@ -224,8 +224,8 @@ impl Stepper {
         // The near misses screen the integrated motions first: a pair they
         // prove apart over the step the narrow phase need not ask again.
         // Their stage is timed by one clock across the step, less the
-        // stages in between (a clock costs ~25 ns: on a two-body scene of a
-        // microsecond a step, a second one shows).
+        // stages in between (reading a clock is not free: on a two-body
+        // scene, whose steps are short, a second one would show).
         let seconds_between = |s: &StageSeconds| s.ccd + s.respond;
         let near_clock =
             self.near_misses.is_some().then(|| (Instant::now(), seconds_between(&self.counters.seconds)));

@@ -1,9 +1,9 @@
 //! The hasher of the observer's maps, keyed by pairs of body indices.
 
 /// The observer's maps hash their pairs of body indices by one multiply
-/// and rotate per index (the standard library's SipHash, made to resist
-/// crafted keys, cost a tenth of the near misses' time on the 1,000-body
-/// box; these keys are the run's own).
+/// and rotate per index: the standard library's SipHash is made to resist
+/// crafted keys, which costs time on every lookup, and these keys are the
+/// run's own.
 pub(super) type PairHash = std::hash::BuildHasherDefault<PairHasher>;
 
 /// See [`PairHash`].

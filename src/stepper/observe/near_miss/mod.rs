@@ -10,16 +10,15 @@
 //! that does is held (its motions copied), and so is every later step of
 //! the pair, unscreened, until the pair leaves the candidates, for at most
 //! [`MAX_HELD_STEPS`] steps, or to the run's end: most approaches end in a
-//! contact, which drops them, so screening each step of an approach (over
-//! a quarter of the near misses' work on the 1,000-body box) bought little.
+//! contact, which drops them, so screening each step of an approach bought
+//! little (the measurements: `docs/benchmarks-history.md`).
 //! Then the held steps are bracketed with [`closest_approach`]: the step
 //! whose end is nearest first (a golden-section search over the held
 //! steps' ends), then its neighbours outwards, each asking only for what
 //! beats the best so far, so that one bracket finds the approach and the
 //! others are proved farther by one CCD run each. (Bracketing every step
-//! as it came cost 35× the run without near misses on the 1,000-body box:
-//! a pair that approaches over many steps improved its best, and paid a
-//! whole bracket, every step.)
+//! as it came made a pair that approaches over many steps improve its
+//! best, and pay a whole bracket, every step.)
 //!
 //! The screens run before the narrow phase, which takes a screen that
 //! proves its pair farther than the contact distance as its own answer: a
