@@ -11,15 +11,18 @@ const MAX_BODIES: usize = 8;
 
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
-    let Ok(mut scene) = Scene::from_ron_str(text) else { return };
-    if scene.bodies.len() > MAX_BODIES || scene.bodies.iter().any(|b| b.mesh.triangles().len() > 2000) {
+    let Ok(scene) = Scene::from_ron_str(text) else { return };
+    let bodies = &scene.model().bodies;
+    if bodies.len() > MAX_BODIES || bodies.iter().any(|b| b.mesh.triangles().len() > 2000) {
         return;
     }
-    scene.steps = scene.steps.min(MAX_STEPS);
-    let result = nearmiss::stepper::run(&scene);
+    if scene.check_steps(MAX_STEPS).is_err() {
+        return;
+    }
+    let result = nearmiss::run(&scene);
     assert_eq!(result.first_non_finite(), None);
     for contact in &result.contacts {
-        assert!(contact.distance <= contact.contact_distance, "{contact:?}");
+        assert!(contact.closest.distance <= contact.contact_distance, "{contact:?}");
         assert!(contact.time >= 0.0 && contact.time <= result.end_time, "{contact:?}");
     }
 });

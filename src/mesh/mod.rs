@@ -49,4 +49,4 @@ pub use primitives::{
 };
 pub(crate) use signed_distance::overlap_beyond;
 pub use signed_distance::{overlap_of, signed_distance, Overlap, SignedDistance, SignedDistanceScratch};
-pub use trimesh::{MeshError, TriMesh};
+pub use trimesh::{MeshError, TriMesh, MAX_COORDINATE};

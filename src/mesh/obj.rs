@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::trimesh::{MeshError, TriMesh};
+use super::trimesh::{MeshError, TriMesh, MAX_COORDINATE};
 use crate::math::Point;
 
 /// Why an OBJ file could not be read as a mesh.
@@ -101,7 +101,17 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
                         ));
                     };
                     *coordinate = match word.parse::<f64>() {
-                        Ok(value) if value.is_finite() => value,
+                        Ok(value) if value.abs() <= MAX_COORDINATE => value,
+                        Ok(value) if value.is_finite() => {
+                            return Err(error(
+                                line,
+                                column,
+                                format!(
+                                    "{} is outside the usable range: |x| ≤ {MAX_COORDINATE:e} (products of coordinates must stay finite)",
+                                    excerpt(word)
+                                ),
+                            ))
+                        }
                         _ => {
                             return Err(error(
                                 line,
@@ -168,7 +178,9 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
             error(line, column, source.to_string())
         }
         MeshError::Empty => error(text.lines().count().max(1), 1, "the file has no faces (`f` lines)".into()),
-        MeshError::NonFinite { .. } | MeshError::NotClosed(_) => ObjError::Mesh { path: path.into(), source },
+        MeshError::NonFinite { .. } | MeshError::OutOfRange { .. } | MeshError::NotClosed(_) => {
+            ObjError::Mesh { path: path.into(), source }
+        }
     })
 }
 

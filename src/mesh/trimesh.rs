@@ -6,6 +6,11 @@ use super::mass::MassProperties;
 use super::support::{self, SupportTable};
 use crate::math::{Point, Real, Triangle, Vector};
 
+/// The largest coordinate magnitude a mesh may have: `1e30`, the scene's
+/// usable range too, so that the products the kernels and mass properties
+/// form (up to fifth powers of a size) stay finite.
+pub const MAX_COORDINATE: Real = 1e30;
+
 /// What makes a list of vertices and triangles unusable as a mesh.
 #[non_exhaustive]
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -26,6 +31,12 @@ pub enum MeshError {
     /// A vertex coordinate is NaN or infinite.
     #[error("vertex {vertex} has a coordinate that is not a finite number")]
     NonFinite {
+        /// The vertex (0-based).
+        vertex: usize,
+    },
+    /// A vertex coordinate is beyond [`MAX_COORDINATE`] in magnitude.
+    #[error("vertex {vertex} has a coordinate beyond ±{MAX_COORDINATE:e}, the usable range (products of coordinates must stay finite)")]
+    OutOfRange {
         /// The vertex (0-based).
         vertex: usize,
     },
@@ -86,7 +97,7 @@ impl TriMesh {
     /// Validates the mesh and builds its BVH.
     ///
     /// Rejected: no triangles, an index out of range, a non-finite
-    /// coordinate, a triangle of exactly zero area (decided with exact
+    /// coordinate or one beyond [`MAX_COORDINATE`], a triangle of exactly zero area (decided with exact
     /// predicates). Needle and sliver triangles are accepted.
     pub fn new(vertices: Vec<Point>, triangles: Vec<[u32; 3]>) -> Result<TriMesh, MeshError> {
         if triangles.is_empty() {
@@ -94,6 +105,9 @@ impl TriMesh {
         }
         if let Some(vertex) = vertices.iter().position(|v| !v.coords.iter().all(|c| c.is_finite())) {
             return Err(MeshError::NonFinite { vertex });
+        }
+        if let Some(vertex) = vertices.iter().position(|v| v.coords.amax() > MAX_COORDINATE) {
+            return Err(MeshError::OutOfRange { vertex });
         }
         for (triangle, indices) in triangles.iter().enumerate() {
             for &index in indices {
@@ -389,6 +403,9 @@ mod tests {
         let mut nan = unit_triangle();
         nan[2].y = Real::NAN;
         assert_eq!(TriMesh::new(nan, vec![[0, 1, 2]]).unwrap_err(), MeshError::NonFinite { vertex: 2 });
+        let mut huge = unit_triangle();
+        huge[1].z = -1e31;
+        assert_eq!(TriMesh::new(huge, vec![[0, 1, 2]]).unwrap_err(), MeshError::OutOfRange { vertex: 1 });
         let collinear = vec![Point::new(0.0, 0.0, 0.0), Point::new(1.0, 1.0, 1.0), Point::new(3.0, 3.0, 3.0)];
         assert_eq!(
             TriMesh::new(collinear, vec![[0, 1, 2]]).unwrap_err(),
