@@ -29,10 +29,9 @@
 use super::contact::{ContactRule, TARGET_FRACTION};
 use super::convex_measure::{certificate_slack, convex_measure};
 use super::hull_gap::{convex_distance, ConvexDistance, WarmSimplex};
-use super::mesh_pair::{
-    mesh_time_of_impact_with, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, Touching, WarmStart,
-};
+use super::mesh_pair::mesh_time_of_impact_with;
 use super::options::{CcdOptions, CcdStatus};
+use super::query::{MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, Touching, WarmStart};
 use crate::math::Real;
 use crate::mesh::{mesh_distance_relative, DistanceKernel, DistanceSearch, MeshDistance};
 use crate::motion::StepMotion;

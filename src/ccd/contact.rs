@@ -43,7 +43,7 @@ pub enum ContactRule {
     Absolute(Real),
     /// The options' rule with this minimum separation in place of theirs:
     /// `separation + distance_tolerance × S` (the guard's contact skin,
-    /// [`crate::guard`]).
+    /// `crate::guard`).
     Separation(Real),
 }
 

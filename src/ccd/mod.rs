@@ -47,11 +47,15 @@ mod closest_approach;
 mod contact;
 mod convex_measure;
 mod edge_edge;
+mod hull_advance;
 mod hull_gap;
 mod mesh_bound;
 mod mesh_pair;
 mod mesh_search;
 mod options;
+mod pair_motion;
+mod query;
+mod spin_sweep;
 mod vertex_face;
 
 pub use advance::ROUNDING_FLOOR_ULPS;
@@ -68,12 +72,11 @@ pub use hull_gap::WarmSimplex;
 pub(crate) use hull_gap::{convex_distance, first_within, hull_gap, hull_gap_from, ConvexDistance};
 #[cfg(test)]
 pub(crate) use mesh_bound::{SPIN_SWEEP_AFTER_ITERATIONS, SPIN_SWEEP_MAX_RATE_FRACTION, SPIN_SWEEP_MIN_TURN};
-#[cfg(test)]
-pub(crate) use mesh_pair::INTEGRATED_JUMP_ULPS;
-pub use mesh_pair::{
-    mesh_time_of_impact, MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart,
-};
+pub use mesh_pair::mesh_time_of_impact;
 #[cfg(test)]
 pub(crate) use mesh_search::{OPEN_RATIO, STEP_SLACK};
 pub use options::{CcdOptions, CcdResult, CcdStatus};
+#[cfg(test)]
+pub(crate) use pair_motion::INTEGRATED_JUMP_ULPS;
+pub use query::{MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart};
 pub use vertex_face::{vertex_face_time_of_impact, vertex_face_time_of_impact_detailed};

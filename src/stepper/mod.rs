@@ -2,7 +2,7 @@
 //! file or folder each, each timed by its counter ([`Counters`]):
 //!
 //! 1. **integrate** (`integrate.rs`): each body's motion over the step (or,
-//!    under `Simulate`, rapier's step read back as motions: [`crate::guard`]);
+//!    under `Simulate`, rapier's step read back as motions: `crate::guard`);
 //! 2. **broad phase** (`broad.rs`): the pairs whose swept boxes overlap
 //!    (scenes of more than two bodies; with two, the one pair is queried);
 //! 3. **narrow phase** (`narrow.rs`): the CCD of every pair in play, on

@@ -167,7 +167,7 @@ pub struct StageSeconds {
     /// The near misses' closest approaches.
     pub near_misses: Real,
     /// An outside engine's steps (`on_contact: Simulate`: rapier's dynamics
-    /// and contact solving; a [`Guard`](crate::guard::Guard)'s `rapier_step`).
+    /// and contact solving; a `Guard`'s `rapier_step`).
     pub engine: Real,
     /// A guard's work besides its sweeps (broad phase to re-arm): reading
     /// the engine's bodies into each step's motions, moving bodies back to
