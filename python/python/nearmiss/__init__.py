@@ -240,14 +240,11 @@ def _mesh(name: str, mesh: Any) -> Mesh:
 
 
 def _moving(mesh_a, pose_a, motion_a, mesh_b, pose_b, motion_b, duration) -> tuple:
-    """A moving pair's arguments, converted and checked."""
+    """A moving pair's arguments, converted and checked: each body as
+    ``(mesh, pose arrays, motion arrays)``, then the duration."""
     return (
-        _mesh("mesh_a", mesh_a),
-        _pose("pose_a", pose_a),
-        _motion("motion_a", motion_a),
-        _mesh("mesh_b", mesh_b),
-        _pose("pose_b", pose_b),
-        _motion("motion_b", motion_b),
+        (_mesh("mesh_a", mesh_a), _pose("pose_a", pose_a), _motion("motion_a", motion_a)),
+        (_mesh("mesh_b", mesh_b), _pose("pose_b", pose_b), _motion("motion_b", motion_b)),
         float(duration),
     )
 
@@ -388,10 +385,12 @@ def mesh_time_of_impact(
     """
     raw = _nearmiss.mesh_time_of_impact(
         *_moving(mesh_a, pose_a, motion_a, mesh_b, pose_b, motion_b, duration),
-        None if distance_tolerance is None else float(distance_tolerance),
-        float(minimum_separation),
-        max_iterations,
-        kernel,
+        (
+            None if distance_tolerance is None else float(distance_tolerance),
+            float(minimum_separation),
+            max_iterations,
+            kernel,
+        ),
     )
     time, status, contact_distance, guaranteed_distance, closest, iterations = raw
     return TimeOfImpact(time, status, contact_distance, guaranteed_distance, _mesh_distance(closest), iterations)
@@ -420,9 +419,7 @@ def closest_approach(
     """
     raw = _nearmiss.closest_approach_between(
         *_moving(mesh_a, pose_a, motion_a, mesh_b, pose_b, motion_b, duration),
-        float(within),
-        None if tolerance is None else float(tolerance),
-        max_iterations,
+        (float(within), None if tolerance is None else float(tolerance), max_iterations),
     )
     status, lower, upper, time, closest, runs = raw
     return ClosestApproach(status, lower, upper, time, _mesh_distance(closest), runs)

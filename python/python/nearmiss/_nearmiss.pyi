@@ -51,29 +51,16 @@ def signed_distance_between(
     mesh_a: Mesh, pose_a: PoseArrays, mesh_b: Mesh, pose_b: PoseArrays
 ) -> Tuple[float, str, Optional[float], Optional[float], Optional[FloatArray]]: ...
 def mesh_time_of_impact(
-    mesh_a: Mesh,
-    pose_a: PoseArrays,
-    motion_a: MotionArrays,
-    mesh_b: Mesh,
-    pose_b: PoseArrays,
-    motion_b: MotionArrays,
+    a: Tuple[Mesh, PoseArrays, MotionArrays],
+    b: Tuple[Mesh, PoseArrays, MotionArrays],
     duration: float,
-    distance_tolerance: Optional[float],
-    minimum_separation: float,
-    max_iterations: Optional[int],
-    kernel: str,
+    options: Tuple[Optional[float], float, Optional[int], str],
 ) -> Tuple[Optional[float], str, float, float, Optional[MeshDistanceTuple], int]: ...
 def closest_approach_between(
-    mesh_a: Mesh,
-    pose_a: PoseArrays,
-    motion_a: MotionArrays,
-    mesh_b: Mesh,
-    pose_b: PoseArrays,
-    motion_b: MotionArrays,
+    a: Tuple[Mesh, PoseArrays, MotionArrays],
+    b: Tuple[Mesh, PoseArrays, MotionArrays],
     duration: float,
-    within: float,
-    tolerance: Optional[float],
-    max_iterations: Optional[int],
+    options: Tuple[float, Optional[float], Optional[int]],
 ) -> Tuple[str, float, float, float, Optional[MeshDistanceTuple], int]: ...
 def load_scene(path: Union[str, PathLike[str]]) -> Tuple[str, List[str], int, float]: ...
 def run_scene_json(

@@ -1,0 +1,121 @@
+//! The `Mesh` class: a validated triangle mesh, from arrays or a file.
+
+use std::sync::Arc;
+
+use crate::args::*;
+use nearmiss::mesh::TriMesh;
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+
+/// `value` as a contiguous numpy array of `dtype`, if its numbers are of
+/// one of the numpy kinds `kinds` (`TypeError` naming `name` if not).
+pub(crate) fn converted<'py>(
+    value: &Bound<'py, PyAny>,
+    name: &str,
+    kinds: &str,
+    dtype: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let numpy = value.py().import("numpy")?;
+    let array = numpy.call_method1("asarray", (value,))?;
+    let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
+    if !kinds.contains(kind.as_str()) {
+        let found = array.getattr("dtype")?.str()?.to_string();
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected numbers of dtype {dtype}, got dtype {found}"
+        )));
+    }
+    if dtype == "int64" && kind == "u" && array.getattr("size")?.extract::<usize>()? > 0 {
+        let too_large: bool = array.call_method0("max")?.gt(i64::MAX)?;
+        if too_large {
+            return Err(PyValueError::new_err(format!(
+                "{name}: an index is larger than any vertex index can be"
+            )));
+        }
+    }
+    numpy.call_method1("ascontiguousarray", (array, dtype))
+}
+
+/// A triangle mesh (validated, with its bounding-volume tree).
+#[pyclass(frozen, module = "nearmiss._nearmiss")]
+pub(crate) struct Mesh {
+    pub(crate) inner: Arc<TriMesh>,
+}
+
+#[pymethods]
+impl Mesh {
+    /// A mesh of `vertices` (V, 3) and `faces` (F, 3) vertex indices.
+    #[new]
+    pub(crate) fn new(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<Mesh> {
+        let vertices = converted(vertices, "vertices", "biuf", "float64")?;
+        let faces = converted(faces, "faces", "iu", "int64")?;
+        let vertices: PyReadonlyArrayDyn<'_, f64> = vertices.extract()?;
+        let faces: PyReadonlyArrayDyn<'_, i64> = faces.extract()?;
+        let vertices = points("vertices", &vertices)?;
+        let shape = faces.shape();
+        if shape.len() != 2 || shape[1] != 3 {
+            return Err(PyValueError::new_err(format!(
+                "faces: expected an array of shape (F, 3), got shape {}",
+                shape_text(shape)
+            )));
+        }
+        let indices: Vec<i64> = faces.as_array().iter().copied().collect();
+        let mut triangles = Vec::with_capacity(shape[0]);
+        for f in 0..shape[0] {
+            let mut triangle = [0u32; 3];
+            for k in 0..3 {
+                let index = indices[3 * f + k];
+                triangle[k] = u32::try_from(index).map_err(|_| {
+                    PyValueError::new_err(format!(
+                        "faces: element [{f}, {k}] is {index}, not a vertex index (there are {} vertices)",
+                        vertices.len()
+                    ))
+                })?;
+            }
+            triangles.push(triangle);
+        }
+        let mesh =
+            TriMesh::new(vertices, triangles).map_err(|e| PyValueError::new_err(format!("mesh: {e}")))?;
+        Ok(Mesh { inner: Arc::new(mesh) })
+    }
+
+    /// A mesh read from a Wavefront OBJ file.
+    #[staticmethod]
+    pub(crate) fn from_obj(path: std::path::PathBuf) -> PyResult<Mesh> {
+        let mesh = nearmiss::mesh::load_obj(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(Mesh { inner: Arc::new(mesh) })
+    }
+
+    /// The vertices, (V, 3).
+    #[getter]
+    pub(crate) fn vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows(py, self.inner.vertices().to_vec())
+    }
+
+    /// The faces, (F, 3) vertex indices.
+    #[getter]
+    pub(crate) fn faces<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
+        let flat: Vec<i64> = self.inner.triangles().iter().flat_map(|t| t.map(i64::from)).collect();
+        Array2::from_shape_vec((self.inner.triangles().len(), 3), flat).expect("rows of 3").into_pyarray(py)
+    }
+
+    /// The radius of the smallest origin-centred ball holding the vertices.
+    #[getter]
+    pub(crate) fn radius(&self) -> f64 {
+        self.inner.radius()
+    }
+
+    pub(crate) fn __len__(&self) -> usize {
+        self.inner.triangles().len()
+    }
+
+    pub(crate) fn __repr__(&self) -> String {
+        format!(
+            "Mesh({} vertices, {} triangles, radius {})",
+            self.inner.vertices().len(),
+            self.inner.triangles().len(),
+            self.inner.radius()
+        )
+    }
+}

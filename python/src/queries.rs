@@ -1,0 +1,222 @@
+//! The mesh queries: distance, time of impact, closest approach,
+//! intersection and penetration, without the GIL.
+
+use crate::args::*;
+use crate::mesh::Mesh;
+use nearmiss::ccd::{
+    closest_approach, ApproachStatus, ClosestApproachQuery, ContactRule, MeshCcdQuery, MeshCcdScratch,
+    MovingMesh, WarmStart,
+};
+use nearmiss::kernels::{self};
+use nearmiss::math::Point;
+use nearmiss::mesh::{
+    mesh_distance, mesh_intersection, signed_distance, DistanceKernel, DistanceSearch, MeshIntersection,
+    Overlap,
+};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArrayDyn};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+/// The distance between two posed meshes (exact), without the GIL.
+#[pyfunction]
+pub(crate) fn mesh_distance_between<'py>(
+    py: Python<'py>,
+    mesh_a: &Mesh,
+    pose_a: Arrays<'py>,
+    mesh_b: &Mesh,
+    pose_b: Arrays<'py>,
+) -> PyResult<MeshDistanceTuple<'py>> {
+    let (a, pa, b, pb) = posed_pair((mesh_a, pose_a), (mesh_b, pose_b))?;
+    let found = py.detach(|| {
+        let search = DistanceSearch::new(DistanceKernel::Exact, None);
+        mesh_distance(&a, &pa, &b, &pb, &search, &mut Default::default())
+    });
+    Ok(mesh_distance_tuple(py, &found))
+}
+
+/// The time of first contact of two moving meshes over `[0, duration]`
+/// (never late), without the GIL: `(time or None, status,
+/// contact_distance, guaranteed_distance, closest or None, iterations)`.
+///
+/// `a`, `b`: `(mesh, (position, rotation), (velocity, angular_velocity))`;
+/// `options`: `(distance_tolerance, minimum_separation, max_iterations,
+/// kernel)`.
+#[allow(clippy::type_complexity)]
+#[pyfunction]
+pub(crate) fn mesh_time_of_impact<'py>(
+    py: Python<'py>,
+    a: Body<'py>,
+    b: Body<'py>,
+    duration: f64,
+    options: (Option<f64>, f64, Option<usize>, String),
+) -> PyResult<(Option<f64>, &'static str, f64, f64, Option<MeshDistanceTuple<'py>>, usize)> {
+    let (distance_tolerance, minimum_separation, max_iterations, kernel) = options;
+    let pair = MovingPair::of(a, b, duration)?;
+    let mut options = self::options(distance_tolerance, max_iterations)?;
+    if !(minimum_separation.is_finite() && minimum_separation >= 0.0) {
+        return Err(PyValueError::new_err(format!(
+            "minimum_separation: {minimum_separation} is not a number at least 0"
+        )));
+    }
+    options.minimum_separation = minimum_separation;
+    let kernel = self::kernel(&kernel)?;
+    let result = py.detach(|| {
+        let query = MeshCcdQuery {
+            a: MovingMesh { mesh: &pair.a.0, motion: &pair.a.1 },
+            b: MovingMesh { mesh: &pair.b.0, motion: &pair.b.1 },
+            duration: pair.duration,
+            options,
+            contact: ContactRule::ScaleRelative,
+            kernel,
+        };
+        nearmiss::ccd::mesh_time_of_impact(&query, WarmStart::default(), &mut MeshCcdScratch::default())
+    });
+    Ok((
+        result.time_of_impact,
+        status_name(result.status),
+        result.contact_distance,
+        result.guaranteed_distance,
+        result.closest.as_ref().map(|d| mesh_distance_tuple(py, d)),
+        result.iterations,
+    ))
+}
+
+/// The closest approach of two moving meshes over `[0, duration]` as a
+/// certified bracket, without the GIL: `(status, lower, upper, time,
+/// closest or None, runs)`.
+///
+/// `a`, `b` as for `mesh_time_of_impact`; `options`: `(within, tolerance,
+/// max_iterations)`.
+#[allow(clippy::type_complexity)]
+#[pyfunction]
+pub(crate) fn closest_approach_between<'py>(
+    py: Python<'py>,
+    a: Body<'py>,
+    b: Body<'py>,
+    duration: f64,
+    options: (f64, Option<f64>, Option<usize>),
+) -> PyResult<(&'static str, f64, f64, f64, Option<MeshDistanceTuple<'py>>, usize)> {
+    let (within, tolerance, max_iterations) = options;
+    let pair = MovingPair::of(a, b, duration)?;
+    if within.is_nan() || within <= 0.0 {
+        return Err(PyValueError::new_err(format!("within: {within} is not a positive distance")));
+    }
+    if let Some(t) = tolerance.filter(|t| !(t.is_finite() && *t > 0.0)) {
+        return Err(PyValueError::new_err(format!("tolerance: {t} is not a positive number")));
+    }
+    let options = self::options(None, max_iterations)?;
+    let found = py.detach(|| {
+        let mut query = ClosestApproachQuery::new(
+            MovingMesh { mesh: &pair.a.0, motion: &pair.a.1 },
+            MovingMesh { mesh: &pair.b.0, motion: &pair.b.1 },
+            pair.duration,
+        );
+        (query.within, query.tolerance, query.options) = (within, tolerance, options);
+        closest_approach(&query, &mut MeshCcdScratch::default())
+    });
+    let status = match found.status {
+        ApproachStatus::Bracketed => "bracketed",
+        ApproachStatus::Contact => "contact",
+        ApproachStatus::Beyond => "beyond",
+        ApproachStatus::OutOfIterations => "out_of_iterations",
+        _ => "undecided",
+    };
+    Ok((
+        status,
+        found.lower,
+        found.upper,
+        found.time,
+        found.closest.as_ref().map(|d| mesh_distance_tuple(py, d)),
+        found.runs,
+    ))
+}
+
+/// What two triangles share: `(kind, points)`, kind `"disjoint"`,
+/// `"point"`, `"segment"` or `"polygon"`, the points (k, 3) spanning it.
+#[pyfunction]
+pub(crate) fn triangle_intersection<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArrayDyn<'py, f64>,
+    b: PyReadonlyArrayDyn<'py, f64>,
+) -> PyResult<(&'static str, Bound<'py, PyArray2<f64>>)> {
+    let (ta, tb) = (triangle("a", &a)?, triangle("b", &b)?);
+    let shared = kernels::triangle_intersection(&ta, &tb);
+    let kind = match shared {
+        kernels::TriangleIntersection::Disjoint => "disjoint",
+        kernels::TriangleIntersection::Point(_) => "point",
+        kernels::TriangleIntersection::Segment(_) => "segment",
+        kernels::TriangleIntersection::Polygon(_) => "polygon",
+    };
+    Ok((kind, rows(py, shared.points().to_vec())))
+}
+
+/// The shortest translation that separates two triangles: `(depth,
+/// direction)`, or `None` when they do not meet.
+#[pyfunction]
+pub(crate) fn triangle_penetration<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArrayDyn<'py, f64>,
+    b: PyReadonlyArrayDyn<'py, f64>,
+) -> PyResult<Option<(f64, Bound<'py, PyArray1<f64>>)>> {
+    let (ta, tb) = (triangle("a", &a)?, triangle("b", &b)?);
+    Ok(kernels::triangle_penetration(&ta, &tb).map(|p| (p.depth, array3(py, &Point::from(p.direction)))))
+}
+
+/// Every triangle pair of two posed meshes that meets, without the GIL:
+/// `(pairs (k, 2), segments (m, 6): each segment's two ends, length)`.
+#[allow(clippy::type_complexity)]
+#[pyfunction]
+pub(crate) fn mesh_intersection_between<'py>(
+    py: Python<'py>,
+    mesh_a: &Mesh,
+    pose_a: Arrays<'py>,
+    mesh_b: &Mesh,
+    pose_b: Arrays<'py>,
+) -> PyResult<(Bound<'py, PyArray2<u64>>, Bound<'py, PyArray2<f64>>, f64)> {
+    let (a, pa, b, pb) = posed_pair((mesh_a, pose_a), (mesh_b, pose_b))?;
+    let found = py.detach(|| {
+        let mut found = MeshIntersection::default();
+        mesh_intersection(&a, &pa, &b, &pb, &mut found, &mut Default::default());
+        found
+    });
+    let pairs: Vec<u64> =
+        found.pairs.iter().flat_map(|p| [p.triangle_a as u64, p.triangle_b as u64]).collect();
+    let segments: Vec<f64> = found.segments().flat_map(|[p, q]| [p.x, p.y, p.z, q.x, q.y, q.z]).collect();
+    let (k, m) = (found.pairs.len(), segments.len() / 6);
+    Ok((
+        Array2::from_shape_vec((k, 2), pairs).expect("k rows of 2").into_pyarray(py),
+        Array2::from_shape_vec((m, 6), segments).expect("m rows of 6").into_pyarray(py),
+        found.length(),
+    ))
+}
+
+/// The signed distance of two posed meshes, without the GIL: `(value,
+/// kind, lower, upper, direction)`; kind `"apart"`, `"convex"`,
+/// `"local"`, `"inside"` or `"open_crossing"`; `lower`/`upper` the depth's
+/// bracket (None apart or open), `direction` the separating move's (convex
+/// only).
+#[allow(clippy::type_complexity)]
+#[pyfunction]
+pub(crate) fn signed_distance_between<'py>(
+    py: Python<'py>,
+    mesh_a: &Mesh,
+    pose_a: Arrays<'py>,
+    mesh_b: &Mesh,
+    pose_b: Arrays<'py>,
+) -> PyResult<(f64, &'static str, Option<f64>, Option<f64>, Option<Bound<'py, PyArray1<f64>>>)> {
+    let (a, pa, b, pb) = posed_pair((mesh_a, pose_a), (mesh_b, pose_b))?;
+    let found = py.detach(|| signed_distance(&a, &pa, &b, &pb, &mut Default::default()));
+    Ok(match &found.overlap {
+        Overlap::Apart(_) => (found.value, "apart", None, None, None),
+        Overlap::Convex(d) => {
+            (found.value, "convex", Some(d.depth), Some(d.depth), Some(array3(py, &Point::from(d.direction))))
+        }
+        Overlap::Local(depths) => {
+            let deepest = depths.first();
+            (found.value, "local", deepest.map(|d| d.lower), deepest.map(|d| d.upper), None)
+        }
+        Overlap::Inside { lower, upper, .. } => (found.value, "inside", Some(*lower), Some(*upper), None),
+        Overlap::OpenCrossing(_) => (found.value, "open_crossing", None, None, None),
+    })
+}
