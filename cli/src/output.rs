@@ -278,33 +278,7 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
     let mut pairs: Vec<(usize, usize)> = result.trace.iter().map(|r| r.pair).collect();
     pairs.sort_unstable();
     pairs.dedup();
-    let contact_pair = |c: &Contact| (c.body_a.min(c.body_b), c.body_a.max(c.body_b));
-    // Each pair's samples: the trace's, and its contacts' (time of impact,
-    // distance there), in time order.
-    let samples: Vec<Vec<(Real, Real)>> = pairs
-        .iter()
-        .map(|&pair| {
-            let sampled: Vec<(Real, Real)> =
-                result.trace.iter().filter(|r| r.pair == pair).map(|r| (r.time, r.distance)).collect();
-            // A contact at a sample's time is that sample (which, where the
-            // meshes overlap, is signed: the contact's surface distance, 0,
-            // would draw a spike).
-            let mut points: Vec<(Real, Real)> = sampled
-                .iter()
-                .copied()
-                .chain(
-                    result
-                        .contacts
-                        .iter()
-                        .filter(|c| contact_pair(c) == (pair.0.min(pair.1), pair.0.max(pair.1)))
-                        .filter(|c| !sampled.iter().any(|s| s.0 == c.time))
-                        .map(|c| (c.time, c.closest.distance)),
-                )
-                .collect();
-            points.sort_by(|x, y| x.0.total_cmp(&y.0));
-            points
-        })
-        .collect();
+    let samples = pair_samples(result, &pairs);
     // The traced pairs' near misses: their certified closest approaches,
     // which the samples at the step ends pass by.
     let approaches: Vec<(Real, Real)> = result
@@ -346,7 +320,55 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
             point_labels: approaches.iter().map(|&(_, d)| crate::text::approx(d, 6)).collect(),
         }))
         .collect();
-    let marks = result
+    let mut title = format!("{}: distance between traced pairs", result.scene);
+    if pairs.len() > LEGEND_PAIRS {
+        title.push_str(&format!(" ({} pairs, the first {LEGEND_PAIRS} named)", pairs.len()));
+    }
+    Chart {
+        title,
+        x_label: time_label(result.contacts.len()),
+        y_label: distance_label(log_y, overlapping, chosen, floor),
+        log_x: false,
+        log_y,
+        series,
+        marks: contact_marks(result),
+        ticks: result.contacts.iter().map(|c| c.time).collect(),
+    }
+}
+
+/// Each traced pair's samples: the trace's, and its contacts' (time of
+/// impact, distance there), in time order.
+fn pair_samples(result: &RunResult, pairs: &[(usize, usize)]) -> Vec<Vec<(Real, Real)>> {
+    let contact_pair = |c: &Contact| (c.body_a.min(c.body_b), c.body_a.max(c.body_b));
+    pairs
+        .iter()
+        .map(|&pair| {
+            let sampled: Vec<(Real, Real)> =
+                result.trace.iter().filter(|r| r.pair == pair).map(|r| (r.time, r.distance)).collect();
+            // A contact at a sample's time is that sample (which, where the
+            // meshes overlap, is signed: the contact's surface distance, 0,
+            // would draw a spike).
+            let mut points: Vec<(Real, Real)> = sampled
+                .iter()
+                .copied()
+                .chain(
+                    result
+                        .contacts
+                        .iter()
+                        .filter(|c| contact_pair(c) == (pair.0.min(pair.1), pair.0.max(pair.1)))
+                        .filter(|c| !sampled.iter().any(|s| s.0 == c.time))
+                        .map(|c| (c.time, c.closest.distance)),
+                )
+                .collect();
+            points.sort_by(|x, y| x.0.total_cmp(&y.0));
+            points
+        })
+        .collect()
+}
+
+/// The first contacts' marks on the chart: time and label.
+fn contact_marks(result: &RunResult) -> Vec<(Real, String)> {
+    result
         .contacts
         .iter()
         .take(LABELLED_CONTACTS)
@@ -363,13 +385,12 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
                 ),
             )
         })
-        .collect();
-    let contacts = result.contacts.len();
-    let mut title = format!("{}: distance between traced pairs", result.scene);
-    if pairs.len() > LEGEND_PAIRS {
-        title.push_str(&format!(" ({} pairs, the first {LEGEND_PAIRS} named)", pairs.len()));
-    }
-    let x_label = match contacts {
+        .collect()
+}
+
+/// The time axis's label, with how the run's `contacts` are drawn.
+fn time_label(contacts: usize) -> String {
+    match contacts {
         0 => "time (scene time units)".to_string(),
         n if n <= LABELLED_CONTACTS => {
             format!("time (scene time units); {}, red", crate::text::count(n as u64, "contact"))
@@ -377,26 +398,20 @@ pub fn distance_chart(result: &RunResult, log_y: Option<bool>) -> crate::plot::C
         n => format!(
             "time (scene time units); {n} contacts: red lines, the first {LABELLED_CONTACTS} labelled"
         ),
-    };
+    }
+}
+
+/// The distance axis's label: its scale, whether it was `chosen` (not
+/// asked for), and where overlaps and distances below `floor` go.
+fn distance_label(log_y: bool, overlapping: bool, chosen: bool, floor: Real) -> String {
     let how = if chosen { "chosen: " } else { "" };
-    Chart {
-        title,
-        x_label,
-        y_label: match (log_y, overlapping) {
-            (true, false) => format!("distance ({how}log scale; 0 and below {floor:.0e} drawn at it)"),
-            (true, true) => {
-                format!("distance ({how}log scale; overlaps, 0 and below {floor:.0e} drawn at it)")
-            }
-            (false, false) => {
-                format!("distance (scene length units{})", if chosen { ", linear: chosen" } else { "" })
-            }
-            (false, true) => "signed distance (scene length units; below 0: overlap depth)".to_string(),
-        },
-        log_x: false,
-        log_y,
-        series,
-        marks,
-        ticks: result.contacts.iter().map(|c| c.time).collect(),
+    match (log_y, overlapping) {
+        (true, false) => format!("distance ({how}log scale; 0 and below {floor:.0e} drawn at it)"),
+        (true, true) => format!("distance ({how}log scale; overlaps, 0 and below {floor:.0e} drawn at it)"),
+        (false, false) => {
+            format!("distance (scene length units{})", if chosen { ", linear: chosen" } else { "" })
+        }
+        (false, true) => "signed distance (scene length units; below 0: overlap depth)".to_string(),
     }
 }
 

@@ -20,7 +20,23 @@ pub const NEAREST_NEAR_MISS_PICTURE: &str = "nearest_near_miss.png";
 /// The page of a run that wrote `files` (names in its folder).
 pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
     let mut page = String::new();
-    let name = |i: usize| cell(&result.bodies[i]);
+    summary_table(&mut page, result, scene);
+    overlaps_table(&mut page, result);
+    contacts_table(&mut page, result, files);
+    near_misses_table(&mut page, result, scene, files);
+    if let Some(note) = missing_pictures(scene, result) {
+        let _ = writeln!(page, "{note}.\n");
+    }
+    if files.contains(&"distance.png") {
+        let _ = writeln!(page, "## Distance over time\n\n![distance between traced pairs](distance.png)\n");
+    }
+    files_list(&mut page, files);
+    page
+}
+
+/// The run in a table: how it ended, its steps, contacts, work, and the
+/// expectation's verdict.
+fn summary_table(page: &mut String, result: &RunResult, scene: &Scene) {
     let _ = writeln!(page, "# {}\n", result.scene);
     if scene.run().source != nearmiss::scene::FROM_STRING {
         let _ = writeln!(page, "Scene file: `{}`\n", scene.run().source);
@@ -55,6 +71,11 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
             verdict.obtained
         );
     }
+}
+
+/// The bodies overlapping at the start, with their depths.
+fn overlaps_table(page: &mut String, result: &RunResult) {
+    let name = |i: usize| cell(&result.bodies[i]);
     let overlaps = &result.initial_overlaps;
     if !overlaps.is_empty() {
         let _ = writeln!(
@@ -96,6 +117,11 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
         }
         page.push('\n');
     }
+}
+
+/// The first contacts, and their pictures.
+fn contacts_table(page: &mut String, result: &RunResult, files: &[&str]) {
+    let name = |i: usize| cell(&result.bodies[i]);
     if !result.contacts.is_empty() {
         let _ = writeln!(page, "## Contacts\n");
         if result.contacts.len() > LISTED_CONTACTS {
@@ -127,6 +153,11 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
             let _ = writeln!(page, "![{}]({picture})\n", picture.trim_end_matches(".png").replace('_', " "));
         }
     }
+}
+
+/// The near misses, when the scene asks for them, and the nearest's picture.
+fn near_misses_table(page: &mut String, result: &RunResult, scene: &Scene, files: &[&str]) {
+    let name = |i: usize| cell(&result.bodies[i]);
     if let Some(spec) = &scene.run().near_misses {
         let _ = writeln!(
             page,
@@ -157,12 +188,10 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
             let _ = writeln!(page, "![the nearest near miss]({NEAREST_NEAR_MISS_PICTURE})\n");
         }
     }
-    if let Some(note) = missing_pictures(scene, result) {
-        let _ = writeln!(page, "{note}.\n");
-    }
-    if files.contains(&"distance.png") {
-        let _ = writeln!(page, "## Distance over time\n\n![distance between traced pairs](distance.png)\n");
-    }
+}
+
+/// The run's files, each with what it holds.
+fn files_list(page: &mut String, files: &[&str]) {
     let _ = writeln!(page, "## Files\n");
     for file in files.iter().filter(|f| **f != "report.md") {
         let what = match *file {
@@ -178,7 +207,6 @@ pub fn run_page(result: &RunResult, scene: &Scene, files: &[&str]) -> String {
         let what = if what.is_empty() { String::new() } else { format!(": {what}") };
         let _ = writeln!(page, "- [{file}]({file}){what}");
     }
-    page
 }
 
 /// Text for a table cell: a `|` would end the cell.
