@@ -3,9 +3,11 @@
 //! the exact kernel's distance of that pair.
 
 use super::hull_gap::{convex_distance, ConvexDistance, WarmSimplex};
+use super::query::{MeshCcdScratch, MovingMesh};
 use crate::math::{Pose, Real};
 use crate::mesh::distance::triangle_pair_distance;
-use crate::mesh::{MeshDistance, TriMesh};
+use crate::mesh::{mesh_distance_relative, DistanceKernel, DistanceSearch, MeshDistance, TriMesh};
+use crate::motion::StepMotion;
 
 /// A descent's GJK probe is certified once its bounds agree to this many
 /// ulps of the pair's scale (its centres' distance plus both radii): `64`.
@@ -39,6 +41,28 @@ pub(crate) fn convex_measure(a: &TriMesh, b: &TriMesh, pos_ab: &Pose) -> Option<
 pub(super) fn certificate_slack(a: &TriMesh, b: &TriMesh, pos_ab: &Pose) -> Real {
     let scale = pos_ab.translation.vector.norm() + a.radius() + b.radius();
     PROBE_CERTIFICATE_ULPS * Real::EPSILON * scale
+}
+
+/// The exact distance between the two meshes at time `s`, points in the
+/// world frame: for two convex meshes by GJK on their hulls where it
+/// certifies a triangle pair ([`convex_measure`]), otherwise by the
+/// distance search over both BVHs.
+pub(crate) fn measure(
+    a: &MovingMesh<'_>,
+    b: &MovingMesh<'_>,
+    s: Real,
+    hint: Option<(usize, usize)>,
+    scratch: &mut MeshCcdScratch,
+) -> MeshDistance {
+    let relative = StepMotion::relative_pose(a.motion, b.motion, s);
+    let mut found = convex_measure(a.mesh, b.mesh, &relative).unwrap_or_else(|| {
+        let search = DistanceSearch::new(DistanceKernel::Exact, hint);
+        mesh_distance_relative(a.mesh, b.mesh, &relative, &search, &mut scratch.distance)
+    });
+    let pose_a = a.motion.pose_at(s);
+    found.point_a = pose_a * found.point_a;
+    found.point_b = pose_a * found.point_b;
+    found
 }
 
 #[cfg(test)]

@@ -46,6 +46,7 @@ mod advance;
 mod closest_approach;
 mod contact;
 mod convex_measure;
+mod descent;
 mod edge_edge;
 mod hull_advance;
 mod hull_gap;
@@ -63,10 +64,11 @@ pub(crate) use closest_approach::PROOF_MARGIN_FRACTION;
 pub use closest_approach::{
     closest_approach, ApproachStatus, ClosestApproach, ClosestApproachQuery, DEFAULT_APPROACH_TOLERANCE,
 };
-pub(crate) use closest_approach::{measure as distance_at, screen as screen_approach, Run as ApproachRun};
+pub(crate) use closest_approach::{screen as screen_approach, Run as ApproachRun};
 #[cfg(test)]
 pub(crate) use contact::BOX_MARGIN_TOLERANCE_FACTOR;
 pub use contact::{box_margin, ContactContract, ContactRule, TARGET_FRACTION};
+pub(crate) use convex_measure::measure as distance_at;
 pub use edge_edge::{edge_edge_time_of_impact, edge_edge_time_of_impact_detailed};
 pub use hull_gap::WarmSimplex;
 pub(crate) use hull_gap::{convex_distance, first_within, hull_gap, hull_gap_from, ConvexDistance};

@@ -1,0 +1,198 @@
+//! The descent of one run's bracket: GJK or exact distance probes along the\nstep, stepping down to the nearest time by parabolic steps.
+
+use super::convex_measure::{certificate_slack, measure};
+use super::hull_gap::{convex_distance, ConvexDistance, WarmSimplex};
+use super::query::{MeshCcdScratch, MovingMesh};
+use crate::math::Real;
+use crate::mesh::MeshDistance;
+use crate::motion::StepMotion;
+
+/// The descent's first step, a fraction of the rest of the interval:
+/// `1/256` (then doubling while the distance falls).
+pub(crate) const DESCENT_FIRST_STEP_FRACTION: Real = 1.0 / 256.0;
+
+/// The most steps of [`descend`]'s minimisation: `48` (golden-section
+/// steps alone would shrink the time bracket to 0.618^48 ≈ 1e-10 of its
+/// length).
+pub(super) const DESCENT_STEPS: usize = 48;
+
+/// From time `start`, where the meshes are closing, the local minimum of
+/// their exact distance after it, and its time: a march of doubling steps
+/// while the distance falls, then Brent's minimisation on the last three
+/// points (a parabola's vertex where it falls well inside the bracket, a
+/// golden section where not), until the bracket is so short that the
+/// distance cannot change by `precision` across it (the distance moves at
+/// most at the head-on speed `|v_a − v_b| + |ω_a| r_a + |ω_b| r_b`), a
+/// parabola's step gains less than `precision`, or [`DESCENT_STEPS`]
+/// steps. The probes are [`Probe`]'s (for two convex meshes, GJK on their
+/// hulls, warm from probe to probe); the best time is measured exactly at
+/// the end. Any measured distance is reached, so this only makes the upper
+/// bound good, never wrong (a minimum missed by more than the proof's
+/// margin is found by the next proving run).
+pub(super) fn descend(
+    a: &MovingMesh<'_>,
+    b: &MovingMesh<'_>,
+    (start, duration): (Real, Real),
+    precision: Real,
+    hint: Option<(usize, usize)>,
+    scratch: &mut MeshCcdScratch,
+) -> (Real, MeshDistance) {
+    let speed = (a.motion.velocity - b.motion.velocity).norm()
+        + a.motion.angular_velocity.norm() * a.mesh.radius()
+        + b.motion.angular_velocity.norm() * b.mesh.radius();
+    let mut probe = Probe::new(a, b, hint);
+    let mut best = (start, probe.at(start, scratch));
+    // March: (previous, best, next) with the distance falling to best.
+    let mut previous = start;
+    let mut step = (duration - start) * DESCENT_FIRST_STEP_FRACTION;
+    let mut next = start;
+    while step > 0.0 {
+        next = (best.0 + step).min(duration);
+        let found = probe.at(next, scratch);
+        if found >= best.1 {
+            break;
+        }
+        previous = best.0;
+        best = (next, found);
+        if next >= duration {
+            return (best.0, probe.measure(best.0, scratch));
+        }
+        step *= 2.0;
+    }
+    // Brent's minimisation on [previous, next] around best: a parabola
+    // through the three best points where it falls well inside the
+    // bracket, a golden section where it does not.
+    let (mut lo, mut hi) = (previous, next);
+    let ratio = 0.5 * (5.0_f64.sqrt() - 1.0);
+    // The two next-best points (time, distance), for the parabola.
+    let mut second = (next, Real::INFINITY);
+    let mut third = (previous, Real::INFINITY);
+    let (mut step_before_last, mut last_step) = (Real::INFINITY, Real::INFINITY);
+    for _ in 0..DESCENT_STEPS {
+        if hi - lo <= Real::EPSILON * duration.max(hi.abs()) || (hi - lo) * speed <= precision {
+            break;
+        }
+        let golden = if best.0 - lo > hi - best.0 {
+            best.0 - (1.0 - ratio) * (best.0 - lo)
+        } else {
+            best.0 + (1.0 - ratio) * (hi - best.0)
+        };
+        let parabolic = parabola_vertex(best.0, best.1, second, third)
+            .filter(|&x| x > lo && x < hi && (x - best.0).abs() < 0.5 * step_before_last);
+        let (probe_time, by_parabola) = match parabolic {
+            // Not closer to best than the time can tell apart.
+            Some(x) => {
+                let least = Real::EPSILON.sqrt() * best.0.abs().max(duration * 1e-6);
+                let shift = (x - best.0).abs();
+                (if shift < least { best.0 + least.copysign(x - best.0) } else { x }, true)
+            }
+            None => (golden, false),
+        };
+        step_before_last = last_step;
+        last_step = (probe_time - best.0).abs();
+        let found = probe.at(probe_time, scratch);
+        let gain = best.1 - found;
+        if found < best.1 {
+            if probe_time < best.0 {
+                hi = best.0;
+            } else {
+                lo = best.0;
+            }
+            third = second;
+            second = best;
+            best = (probe_time, found);
+        } else {
+            if probe_time < best.0 {
+                lo = probe_time;
+            } else {
+                hi = probe_time;
+            }
+            if found <= second.1 {
+                third = second;
+                second = (probe_time, found);
+            } else if found <= third.1 {
+                third = (probe_time, found);
+            }
+        }
+        // A parabola's step that gains less than the precision: the
+        // minimum is found to it (the proving run checks).
+        if by_parabola && gain < precision {
+            break;
+        }
+    }
+    (best.0, probe.measure(best.0, scratch))
+}
+
+/// The distance probes of a descent. For two convex meshes (exact kernel),
+/// GJK on their vertex hulls, warm from the last probe (the closest
+/// features move little between probes): certified to
+/// [`PROBE_CERTIFICATE_ULPS`](super::convex_measure::PROBE_CERTIFICATE_ULPS) ulps of the pair's scale, a few GJK
+/// iterations instead of a BVH search. Otherwise, or where GJK does not
+/// certify, the exact mesh distance. [`Probe::measure`] gives the exact
+/// distance with its points and features (kept from the last exact probe
+/// when it was at that time).
+pub(super) struct Probe<'q, 'm> {
+    a: &'q MovingMesh<'m>,
+    b: &'q MovingMesh<'m>,
+    convex: bool,
+    warm: WarmSimplex,
+    hint: Option<(usize, usize)>,
+    /// The last exact probe and its time.
+    last: Option<(Real, MeshDistance)>,
+}
+
+impl<'q, 'm> Probe<'q, 'm> {
+    fn new(a: &'q MovingMesh<'m>, b: &'q MovingMesh<'m>, hint: Option<(usize, usize)>) -> Probe<'q, 'm> {
+        let convex = a.mesh.is_convex() && b.mesh.is_convex();
+        Probe { a, b, convex, warm: WarmSimplex::default(), hint, last: None }
+    }
+
+    /// The distance at `s`.
+    fn at(&mut self, s: Real, scratch: &mut MeshCcdScratch) -> Real {
+        if self.convex {
+            let relative = StepMotion::relative_pose(self.a.motion, self.b.motion, s);
+            let slack = certificate_slack(self.a.mesh, self.b.mesh, &relative);
+            if let ConvexDistance::Certified(upper) =
+                convex_distance(self.a.mesh, self.b.mesh, &relative, &mut self.warm, slack)
+            {
+                return upper;
+            }
+        }
+        self.measure(s, scratch).distance
+    }
+
+    /// The exact distance at `s`, with its points and features.
+    fn measure(&mut self, s: Real, scratch: &mut MeshCcdScratch) -> MeshDistance {
+        if let Some((_, found)) = self.last.filter(|&(at, _)| at == s) {
+            return found;
+        }
+        let found = measure(self.a, self.b, s, self.hint, scratch);
+        self.hint = Some((found.triangle_a, found.triangle_b));
+        self.last = Some((s, found));
+        found
+    }
+}
+
+/// The time at the vertex of the parabola through `(x, fx)` and the two
+/// other points, if it opens upwards (a minimum).
+pub(super) fn parabola_vertex(
+    x: Real,
+    fx: Real,
+    (v, fv): (Real, Real),
+    (w, fw): (Real, Real),
+) -> Option<Real> {
+    if !(fv.is_finite() && fw.is_finite()) || v == w || v == x || w == x {
+        return None;
+    }
+    let slope_vx = (fx - fv) / (x - v);
+    let slope_xw = (fw - fx) / (w - x);
+    let curvature = (slope_xw - slope_vx) / (w - v);
+    if curvature.is_nan() || curvature <= 0.0 {
+        return None;
+    }
+    // f(t) = fx + s (t - x) + c (t - x)^2 with s the slope at x of the
+    // parabola: s = slope_vx + c (x - v).
+    let slope = slope_vx + curvature * (x - v);
+    let t = x - slope / (2.0 * curvature);
+    t.is_finite().then_some(t)
+}
