@@ -5,7 +5,7 @@
 
 use super::bodies::{body_pose, center_pose, BodyKind, BodyView, RapierBodies};
 use super::depth::Deep;
-use super::watch::pair_tolerance;
+use super::thickness::pair_tolerance;
 use super::{Guard, GuardEvent, PUSHED_DEPTH_FRACTION};
 use crate::math::{Point, Pose, Real, Vector};
 use crate::motion::StepMotion;

@@ -13,7 +13,9 @@ use super::options::{
     contact_distance_limit, contact_within, two_skins, GuardOptions, BALL_EXCESS_OF_SKIN,
     PARALLEL_NARROW_PHASE_SECONDS,
 };
-use super::watch::{thickness, PairRules, Watch};
+use super::rules::PairRules;
+use super::thickness::thickness;
+use super::watch::Watch;
 use super::Guard;
 use crate::math::{Real, Vector};
 use crate::scene::{Body, BodyMotion, Model, OnContact, RunSpec};

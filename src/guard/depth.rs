@@ -35,7 +35,7 @@
 
 use std::collections::HashMap;
 
-use super::watch::{contact_directions, overlap_along};
+use super::directions::{contact_directions, overlap_along};
 use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::{
     convex_penetration_with, local_depths, mesh_intersection, MeshIntersection, MeshIntersectionScratch,

@@ -141,11 +141,14 @@ mod bodies;
 mod build;
 mod compare;
 mod depth;
+mod directions;
 mod events;
 mod options;
+mod rules;
 mod shapes;
 pub(crate) mod simulate;
 mod sweep;
+mod thickness;
 mod watch;
 
 pub use compare::{
@@ -178,9 +181,9 @@ pub(crate) use options::{simulate_contact_limit, DEFAULT_MAX_SUBSTEPS, PUSHED_DE
 pub(crate) use options::{
     BALL_EXCESS_OF_SKIN, DEFAULT_SKIN, DEFAULT_TOLERATED_DEPTH, PARALLEL_NARROW_PHASE_SECONDS,
 };
-use watch::PairRules;
+use rules::PairRules;
 #[cfg(test)]
-pub(crate) use watch::THIN_BODY_FRACTION;
+pub(crate) use thickness::THIN_BODY_FRACTION;
 
 /// rapier's step by a given `dt` (in f64; [`Guard::step`] hands rapier's
 /// own real to the application's closure).

@@ -260,7 +260,7 @@ impl RapierScene {
 
     /// Which pairs of the scene's bodies rapier solves (by their colliders'
     /// rules, as the guard of an application reads them).
-    pub fn solved_pairs(&self) -> std::sync::Arc<super::watch::PairRules> {
+    pub fn solved_pairs(&self) -> std::sync::Arc<super::rules::PairRules> {
         use super::RapierBodies;
         let rules = self.handles.iter().map(|h| self.bodies.rules(&self.colliders, *h)).collect();
         let hooks = self.handles.iter().map(|h| self.bodies.contact_hooks(&self.colliders, *h)).collect();
@@ -338,7 +338,7 @@ pub(crate) fn driver(scene: &Scene, options: RunOptions) -> Result<Guarded, Guar
         tolerated_depth: super::GuardOptions::default().tolerated_depth_under(&rapier.parameters),
         // A scene's colliders have no groups, sensors or hooks: every pair
         // is swept (a kinematic body's contacts with fixed ones reported).
-        solved: std::sync::Arc::new(super::watch::PairRules::all(scene.model.bodies.len())),
+        solved: std::sync::Arc::new(super::rules::PairRules::all(scene.model.bodies.len())),
         acts: true,
         max_substeps: super::DEFAULT_MAX_SUBSTEPS,
         parallel: options.parallel,

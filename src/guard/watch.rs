@@ -43,12 +43,17 @@
 //! prediction distance and the skins, within which rapier holds the pair).
 
 use std::cell::RefCell;
-use std::sync::{Arc, RwLock};
+use std::sync::Arc;
 
-use super::ContactHooks;
+#[allow(unused_imports)]
+use super::directions::{contact_directions, overlap_along, Directions};
+#[allow(unused_imports)]
+use super::rules::{read, PairRules};
+#[allow(unused_imports)]
+use super::thickness::{pair_tolerance, thickness};
 use crate::ccd::{hull_gap, mesh_time_of_impact, CcdStatus, ContactRule, MeshCcdResult, WarmStart};
-use crate::math::{Point, Pose, Real, Vector};
-use crate::mesh::{convex_penetration_with, MeshDistance, PenetrationScratch, TriMesh};
+use crate::math::{Point, Real, Vector};
+use crate::mesh::{convex_penetration_with, PenetrationScratch};
 use crate::motion::StepMotion;
 use crate::stepper::respond::{approach_speed, contact_frame, Response, StepContext};
 use crate::stepper::{pair_query, Found, GuardHit, PairState};
@@ -57,97 +62,6 @@ use crate::stepper::{pair_query, Found, GuardHit, PairState};
 /// only once it comes within this fraction of its distance there (the
 /// `Bounce` response's re-detection, for the guard's skins). `0.5`.
 pub(crate) const WALL_REDETECT_FRACTION: Real = 0.5;
-
-/// The most a pair may overlap, as a fraction of the thinner body's
-/// thickness (a convex mesh's least width across its faces, another's
-/// least box extent), whatever the tolerated depth: `0.5`. A point of one
-/// body that deep into a plate is still on its near side.
-pub(crate) const THIN_BODY_FRACTION: Real = 0.5;
-
-/// Which pairs of guarded bodies (indices in the guard's list) rapier
-/// solves: their colliders' collision and solver groups, sensors, disabled
-/// colliders and the bodies' types, as rapier's narrow phase decides; and
-/// where a body's colliders have contact hooks, the application's filter
-/// as last asked (a body whose hooks modify contacts is never guarded).
-pub(crate) struct PairRules {
-    rules: Box<dyn Fn(usize, usize) -> bool + Send + Sync>,
-    hooks: Vec<ContactHooks>,
-    /// Pairs joined with contacts disabled, sorted.
-    jointed: RwLock<Vec<(usize, usize)>>,
-    /// The hooked pairs the application's filter refused at the step's
-    /// start, sorted.
-    refused: RwLock<Vec<(usize, usize)>>,
-}
-
-impl PairRules {
-    /// The rules `rules` of pairs, and each body's hooks.
-    pub fn new(
-        rules: Box<dyn Fn(usize, usize) -> bool + Send + Sync>,
-        hooks: Vec<ContactHooks>,
-    ) -> PairRules {
-        PairRules { rules, hooks, jointed: RwLock::new(Vec::new()), refused: RwLock::new(Vec::new()) }
-    }
-
-    /// Every pair (a scene's bodies under `Simulate`: no groups, sensors or
-    /// hooks; a pair with no dynamic body is swept for its contacts and
-    /// never acted on).
-    pub fn all(bodies: usize) -> PairRules {
-        PairRules::new(Box::new(|_, _| true), vec![ContactHooks::None; bodies])
-    }
-
-    /// Whether rapier solves the pair `(a, b)` (`a < b`).
-    pub fn solves(&self, a: usize, b: usize) -> bool {
-        if !(self.rules)(a, b) || read(&self.jointed).binary_search(&(a, b)).is_ok() {
-            return false;
-        }
-        match self.hooks[a].max(self.hooks[b]) {
-            ContactHooks::None => true,
-            ContactHooks::Modify => false,
-            ContactHooks::Filter => read(&self.refused).binary_search(&(a, b)).is_err(),
-        }
-    }
-
-    /// Takes `jointed` (pairs `(a, b)`, `a < b`) as the pairs joined with
-    /// contacts disabled.
-    pub fn set_jointed(&self, mut jointed: Vec<(usize, usize)>) {
-        jointed.sort_unstable();
-        jointed.dedup();
-        *self.jointed.write().unwrap_or_else(|poisoned| poisoned.into_inner()) = jointed;
-    }
-
-    /// Whether some body's colliders filter their contact pairs.
-    pub fn has_filters(&self) -> bool {
-        self.hooks.contains(&ContactHooks::Filter)
-    }
-
-    /// The pairs with a filtering body that rapier's rules solve but
-    /// `keeps` refuses, sorted.
-    pub fn filtered_pairs(&self, mut keeps: impl FnMut(usize, usize) -> bool) -> Vec<(usize, usize)> {
-        let mut refused = Vec::new();
-        for (h, _) in self.hooks.iter().enumerate().filter(|(_, hooks)| **hooks == ContactHooks::Filter) {
-            for other in (0..self.hooks.len()).filter(|&o| o != h) {
-                let (a, b) = (h.min(other), h.max(other));
-                if (self.rules)(a, b) && !keeps(a, b) {
-                    refused.push((a, b));
-                }
-            }
-        }
-        refused.sort_unstable();
-        refused.dedup();
-        refused
-    }
-
-    /// Takes `refused` as the filter's answer until the next.
-    pub fn refuse(&self, refused: Vec<(usize, usize)>) {
-        *self.refused.write().unwrap_or_else(|poisoned| poisoned.into_inner()) = refused;
-    }
-}
-
-/// A list behind a lock, read (a poisoned lock still holds the list: its
-/// writers replace it whole).
-fn read(list: &RwLock<Vec<(usize, usize)>>) -> std::sync::RwLockReadGuard<'_, Vec<(usize, usize)>> {
-    list.read().unwrap_or_else(|poisoned| poisoned.into_inner())
-}
 
 /// The guard's response, with what it may stop and how deep it lets rapier
 /// go.
@@ -379,34 +293,6 @@ impl Watch {
     }
 }
 
-/// The tolerated depth of the pair `(a, b)`: the guard's
-/// (`tolerated_depth`), but at most [`THIN_BODY_FRACTION`] of the thinner
-/// body (`thickness`, per body).
-pub(crate) fn pair_tolerance(tolerated_depth: Real, thickness: &[Real], a: usize, b: usize) -> Real {
-    tolerated_depth.min(THIN_BODY_FRACTION * thickness[a].min(thickness[b]))
-}
-
-/// A mesh's thickness, for the tolerated depth of its pairs: the least
-/// width of a convex mesh over its faces' normals (the distance between a
-/// face's plane and the farthest vertex behind it), the least extent of its
-/// box for another.
-pub(crate) fn thickness(mesh: &TriMesh) -> Real {
-    let (low, high) = mesh.bounds();
-    let extent = (high - low).min();
-    if !mesh.is_convex() {
-        return extent;
-    }
-    mesh.triangles()
-        .iter()
-        .filter_map(|t| {
-            let [a, b, c] = t.map(|i| mesh.vertices()[i as usize]);
-            let normal = (b - a).cross(&(c - a)).try_normalize(0.0)?;
-            let behind = mesh.vertices()[mesh.farthest_vertex(&-normal)];
-            Some((a - behind).dot(&normal).abs())
-        })
-        .fold(extent, Real::min)
-}
-
 /// A bound of how far pair `k` goes past its contact at `time` into the
 /// sweep (along `directions`) by the sweep's end: how deep it could overlap
 /// had nothing stopped it.
@@ -476,89 +362,9 @@ fn rapier_end_fails(step: &StepContext<'_>, k: usize, normal: Option<Vector>, to
     }
 }
 
-/// The directions pair `k`'s contact at `time` into the sweep may be along
-/// ([`contact_directions`]), each with the meshes' overlap along it ([`overlap_along`]) at the
-/// contact and at the sweep's end. Computed once a contact: the overshoot
-/// bound, the end check and the guard's normal read them.
-pub(crate) struct Directions {
-    list: [(Vector, Real, Real); 4],
-    len: usize,
-}
-
-impl Directions {
-    /// The directions of `result`'s contact (none without closest points).
-    fn of(step: &StepContext<'_>, k: usize, time: Real, result: &MeshCcdResult) -> Directions {
-        let mut directions = Directions { list: [(Vector::zeros(), 0.0, 0.0); 4], len: 0 };
-        let Some(closest) = result.closest else { return directions };
-        let pair = &step.world.pairs[k];
-        let (mesh_a, mesh_b) = (&step.model.bodies[pair.a].mesh, &step.model.bodies[pair.b].mesh);
-        let (ma, mb) = (&step.world.motions[pair.a], &step.world.motions[pair.b]);
-        let (contact_a, contact_b) = (ma.pose_at(time), mb.pose_at(time));
-        let dt = step.model.dt;
-        let (end_a, end_b) = (ma.pose_at(dt), mb.pose_at(dt));
-        for n in contact_directions(mesh_a, &contact_a, mesh_b, &contact_b, &closest, result.axis) {
-            let at_contact = overlap_along(mesh_a, &contact_a, mesh_b, &contact_b, &n);
-            let at_end = overlap_along(mesh_a, &end_a, mesh_b, &end_b, &n);
-            directions.list[directions.len] = (n, at_contact, at_end);
-            directions.len += 1;
-        }
-        directions
-    }
-
-    /// Each direction, its overlap at the contact and at the sweep's end.
-    fn iter(&self) -> impl Iterator<Item = &(Vector, Real, Real)> {
-        self.list[..self.len].iter()
-    }
-
-    /// The contact's normal: the direction the meshes are farthest apart
-    /// along at the contact (for two convex meshes, the separating one).
-    fn normal(&self) -> Option<Vector> {
-        self.iter().min_by(|x, y| x.1.total_cmp(&y.1)).map(|&(n, ..)| n)
-    }
-}
-
-/// The unit directions (from `a` towards `b`, world frame) a contact of
-/// meshes `a` and `b` at these poses (its closest points `closest`) may be
-/// along: its closest points' (which say nothing once within rounding of
-/// each other), the hulls' separating `axis` of its query if known, and its
-/// two triangles' outward normals.
-pub(crate) fn contact_directions(
-    mesh_a: &TriMesh,
-    pose_a: &Pose,
-    mesh_b: &TriMesh,
-    pose_b: &Pose,
-    closest: &MeshDistance,
-    axis: Option<Vector>,
-) -> impl Iterator<Item = Vector> {
-    let face = |mesh: &TriMesh, pose: &Pose, t: usize| {
-        let [p, q, r] = mesh.triangle(t);
-        pose.rotation * ((q - p).cross(&(r - p)) * mesh.orientation())
-    };
-    [
-        closest.point_b - closest.point_a,
-        axis.unwrap_or_else(Vector::zeros),
-        face(mesh_a, pose_a, closest.triangle_a),
-        -face(mesh_b, pose_b, closest.triangle_b),
-    ]
-    .into_iter()
-    .filter_map(|n| n.try_normalize(0.0))
-}
-
 thread_local! {
     /// Each thread's scratch for the end poses' penetration depth.
     static PENETRATION_SCRATCH: RefCell<PenetrationScratch> = RefCell::new(PenetrationScratch::default());
-}
-
-/// How far convex meshes `a` and `b` overlap along the unit direction `u`
-/// (from `a` towards `b`): `a`'s reach along `u` past `b`'s reach against
-/// it. At least the depth of their overlap; negative when apart along `u`.
-pub(crate) fn overlap_along(a: &TriMesh, pose_a: &Pose, b: &TriMesh, pose_b: &Pose, u: &Vector) -> Real {
-    let reach = |mesh: &TriMesh, pose: &Pose, u: &Vector| {
-        let local = pose.rotation.inverse_transform_vector(u);
-        let vertex = mesh.vertices()[mesh.farthest_vertex(&local)];
-        u.dot(&(pose * vertex).coords)
-    };
-    reach(a, pose_a, u) + reach(b, pose_b, &-u)
 }
 
 /// A found contact's time (every entry has one).
