@@ -1,4 +1,5 @@
-//! The descent of one run's bracket: GJK or exact distance probes along the\nstep, stepping down to the nearest time by parabolic steps.
+//! The descent of one run's bracket: GJK or exact distance probes along the
+//! step, stepping down to the nearest time by parabolic steps.
 
 use super::convex_measure::{certificate_slack, measure};
 use super::hull_gap::{convex_distance, ConvexDistance, WarmSimplex};

@@ -3,9 +3,10 @@
 //! (an inelastic impulse there; a body touching a kinematic one carried
 //! along), and pushes apart pairs the depth watch finds too deep.
 
-use super::bodies::{body_pose, center_pose, BodyKind, BodyView, RapierBodies};
+use super::bodies::RapierBodies;
 use super::depth::Deep;
 use super::thickness::pair_tolerance;
+use super::views::{body_pose, center_pose, BodyKind, BodyView};
 use super::{Guard, GuardEvent, PUSHED_DEPTH_FRACTION};
 use crate::math::{Point, Pose, Real, Vector};
 use crate::motion::StepMotion;

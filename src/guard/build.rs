@@ -3,7 +3,9 @@
 
 use std::sync::Arc;
 
-use super::bodies::{BodyKind, ContactHooks, RapierBodies};
+use super::bodies::RapierBodies;
+use super::parts::ContactHooks;
+use super::views::BodyKind;
 
 use super::shapes::mesh_of_body;
 

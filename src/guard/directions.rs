@@ -1,4 +1,5 @@
-//! A contact's directions: the closest points', the hulls' axis and the\ntriangles' normals, and the overlap of two posed meshes along one.
+//! A contact's directions: the closest points', the hulls' axis and the
+//! triangles' normals, and the overlap of two posed meshes along one.
 
 use crate::ccd::MeshCcdResult;
 use crate::math::{Pose, Real, Vector};

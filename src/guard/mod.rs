@@ -144,11 +144,13 @@ mod depth;
 mod directions;
 mod events;
 mod options;
+mod parts;
 mod rules;
 mod shapes;
 pub(crate) mod simulate;
 mod sweep;
 mod thickness;
+mod views;
 mod watch;
 
 pub use compare::{
@@ -161,7 +163,9 @@ use std::time::Instant;
 
 use rapier3d_f64::prelude::RigidBodySet;
 
-pub use bodies::{BodyKind, BodyView, ColliderPart, ContactHooks, RapierBodies, ShapePart};
+pub use bodies::RapierBodies;
+pub use parts::{ColliderPart, ContactHooks};
+pub use views::{BodyKind, BodyView, ShapePart};
 
 #[cfg(test)]
 pub(crate) use shapes::HALF_SPACE_EXTENT;
@@ -171,7 +175,6 @@ pub use shapes::{
 
 use crate::math::{Pose, Real, Vector};
 use crate::stepper::{Contact, Stepper, Termination, World};
-use bodies::center_pose;
 pub(crate) use build::{solved_pairs, GuardSetup};
 use depth::{Deep, DepthWatch};
 pub use events::{GuardError, GuardEvent};
@@ -184,6 +187,7 @@ pub(crate) use options::{
 use rules::PairRules;
 #[cfg(test)]
 pub(crate) use thickness::THIN_BODY_FRACTION;
+use views::center_pose;
 
 /// rapier's step by a given `dt` (in f64; [`Guard::step`] hands rapier's
 /// own real to the application's closure).

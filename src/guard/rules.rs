@@ -1,4 +1,5 @@
-//! Which pairs rapier solves (its solid colliders' rules and the\napplication's contact hooks), read by the guard's sweep.
+//! Which pairs rapier solves (its solid colliders' rules and the
+//! application's contact hooks), read by the guard's sweep.
 
 use super::ContactHooks;
 use std::sync::RwLock;

@@ -4,7 +4,9 @@
 
 use rapier3d_f64::prelude::ColliderBuilder;
 
-use super::bodies::{ColliderPart, RapierBodies, ShapePart};
+use super::bodies::RapierBodies;
+use super::parts::ColliderPart;
+use super::views::ShapePart;
 use super::GuardError;
 use crate::math::{from_parry, to_parry, Point, Pose, Real, Vector};
 use crate::mesh::TriMesh;

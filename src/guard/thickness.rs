@@ -1,4 +1,5 @@
-//! A body's thickness, and the depth a pair is tolerated to (at most half\nthe thinner body).
+//! A body's thickness, and the depth a pair is tolerated to (at most half
+//! the thinner body).
 
 use crate::math::Real;
 use crate::mesh::TriMesh;

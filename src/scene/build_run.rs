@@ -1,4 +1,5 @@
-//! What a scene's run does and records: its contact response and\nmaterials, its trace, near misses and expectation, each checked.
+//! What a scene's run does and records: its contact response and
+//! materials, its trace, near misses and expectation, each checked.
 
 use super::file::{
     BodySettings, ColliderSettings, ExpectSettings, OnContact, SceneFile, TracePairs, TraceSettings,

@@ -1,4 +1,5 @@
-//! A validated scene's types: the model the stepper and the guard simulate,\nand what a run of it writes and checks.
+//! A validated scene's types: the model the stepper and the guard simulate,
+//! and what a run of it writes and checks.
 
 use super::file::OnContact;
 use super::parameters::StepParameters;
