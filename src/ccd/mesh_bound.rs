@@ -54,7 +54,7 @@
 //! that neither closest feature tilts across `n` in it: the face's body's
 //! `ω` where one feature is a face (or an edge against a vertex); for two
 //! edges `e_a`, `e_b`, the least `Ω` with `Ω·(e_k × n) = ω_k·(e_k × n)` for
-//! both (a 2 × 2 system; none for edges within [`PARALLEL_EDGES`] of
+//! both (a 2 × 2 system; none for edges within [`PARALLEL_EDGES`](super::posed_pair::PARALLEL_EDGES) of
 //! parallel). Each vertex's height along `n` in that frame then moves at
 //! the rate of the distance itself, and its second derivative is bounded
 //! by the rotating frame's accelerations,
@@ -78,9 +78,8 @@
 //! oblique centre line). The longer of the two times is a lower bound for
 //! every triangle pair below the node.
 
-use crate::kernels::{dyop_distance, triangle_distance, Feature, TriangleDistance};
-use crate::math::{Pose, Real, Triangle, Vector};
-use crate::mesh::{BvhNode, DistanceKernel, TriMesh};
+use crate::math::{Pose, Real, Vector};
+use crate::mesh::BvhNode;
 use nalgebra::Matrix3;
 
 /// The motion of `b` relative to `a`, in `a`'s frame at the current time.
@@ -369,232 +368,13 @@ fn spin_swept_gap(pair: &NodePair<'_>, horizon: Real) -> (Real, Vector) {
     (widest, spin_direction)
 }
 
-/// Triangle `ta` of `a` and `tb` of `b`, set up for the bounds: `a`'s
-/// vertices (offsets from its centre), `b`'s as offsets from its centre
-/// and as points, both in `a`'s frame, and each one's largest offset.
-pub(crate) struct PosedPair {
-    a: Triangle,
-    offsets_b: Triangle,
-    b: Triangle,
-    reach_a: Real,
-    reach_b: Real,
-}
-
-impl PosedPair {
-    #[inline]
-    pub(crate) fn new(a: &TriMesh, ta: usize, b: &TriMesh, tb: usize, frame: &PairFrame) -> PosedPair {
-        let local_a = a.triangle(ta);
-        let offsets_b: Triangle = b.triangle(tb).map(|p| (frame.rotation * p.coords).into());
-        let moved_b: Triangle = offsets_b.map(|q| q + frame.pos_ab.translation.vector);
-        let reach = |t: &Triangle| t.iter().map(|p| p.coords.norm_squared()).fold(0.0, Real::max).sqrt();
-        PosedPair { reach_a: reach(&local_a), reach_b: reach(&offsets_b), a: local_a, offsets_b, b: moved_b }
-    }
-
-    /// The time before the pair's gap along the unit direction `n` falls to
-    /// `target` (the second-order bound of the module), and the gap now.
-    #[inline]
-    fn slab_time(&self, n: &Vector, frame: &PairFrame, target: Real) -> (Real, Real) {
-        let (nwa, nwb) = (n.cross(&frame.omega_a), n.cross(&frame.omega_b));
-        let slowest_b = self.offsets_b.iter().map(|q| nwb.dot(&q.coords)).fold(Real::INFINITY, Real::min);
-        let fastest_a = self.a.iter().map(|p| nwa.dot(&p.coords)).fold(Real::NEG_INFINITY, Real::max);
-        let rate = n.dot(&frame.velocity) + slowest_b - fastest_a;
-        let curvature = nwa.norm() * frame.spin_a * self.reach_a + nwb.norm() * frame.spin_b * self.reach_b;
-        let gap = self.gap(n);
-        (first_root(gap - target, rate, curvature), gap)
-    }
-
-    /// [`Self::slab_time`], vertex pair by vertex pair: the gap along `n`
-    /// is the least of the nine vertex pairs' gaps, each bounded by its own
-    /// height and rate, so a vertex that moves fast towards the other
-    /// triangle but lies far above the closest one counts only once it can
-    /// have come down (a spinning box's corner near a wall: the other
-    /// corners of its triangle swing faster, but from higher up). Never
-    /// shorter than the slab's time; nine roots instead of one, so kept for
-    /// the full bound.
-    #[inline]
-    fn vertex_slab_time(&self, n: &Vector, frame: &PairFrame, target: Real) -> Real {
-        let (nwa, nwb) = (n.cross(&frame.omega_a), n.cross(&frame.omega_b));
-        let curvature = nwa.norm() * frame.spin_a * self.reach_a + nwb.norm() * frame.spin_b * self.reach_b;
-        let along = n.dot(&frame.velocity);
-        let a = self.a.map(|p| (n.dot(&p.coords), nwa.dot(&p.coords)));
-        let mut time = Real::INFINITY;
-        for (q, p) in self.offsets_b.iter().zip(&self.b) {
-            let (height, rate) = (n.dot(&p.coords), along + nwb.dot(&q.coords));
-            for &(height_a, rate_a) in &a {
-                time = time.min(first_root(height - height_a - target, rate - rate_a, curvature));
-            }
-        }
-        time
-    }
-
-    /// The gap between the two triangles along the unit direction `n` now:
-    /// `b`'s lowest vertex minus `a`'s highest.
-    #[inline]
-    fn gap(&self, n: &Vector) -> Real {
-        let low_b = self.b.iter().map(|p| n.dot(&p.coords)).fold(Real::INFINITY, Real::min);
-        let high_a = self.a.iter().map(|p| n.dot(&p.coords)).fold(Real::NEG_INFINITY, Real::max);
-        low_b - high_a
-    }
-
-    /// A cheap bound: the slab along the line between the centroids.
-    #[inline]
-    pub(crate) fn quick_time(&self, frame: &PairFrame, target: Real) -> (Real, Real) {
-        let centroid = |t: &Triangle| (t[0].coords + t[1].coords + t[2].coords) / 3.0;
-        let between = centroid(&self.b) - centroid(&self.a);
-        let normal = |t: &Triangle| (t[1] - t[0]).cross(&(t[2] - t[0]));
-        // The line between the centroids, or either face normal (the right
-        // direction for a large face over a small triangle), whichever
-        // separates them most.
-        let mut best = (Real::NEG_INFINITY, Vector::zeros());
-        for u in [between, normal(&self.a), normal(&self.b)] {
-            let length = u.norm();
-            if length > 0.0 {
-                let u = if u.dot(&between) < 0.0 { -u / length } else { u / length };
-                let g = self.gap(&u);
-                if g > best.0 {
-                    best = (g, u);
-                }
-            }
-        }
-        if best.0 > Real::NEG_INFINITY {
-            self.slab_time(&best.1, frame, target)
-        } else {
-            (0.0, Real::NEG_INFINITY)
-        }
-    }
-
-    /// The full bound (see the module) and the distance.
-    #[inline]
-    pub(crate) fn exact_time(
-        &self,
-        frame: &PairFrame,
-        target: Real,
-        kernel: DistanceKernel,
-        horizon: Real,
-    ) -> (Real, Real) {
-        let head_on = |d: Real| {
-            let speed = frame.head_on_speed(self.reach_a, self.reach_b);
-            if speed > 0.0 {
-                (d - target) / speed
-            } else {
-                Real::INFINITY
-            }
-        };
-        let closest = match kernel {
-            DistanceKernel::Exact => triangle_distance(&self.a, &self.b),
-            DistanceKernel::Dyop(formula) => {
-                let d = dyop_distance(&self.a, &self.b, formula);
-                return (head_on(d), d);
-            }
-        };
-        let d = closest.distance;
-        if d <= target {
-            return (0.0, d);
-        }
-        let n = (closest.point_b - closest.point_a) / d;
-        let time = self.vertex_slab_time(&n, frame, target).max(head_on(d));
-        if time >= horizon || frame.spin_a + frame.spin_b == 0.0 {
-            return (time, d);
-        }
-        let turning = self.turning_slab_time(&closest, &n, frame, target, horizon);
-        (time.max(turning), d)
-    }
-
-    /// The slab along `n` in a frame that turns with the closest features
-    /// (see the module's "A turning slab"): the gap's rate there is the
-    /// distance's own, so a pair near its closest approach is bounded to
-    /// second order, where a slab fixed in the world loses at first order
-    /// to each feature's tilt. At most `horizon`.
-    fn turning_slab_time(
-        &self,
-        closest: &TriangleDistance,
-        n: &Vector,
-        frame: &PairFrame,
-        target: Real,
-        horizon: Real,
-    ) -> Real {
-        let Some(spin) = self.frame_spin(closest, n, frame) else { return 0.0 };
-        let centre_b = frame.pos_ab.translation.vector;
-        // The bodies' velocities: a's centre is the origin, at rest (a
-        // constant velocity shared by everything changes no distance).
-        let velocity_a = |x: &Vector| frame.omega_a.cross(x);
-        let velocity_b = |x: &Vector| frame.velocity + frame.omega_b.cross(&(x - centre_b));
-        let origin = (closest.point_a.coords + closest.point_b.coords) / 2.0;
-        let origin_velocity =
-            (velocity_a(&closest.point_a.coords) + velocity_b(&closest.point_b.coords)) / 2.0;
-        let spin_norm = spin.norm();
-        // A vertex's height along n in the turning frame, its rate, and the
-        // bound of its second derivative over the horizon.
-        let vertex =
-            |x: &Vector, offset: &Vector, velocity: Vector, centre_velocity: &Vector, omega: Real| {
-                let (q, dq) = (x - origin, velocity - origin_velocity);
-                let reach = offset.norm();
-                let speed = (centre_velocity - origin_velocity).norm() + omega * reach;
-                let curvature = omega * omega * reach
-                    + 2.0 * spin_norm * speed
-                    + spin_norm * spin_norm * (q.norm() + horizon * speed);
-                (n.dot(&q), n.dot(&(dq - spin.cross(&q))), curvature)
-            };
-        let zero = Vector::zeros();
-        let a = self.a.map(|p| vertex(&p.coords, &p.coords, velocity_a(&p.coords), &zero, frame.spin_a));
-        let mut time = horizon;
-        for (q, p) in self.offsets_b.iter().zip(&self.b) {
-            let (height, rate, curvature) =
-                vertex(&p.coords, &q.coords, velocity_b(&p.coords), &frame.velocity, frame.spin_b);
-            for &(height_a, rate_a, curvature_a) in &a {
-                time =
-                    time.min(first_root(height - height_a - target, rate - rate_a, curvature + curvature_a));
-            }
-        }
-        time
-    }
-
-    /// The turning frame's angular velocity for the closest features:
-    /// where one side's feature is a face, or an edge against a vertex,
-    /// that side's (the gap's direction then turns with it); for two edges
-    /// the least spin that keeps both from tilting across `n` (`None` for
-    /// two vertices, or parallel edges: the fixed slab is as good).
-    fn frame_spin(&self, closest: &TriangleDistance, n: &Vector, frame: &PairFrame) -> Option<Vector> {
-        let rank = |feature: Feature| match feature {
-            Feature::Vertex(_) => 0,
-            Feature::Edge(_) => 1,
-            Feature::Face => 2,
-        };
-        let (fa, fb) = (closest.feature_a, closest.feature_b);
-        match (fa, fb) {
-            (Feature::Edge(i), Feature::Edge(j)) => {
-                let edge = |t: &Triangle, k: u8| {
-                    let k = usize::from(k);
-                    t[(k + 1) % 3] - t[k]
-                };
-                let (ua, ub) = (edge(&self.a, i).cross(n), edge(&self.b, j).cross(n));
-                // ω·u_a = ω_a·u_a and ω·u_b = ω_b·u_b, ω in their span.
-                let (g11, g12, g22) = (ua.dot(&ua), ua.dot(&ub), ub.dot(&ub));
-                let det = g11 * g22 - g12 * g12;
-                // Parallel edges, or a NaN: no frame of their own.
-                if det.is_nan() || det <= PARALLEL_EDGES * g11 * g22 {
-                    return None;
-                }
-                let (ca, cb) = (frame.omega_a.dot(&ua), frame.omega_b.dot(&ub));
-                let (alpha, beta) = ((ca * g22 - cb * g12) / det, (cb * g11 - ca * g12) / det);
-                Some(ua * alpha + ub * beta)
-            }
-            _ if rank(fa) > rank(fb) => Some(frame.omega_a),
-            _ if rank(fb) > rank(fa) => Some(frame.omega_b),
-            (Feature::Face, Feature::Face) => Some(frame.omega_a),
-            _ => None,
-        }
-    }
-}
-
-/// Two edges closer to parallel than this (the squared sine of their
-/// angle) have no turning frame of their own: `1e-6`.
-const PARALLEL_EDGES: Real = 1e-6;
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ccd::posed_pair::PosedPair;
+    use crate::kernels::triangle_distance;
     use crate::mesh::{box_mesh, icosphere};
+    use crate::mesh::{DistanceKernel, TriMesh};
     use crate::motion::StepMotion;
     use crate::samples::Rng;
 

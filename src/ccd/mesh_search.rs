@@ -36,7 +36,8 @@
 //! and the contact distance without ever closing to `target` (a resting
 //! pair, a receding one) need not be reported.
 
-use super::mesh_bound::{node_pair_time, PairFrame, PosedPair};
+use super::mesh_bound::{node_pair_time, PairFrame};
+use super::posed_pair::PosedPair;
 use crate::math::Real;
 use crate::mesh::{DistanceKernel, TriMesh};
 

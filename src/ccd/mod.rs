@@ -55,7 +55,9 @@ mod mesh_pair;
 mod mesh_search;
 mod options;
 mod pair_motion;
+mod posed_pair;
 mod query;
+mod simplex;
 mod spin_sweep;
 mod vertex_face;
 

@@ -5,12 +5,8 @@
 //! logic is written once, in f64 (what f32 rounding leaves of the
 //! guarantee: the guard module's "f32 rapier").
 
-#[allow(unused_imports)]
 use super::parts::{ColliderPart, ContactHooks};
-#[allow(unused_imports)]
-use super::views::{
-    body_pose, center_pose, unit_quaternion, BodyKind, BodyView, ShapePart, UNIT_QUATERNION_TOLERANCE,
-};
+use super::views::{unit_quaternion, BodyKind, BodyView, ShapePart};
 use crate::math::{Point, Pose, Real, Vector};
 
 mod sealed {

@@ -45,12 +45,9 @@
 use std::cell::RefCell;
 use std::sync::Arc;
 
-#[allow(unused_imports)]
-use super::directions::{contact_directions, overlap_along, Directions};
-#[allow(unused_imports)]
-use super::rules::{read, PairRules};
-#[allow(unused_imports)]
-use super::thickness::{pair_tolerance, thickness};
+use super::directions::Directions;
+use super::rules::PairRules;
+use super::thickness::pair_tolerance;
 use crate::ccd::{hull_gap, mesh_time_of_impact, CcdStatus, ContactRule, MeshCcdResult, WarmStart};
 use crate::math::{Point, Real, Vector};
 use crate::mesh::{convex_penetration_with, PenetrationScratch};

@@ -52,6 +52,7 @@ mod separated;
 mod triangle_distance;
 mod triangle_intersection;
 mod triangle_overlap;
+mod triangle_penetration;
 mod triangle_triangle;
 
 pub use compensated::difference_of_products;
@@ -71,7 +72,6 @@ pub(crate) use scale::{largest_magnitude, normalising_exponent, scale_by_power_o
 pub use segment_segment::{segment_segment, segment_segment_lanes, Edge, SegmentSegment};
 pub use triangle_distance::{triangle_distance, triangle_distance_with};
 pub use triangle_intersection::triangles_intersect;
-pub use triangle_overlap::{
-    triangle_intersection, triangle_penetration, OverlapPolygon, TriangleIntersection, TrianglePenetration,
-};
+pub use triangle_overlap::{triangle_intersection, OverlapPolygon, TriangleIntersection};
+pub use triangle_penetration::{triangle_penetration, TrianglePenetration};
 pub use triangle_triangle::TriangleDistance;

@@ -52,7 +52,6 @@ pub use record::{set_expectation, RECORDED_COMMENT};
 use crate::math::Real;
 use crate::mesh::DistanceKernel;
 use crate::motion::Integrator;
-#[allow(unused_imports)]
 pub use model::{
     Axis, Body, BodyMotion, Expectation, InitialOverlapPolicy, Material, Model, NearMissSpec, PlotSpec,
     PosesSpec, RunSpec, Scene, TraceSpec,
