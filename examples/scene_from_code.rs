@@ -1,7 +1,7 @@
 //! A scene written in code and run by the library, without the CLI or any
 //! file: the RON text a scene file holds, loaded with `Scene::from_ron_str`
 //! (the loader's checks and messages are the CLI's), then
-//! `stepper::run`.
+//! `nearmiss::run`.
 //!
 //! A unit cube falls from rest, its lowest face 1 above a fixed floor,
 //! under gravity 9.81: it touches at t = sqrt(2 / 9.81) = 0.4515236...

@@ -91,66 +91,11 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
         let Some((_, keyword)) = words.next() else { continue };
         match keyword {
             "v" => {
-                let mut coordinates = [0.0; 3];
-                for (k, coordinate) in coordinates.iter_mut().enumerate() {
-                    let Some((column, word)) = words.next() else {
-                        return Err(error(
-                            line,
-                            raw.len() + 1,
-                            format!("a vertex needs 3 coordinates, found {k}"),
-                        ));
-                    };
-                    *coordinate = match word.parse::<f64>() {
-                        Ok(value) if value.abs() <= MAX_COORDINATE => value,
-                        Ok(value) if value.is_finite() => {
-                            return Err(error(
-                                line,
-                                column,
-                                format!(
-                                    "{} is outside the usable range: |x| ≤ {MAX_COORDINATE:e} (products of coordinates must stay finite)",
-                                    excerpt(word)
-                                ),
-                            ))
-                        }
-                        _ => {
-                            return Err(error(
-                                line,
-                                column,
-                                format!("expected a finite number, found {}", excerpt(word)),
-                            ))
-                        }
-                    };
-                }
-                // An optional fourth value (w) or vertex colours may follow.
-                vertices.push(Point::from(coordinates));
+                let vertex = vertex_of(words, raw.len()).map_err(|(column, m)| error(line, column, m))?;
+                vertices.push(vertex);
             }
             "f" => {
-                let mut corners = Vec::new();
-                for (column, word) in words.by_ref() {
-                    let index_text = word.split('/').next().unwrap_or("");
-                    let index = match index_text.parse::<i64>() {
-                        Ok(i) if i > 0 => i - 1,
-                        Ok(i) if i < 0 => vertices.len() as i64 + i,
-                        _ => {
-                            return Err(error(
-                                line,
-                                column,
-                                format!(
-                                    "expected a vertex index (1-based, or negative), found {}",
-                                    excerpt(word)
-                                ),
-                            ))
-                        }
-                    };
-                    if index < 0 || index > u32::MAX as i64 {
-                        return Err(error(
-                            line,
-                            column,
-                            format!("vertex index {} is out of range", excerpt(word)),
-                        ));
-                    }
-                    corners.push(index as u32);
-                }
+                let corners = face_of(words, vertices.len()).map_err(|(column, m)| error(line, column, m))?;
                 if corners.len() < 3 {
                     return Err(error(
                         line,
@@ -182,6 +127,64 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
             ObjError::Mesh { path: path.into(), source }
         }
     })
+}
+
+/// A `v` line's vertex from its words after the keyword (`end`: the
+/// line's length, where a missing coordinate is reported); an error is its
+/// column and message. An optional fourth value (w) or vertex colours may
+/// follow.
+fn vertex_of<'a>(
+    mut words: impl Iterator<Item = (usize, &'a str)>,
+    end: usize,
+) -> Result<Point, (usize, String)> {
+    let mut coordinates = [0.0; 3];
+    for (k, coordinate) in coordinates.iter_mut().enumerate() {
+        let Some((column, word)) = words.next() else {
+            return Err((end + 1, format!("a vertex needs 3 coordinates, found {k}")));
+        };
+        *coordinate = match word.parse::<f64>() {
+            Ok(value) if value.abs() <= MAX_COORDINATE => value,
+            Ok(value) if value.is_finite() => {
+                return Err((
+                    column,
+                    format!(
+                        "{} is outside the usable range: |x| ≤ {MAX_COORDINATE:e} (products of coordinates must stay finite)",
+                        excerpt(word)
+                    ),
+                ))
+            }
+            _ => return Err((column, format!("expected a finite number, found {}", excerpt(word)))),
+        };
+    }
+    Ok(Point::from(coordinates))
+}
+
+/// An `f` line's corners (0-based vertex indices, negative ones counted
+/// back from the `defined` vertices) from its words after the keyword; an
+/// error is its column and message.
+fn face_of<'a>(
+    words: impl Iterator<Item = (usize, &'a str)>,
+    defined: usize,
+) -> Result<Vec<u32>, (usize, String)> {
+    let mut corners = Vec::new();
+    for (column, word) in words {
+        let index_text = word.split('/').next().unwrap_or("");
+        let index = match index_text.parse::<i64>() {
+            Ok(i) if i > 0 => i - 1,
+            Ok(i) if i < 0 => defined as i64 + i,
+            _ => {
+                return Err((
+                    column,
+                    format!("expected a vertex index (1-based, or negative), found {}", excerpt(word)),
+                ))
+            }
+        };
+        if index < 0 || index > u32::MAX as i64 {
+            return Err((column, format!("vertex index {} is out of range", excerpt(word))));
+        }
+        corners.push(index as u32);
+    }
+    Ok(corners)
 }
 
 /// The whitespace-separated words of a line with their 1-based columns.

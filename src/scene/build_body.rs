@@ -211,45 +211,14 @@ impl Builder<'_> {
         let angular_velocity = self.vector(&field("angular_velocity"), &settings.angular_velocity)?;
         let rotation = self.orientation(&field("orientation"), &settings.orientation)?;
 
-        let key = format!("{:?}|{scale:e}", settings.mesh);
-        let mesh_field = field("mesh");
-        let shape = match assets.meshes.get(&key) {
-            Some(shape) => shape.clone(),
-            None => {
-                let built = self.mesh(&mesh_field, &settings.mesh, base)?;
-                let scaled = if scale == 1.0 {
-                    built
-                } else {
-                    built.scaled(scale).or_else(|e| {
-                        self.invalid(field("scale"), format!("the scaled mesh is unusable: {e}"))
-                    })?
-                };
-                self.check_mesh_range(&mesh_field, &scaled)?;
-                let shape = Arc::new(scaled);
-                assets.meshes.insert(key.clone(), shape.clone());
-                shape
-            }
-        };
+        let (shape, key) = self.shared_mesh(i, settings, scale, base, assets)?;
 
         let (mut mass, mut inertia, mut center) = (None, None, Vector::zeros());
         if let Some(m) = settings.mass {
             mass = Some(self.invertible(&field("mass"), m)?);
         }
         if let Some(moments) = &settings.inertia {
-            let m = self.vector(&field("inertia"), moments)?;
-            if m.min() <= 0.0 {
-                return self.invalid(field("inertia"), "principal moments must be positive");
-            }
-            for (k, axis) in ["x", "y", "z"].iter().enumerate() {
-                self.invertible(&format!("{}.{axis}", field("inertia")), m[k])?;
-            }
-            if m.x + m.y < m.z || m.y + m.z < m.x || m.z + m.x < m.y {
-                return self.invalid(
-                    field("inertia"),
-                    "no rigid body has these moments: each must be at most the sum of the other two",
-                );
-            }
-            inertia = Some(Matrix3::from_diagonal(&m));
+            inertia = Some(self.given_inertia(&field("inertia"), moments)?);
         }
         let shape = match settings.density {
             None => shape,
@@ -311,6 +280,59 @@ impl Builder<'_> {
             material: None,
         };
         Ok((body, center))
+    }
+
+    /// Body `i`'s mesh, built once per mesh and scale and shared by the
+    /// bodies that use it, and its key among the assets.
+    fn shared_mesh(
+        &self,
+        i: usize,
+        settings: &BodySettings,
+        scale: Real,
+        base: &Path,
+        assets: &mut Assets,
+    ) -> Result<(Arc<TriMesh>, String)> {
+        let field = |name: &str| format!("bodies[{i}].{name}");
+        let key = format!("{:?}|{scale:e}", settings.mesh);
+        let mesh_field = field("mesh");
+        let shape = match assets.meshes.get(&key) {
+            Some(shape) => shape.clone(),
+            None => {
+                let built = self.mesh(&mesh_field, &settings.mesh, base)?;
+                let scaled = if scale == 1.0 {
+                    built
+                } else {
+                    built.scaled(scale).or_else(|e| {
+                        self.invalid(field("scale"), format!("the scaled mesh is unusable: {e}"))
+                    })?
+                };
+                self.check_mesh_range(&mesh_field, &scaled)?;
+                let shape = Arc::new(scaled);
+                assets.meshes.insert(key.clone(), shape.clone());
+                shape
+            }
+        };
+        Ok((shape, key))
+    }
+
+    /// Principal moments of inertia as given (`field`): positive,
+    /// invertible, and those of a rigid body (each at most the sum of the
+    /// other two).
+    fn given_inertia(&self, field: &str, moments: &super::file::Triple) -> Result<Matrix3<Real>> {
+        let m = self.vector(field, moments)?;
+        if m.min() <= 0.0 {
+            return self.invalid(field, "principal moments must be positive");
+        }
+        for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+            self.invertible(&format!("{field}.{axis}"), m[k])?;
+        }
+        if m.x + m.y < m.z || m.y + m.z < m.x || m.z + m.x < m.y {
+            return self.invalid(
+                field,
+                "no rigid body has these moments: each must be at most the sum of the other two",
+            );
+        }
+        Ok(Matrix3::from_diagonal(&m))
     }
 
     fn mesh(&self, field: &str, settings: &MeshSettings, base: &Path) -> Result<TriMesh> {
