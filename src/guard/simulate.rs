@@ -123,30 +123,8 @@ impl RapierScene {
         // one convexity check and one hull).
         let mut built: Vec<(*const crate::mesh::TriMesh, bool, SharedShape, ColliderShape)> = Vec::new();
         for body in scene.model.bodies.iter() {
-            let builder = match &body.motion {
-                BodyMotion::Fixed => RigidBodyBuilder::fixed(),
-                // Driven along its exact motion (`step` sets each next pose).
-                _ if body.kinematic => RigidBodyBuilder::kinematic_position_based(),
-                BodyMotion::Integrated(dynamics) => {
-                    gravity = dynamics.gravity;
-                    RigidBodyBuilder::dynamic()
-                }
-                // Nothing acts on it in the scene (`--compare rapier` of a
-                // scene under another response): dynamic, its mass from the
-                // scene or rapier's default density.
-                BodyMotion::Free => RigidBodyBuilder::dynamic(),
-            };
-            let moving = body.motion != BodyMotion::Fixed;
-            let rigid = builder
-                .pose(pose_to_parry(&body.pose))
-                .linvel(vector_to_parry(&body.velocity))
-                .angvel(vector_to_parry(&body.angular_velocity))
-                .ccd_enabled(rapier_ccd && moving)
-                .soft_ccd_prediction(if rapier_ccd && moving { body.mesh.radius() } else { 0.0 })
-                // A scene's spin is what it says (rapier caps it at about
-                // 45° a step by default).
-                .allow_fast_rotation(true)
-                .build();
+            let (rigid, pulled_by) = rigid_body_of(body, rapier_ccd);
+            gravity = pulled_by.unwrap_or(gravity);
             let handle = bodies.insert(rigid);
             let material = body.material.unwrap_or(crate::scene::Material {
                 friction,
@@ -192,16 +170,7 @@ impl RapierScene {
             parameters,
             gravity,
             skin,
-            engine: Engine {
-                pipeline: PhysicsPipeline::new(),
-                islands: IslandManager::new(),
-                broad_phase: DefaultBroadPhase::default(),
-                narrow_phase: NarrowPhase::new(),
-                impulse_joints: ImpulseJointSet::new(),
-                multibody_joints: MultibodyJointSet::new(),
-                soft_bodies: SoftBodySet::new(),
-                ccd: CCDSolver::new(),
-            },
+            engine: Engine::new(),
         })
     }
 
@@ -284,6 +253,57 @@ impl RapierScene {
         let contact =
             parry3d_f64::query::contact(ca.position(), ca.shape(), cb.position(), cb.shape(), 0.0).ok()?;
         Some(contact.map_or(0.0, |c| (-c.dist).max(0.0)))
+    }
+}
+
+/// A scene body as rapier's: fixed, kinematic (driven along its exact
+/// motion) or dynamic, with rapier's CCD where asked for; and the gravity
+/// of an integrated body.
+fn rigid_body_of(
+    body: &crate::scene::Body,
+    rapier_ccd: bool,
+) -> (rapier3d_f64::prelude::RigidBody, Option<Vector>) {
+    let mut gravity = None;
+    let builder = match &body.motion {
+        BodyMotion::Fixed => RigidBodyBuilder::fixed(),
+        // Driven along its exact motion (`step` sets each next pose).
+        _ if body.kinematic => RigidBodyBuilder::kinematic_position_based(),
+        BodyMotion::Integrated(dynamics) => {
+            gravity = Some(dynamics.gravity);
+            RigidBodyBuilder::dynamic()
+        }
+        // Nothing acts on it in the scene (`--compare rapier` of a
+        // scene under another response): dynamic, its mass from the
+        // scene or rapier's default density.
+        BodyMotion::Free => RigidBodyBuilder::dynamic(),
+    };
+    let moving = body.motion != BodyMotion::Fixed;
+    let rigid = builder
+        .pose(pose_to_parry(&body.pose))
+        .linvel(vector_to_parry(&body.velocity))
+        .angvel(vector_to_parry(&body.angular_velocity))
+        .ccd_enabled(rapier_ccd && moving)
+        .soft_ccd_prediction(if rapier_ccd && moving { body.mesh.radius() } else { 0.0 })
+        // A scene's spin is what it says (rapier caps it at about
+        // 45° a step by default).
+        .allow_fast_rotation(true)
+        .build();
+    (rigid, gravity)
+}
+
+impl Engine {
+    /// A pipeline and empty sets.
+    fn new() -> Engine {
+        Engine {
+            pipeline: PhysicsPipeline::new(),
+            islands: IslandManager::new(),
+            broad_phase: DefaultBroadPhase::default(),
+            narrow_phase: NarrowPhase::new(),
+            impulse_joints: ImpulseJointSet::new(),
+            multibody_joints: MultibodyJointSet::new(),
+            soft_bodies: SoftBodySet::new(),
+            ccd: CCDSolver::new(),
+        }
     }
 }
 
