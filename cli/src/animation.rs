@@ -162,6 +162,49 @@ pub fn glb(scene: &Scene, poses: &[PoseRecord]) -> Result<Vec<u8>, String> {
         }));
     }
 
+    let (samplers, channels) = animations(scene, poses, &mut buffer);
+
+    // The root, last: the bodies' nodes keep their indices (the channels'
+    // targets), and it turns the scene's up axis onto glTF's +Y.
+    let half = std::f64::consts::FRAC_1_SQRT_2;
+    let turn_up = match scene.run().up {
+        Axis::Y => [0.0, 0.0, 0.0, 1.0],
+        // −90° about x: +z → +y, +y → −z.
+        Axis::Z => [-half, 0.0, 0.0, half],
+        // +90° about z: +x → +y, +y → −x.
+        Axis::X => [0.0, 0.0, half, half],
+    };
+    let bodies: Vec<usize> = (0..nodes.len()).collect();
+    nodes.push(json!({
+        "name": format!("{} ({:?} up)", scene.run().name, scene.run().up),
+        "rotation": turn_up,
+        "children": bodies,
+    }));
+    let mut document = json!({
+        "asset": { "version": "2.0", "generator": concat!("nearmiss ", env!("CARGO_PKG_VERSION")) },
+        "scene": 0,
+        "scenes": [{ "name": scene.run().name, "nodes": [nodes.len() - 1] }],
+        "nodes": nodes,
+        "meshes": meshes,
+        "materials": materials,
+        "buffers": [{ "byteLength": buffer.bytes.len() }],
+        "bufferViews": buffer.views,
+        "accessors": buffer.accessors,
+    });
+    if !channels.is_empty() {
+        document["animations"] =
+            json!([{ "name": scene.run().name, "samplers": samplers, "channels": channels }]);
+    }
+    container(serde_json::to_vec(&document).expect("JSON of plain values"), &buffer.bytes)
+}
+
+/// Each moving body's animation: a sampler and a channel for its
+/// translations and its rotations, their data written to `buffer`.
+fn animations(
+    scene: &Scene,
+    poses: &[PoseRecord],
+    buffer: &mut Buffer,
+) -> (Vec<serde_json::Value>, Vec<serde_json::Value>) {
     // Each body's records, in time order, strictly increasing times.
     let mut tracks: Vec<Vec<&PoseRecord>> = vec![Vec::new(); scene.model().bodies.len()];
     for record in poses {
@@ -197,43 +240,16 @@ pub fn glb(scene: &Scene, poses: &[PoseRecord]) -> Result<Vec<u8>, String> {
             channels.push(json!({ "sampler": samplers.len() - 1, "target": { "node": node, "path": path } }));
         }
     }
+    (samplers, channels)
+}
 
-    // The root, last: the bodies' nodes keep their indices (the channels'
-    // targets), and it turns the scene's up axis onto glTF's +Y.
-    let half = std::f64::consts::FRAC_1_SQRT_2;
-    let turn_up = match scene.run().up {
-        Axis::Y => [0.0, 0.0, 0.0, 1.0],
-        // −90° about x: +z → +y, +y → −z.
-        Axis::Z => [-half, 0.0, 0.0, half],
-        // +90° about z: +x → +y, +y → −x.
-        Axis::X => [0.0, 0.0, half, half],
-    };
-    let bodies: Vec<usize> = (0..nodes.len()).collect();
-    nodes.push(json!({
-        "name": format!("{} ({:?} up)", scene.run().name, scene.run().up),
-        "rotation": turn_up,
-        "children": bodies,
-    }));
-    let mut document = json!({
-        "asset": { "version": "2.0", "generator": concat!("nearmiss ", env!("CARGO_PKG_VERSION")) },
-        "scene": 0,
-        "scenes": [{ "name": scene.run().name, "nodes": [nodes.len() - 1] }],
-        "nodes": nodes,
-        "meshes": meshes,
-        "materials": materials,
-        "buffers": [{ "byteLength": buffer.bytes.len() }],
-        "bufferViews": buffer.views,
-        "accessors": buffer.accessors,
-    });
-    if !channels.is_empty() {
-        document["animations"] =
-            json!([{ "name": scene.run().name, "samplers": samplers, "channels": channels }]);
-    }
-    let mut text = serde_json::to_vec(&document).expect("JSON of plain values");
+/// The GLB file: the JSON chunk (`text`, padded to four bytes) and the
+/// binary chunk.
+fn container(mut text: Vec<u8>, bytes: &[u8]) -> Result<Vec<u8>, String> {
     while text.len() % 4 != 0 {
         text.push(b' ');
     }
-    let total = 12 + 8 + text.len() + 8 + buffer.bytes.len();
+    let total = 12 + 8 + text.len() + 8 + bytes.len();
     if u32::try_from(total).is_err() {
         return Err(format!(
             "animation.glb would be {total} bytes, beyond glTF's 4 GiB: record fewer poses (`poses: (every: n)`)"
@@ -246,8 +262,8 @@ pub fn glb(scene: &Scene, poses: &[PoseRecord]) -> Result<Vec<u8>, String> {
     file.extend_from_slice(&(text.len() as u32).to_le_bytes());
     file.extend_from_slice(b"JSON");
     file.extend_from_slice(&text);
-    file.extend_from_slice(&(buffer.bytes.len() as u32).to_le_bytes());
+    file.extend_from_slice(&(bytes.len() as u32).to_le_bytes());
     file.extend_from_slice(b"BIN\0");
-    file.extend_from_slice(&buffer.bytes);
+    file.extend_from_slice(bytes);
     Ok(file)
 }
