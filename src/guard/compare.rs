@@ -112,28 +112,7 @@ pub fn compare_with_rapier(
 ) -> Result<RapierComparison, super::GuardError> {
     let mut rapier = RapierScene::build(scene, true, false)?;
     let allowed = rapier.parameters.allowed_linear_error();
-    // A guard that watches rapier's motion and never moves a body.
-    let mut watched = scene.model.clone();
-    for body in Arc::make_mut(&mut watched.bodies) {
-        if body.motion != BodyMotion::Fixed {
-            body.motion = BodyMotion::Free;
-        }
-    }
-    let watched = std::sync::Arc::new(watched);
-    let stoppable = vec![false; scene.model.bodies.len()];
-    let centers = vec![crate::math::Vector::zeros(); scene.model.bodies.len()];
-    let setup = super::GuardSetup {
-        handles: rapier.handles.clone(),
-        centers,
-        stoppable,
-        skin: 0.0,
-        tolerated_depth: allowed,
-        solved: rapier.solved_pairs(),
-        acts: false,
-        max_substeps: 0,
-        parallel: true,
-    };
-    let mut guard = Guard::with_model(watched, None, setup, &rapier.parameters)?;
+    let mut guard = watcher(scene, &rapier, allowed)?;
     let pairs = scene.model.movable_pairs();
     // Per pair: rapier's first contact, the step it passed through, the
     // deepest overlap so far.
@@ -177,41 +156,7 @@ pub fn compare_with_rapier(
             };
         }
     }
-    let triple = |v: &crate::math::Vector| [v.x, v.y, v.z];
-    // A body with no state (none in either run) is where the scene put it.
-    let parts = |state: Option<crate::motion::RigidState>, i: usize| {
-        let start = &scene.model.bodies[i].pose;
-        let state = state.unwrap_or(crate::motion::RigidState {
-            position: start.translation.vector.into(),
-            orientation: start.rotation,
-            velocity: crate::math::Vector::zeros(),
-            angular_velocity: crate::math::Vector::zeros(),
-        });
-        let q = state.orientation;
-        (
-            triple(&state.position.coords),
-            [q.w, q.i, q.j, q.k],
-            triple(&state.velocity),
-            triple(&state.angular_velocity),
-        )
-    };
-    let bodies = (0..scene.model.bodies.len())
-        .map(|i| {
-            let (p, q, v, w) = parts(rapier.state(i), i);
-            let (np, nq, nv, nw) = parts(nearmiss_final.get(i).copied(), i);
-            RapierBody {
-                body: scene.model.bodies[i].name.clone(),
-                rapier_position: p,
-                rapier_orientation: q,
-                nearmiss_position: np,
-                nearmiss_orientation: nq,
-                rapier_velocity: v,
-                rapier_angular_velocity: w,
-                nearmiss_velocity: nv,
-                nearmiss_angular_velocity: nw,
-            }
-        })
-        .collect();
+    let bodies = final_bodies(scene, &rapier, nearmiss_final);
     let pairs = pairs
         .iter()
         .map(|&(a, b)| {
@@ -239,6 +184,76 @@ pub fn compare_with_rapier(
         })
         .collect();
     Ok(RapierComparison { pairs, bodies })
+}
+
+/// A guard that watches rapier's motion in `scene` and never moves a body
+/// (`allowed`: rapier's allowed linear error, the depth it tolerates).
+fn watcher(scene: &Scene, rapier: &RapierScene, allowed: Real) -> Result<Guard, super::GuardError> {
+    let mut watched = scene.model.clone();
+    for body in Arc::make_mut(&mut watched.bodies) {
+        if body.motion != BodyMotion::Fixed {
+            body.motion = BodyMotion::Free;
+        }
+    }
+    let watched = std::sync::Arc::new(watched);
+    let stoppable = vec![false; scene.model.bodies.len()];
+    let centers = vec![crate::math::Vector::zeros(); scene.model.bodies.len()];
+    let setup = super::GuardSetup {
+        handles: rapier.handles.clone(),
+        centers,
+        stoppable,
+        skin: 0.0,
+        tolerated_depth: allowed,
+        solved: rapier.solved_pairs(),
+        acts: false,
+        max_substeps: 0,
+        parallel: true,
+    };
+    Guard::with_model(watched, None, setup, &rapier.parameters)
+}
+
+/// Each body's final pose and velocities in rapier's run and in
+/// nearmiss's (`nearmiss_final`).
+fn final_bodies(
+    scene: &Scene,
+    rapier: &RapierScene,
+    nearmiss_final: &[crate::motion::RigidState],
+) -> Vec<RapierBody> {
+    let triple = |v: &crate::math::Vector| [v.x, v.y, v.z];
+    // A body with no state (none in either run) is where the scene put it.
+    let parts = |state: Option<crate::motion::RigidState>, i: usize| {
+        let start = &scene.model.bodies[i].pose;
+        let state = state.unwrap_or(crate::motion::RigidState {
+            position: start.translation.vector.into(),
+            orientation: start.rotation,
+            velocity: crate::math::Vector::zeros(),
+            angular_velocity: crate::math::Vector::zeros(),
+        });
+        let q = state.orientation;
+        (
+            triple(&state.position.coords),
+            [q.w, q.i, q.j, q.k],
+            triple(&state.velocity),
+            triple(&state.angular_velocity),
+        )
+    };
+    (0..scene.model.bodies.len())
+        .map(|i| {
+            let (p, q, v, w) = parts(rapier.state(i), i);
+            let (np, nq, nv, nw) = parts(nearmiss_final.get(i).copied(), i);
+            RapierBody {
+                body: scene.model.bodies[i].name.clone(),
+                rapier_position: p,
+                rapier_orientation: q,
+                nearmiss_position: np,
+                nearmiss_orientation: nq,
+                rapier_velocity: v,
+                rapier_angular_velocity: w,
+                nearmiss_velocity: nv,
+                nearmiss_angular_velocity: nw,
+            }
+        })
+        .collect()
 }
 
 /// The comparison as three Markdown tables (pairs, then bodies' final
