@@ -134,60 +134,69 @@ fn tick(v: Real, log: bool, span: Real) -> String {
     }
 }
 
+/// Where a chart's data goes: each series' points on the axes' scales
+/// (with their indices), the padded ranges, and the band of mark labels
+/// above the data.
+struct Framed {
+    drawn: Vec<Vec<(Real, Real, usize)>>,
+    x: (Real, Real),
+    y: (Real, Real),
+    /// The lowest value drawn, and the top of the data under the marks'
+    /// band.
+    data_low: Real,
+    data_top: Real,
+    /// The marks' label rows: their height and count.
+    row_height: Real,
+    rows: usize,
+}
+
+impl Framed {
+    fn of(chart: &Chart) -> Result<Framed, PlotError> {
+        let drawn: Vec<Vec<(Real, Real, usize)>> = chart
+            .series
+            .iter()
+            .map(|s| {
+                s.points
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(k, &(x, y))| {
+                        Some((axis_value(x, chart.log_x)?, axis_value(y, chart.log_y)?, k))
+                    })
+                    .collect()
+            })
+            .collect();
+        let all = || drawn.iter().flatten();
+        let mut xs =
+            all().map(|p| p.0).chain(chart.marks.iter().filter_map(|m| axis_value(m.0, chart.log_x)));
+        let first = xs.next().ok_or(PlotError::Empty)?;
+        let (mut x0, mut x1) = xs.fold((first, first), |(lo, hi), x| (lo.min(x), hi.max(x)));
+        let (mut y0, mut y1) =
+            all().fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), p| (lo.min(p.1), hi.max(p.1)));
+        if !y0.is_finite() {
+            return Err(PlotError::Empty);
+        }
+        let data_low = y0;
+        let pad = |lo: &mut Real, hi: &mut Real| {
+            let span = (*hi - *lo).max(if chart.log_y { 1.0 } else { 1e-12_f64.max(hi.abs() * 1e-3) });
+            *lo -= span * 0.05;
+            *hi += span * 0.05;
+        };
+        pad(&mut x0, &mut x1);
+        pad(&mut y0, &mut y1);
+        // The marks' labels get a band of their own above the data, a row
+        // each (up to MARK_ROWS), so the data never runs through them.
+        let rows = chart.marks.len().min(MARK_ROWS);
+        let data_top = y1;
+        let row_height = (y1 - y0) * MARK_ROW_HEIGHT;
+        y1 += row_height * rows as Real;
+        Ok(Framed { drawn, x: (x0, x1), y: (y0, y1), data_low, data_top, row_height, rows })
+    }
+}
+
 /// Renders the chart to a PNG file at `path`.
 pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
-    let drawn: Vec<Vec<(Real, Real, usize)>> = chart
-        .series
-        .iter()
-        .map(|s| {
-            s.points
-                .iter()
-                .enumerate()
-                .filter_map(|(k, &(x, y))| {
-                    Some((axis_value(x, chart.log_x)?, axis_value(y, chart.log_y)?, k))
-                })
-                .collect()
-        })
-        .collect();
-    let all = || drawn.iter().flatten();
-    let mut xs = all().map(|p| p.0).chain(chart.marks.iter().filter_map(|m| axis_value(m.0, chart.log_x)));
-    let first = xs.next().ok_or(PlotError::Empty)?;
-    let (mut x0, mut x1) = xs.fold((first, first), |(lo, hi), x| (lo.min(x), hi.max(x)));
-    let (mut y0, mut y1) =
-        all().fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), p| (lo.min(p.1), hi.max(p.1)));
-    if !y0.is_finite() {
-        return Err(PlotError::Empty);
-    }
-    let data_low = y0;
-    let pad = |lo: &mut Real, hi: &mut Real| {
-        let span = (*hi - *lo).max(if chart.log_y { 1.0 } else { 1e-12_f64.max(hi.abs() * 1e-3) });
-        *lo -= span * 0.05;
-        *hi += span * 0.05;
-    };
-    pad(&mut x0, &mut x1);
-    pad(&mut y0, &mut y1);
-    // The marks' labels get a band of their own above the data, a row
-    // each (up to MARK_ROWS), so the data never runs through them.
-    let rows = chart.marks.len().min(MARK_ROWS);
-    let data_top = y1;
-    let row_height = (y1 - y0) * MARK_ROW_HEIGHT;
-    y1 += row_height * rows as Real;
-
-    // The legend: each labelled series, in a column right of the plot,
-    // where neither the data nor the marks' labels can run under it.
-    let legend: Vec<(String, RGBAColor, bool)> = chart
-        .series
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| !s.label.is_empty())
-        .map(|(index, s)| (s.label.clone(), PALETTE[index % PALETTE.len()].to_rgba(), s.line))
-        .collect();
-    let legend_width = legend
-        .iter()
-        .map(|(label, ..)| label.chars().count() as u32 * LEGEND_CHAR_WIDTH + LEGEND_TEXT_AT + 15)
-        .max()
-        .unwrap_or(0)
-        .min(CHART_SIZE.0 / 4);
+    let Framed { drawn, x: (x0, x1), y: (y0, y1), data_low, data_top, row_height, rows } = Framed::of(chart)?;
+    let (legend, legend_width) = legend_of(chart);
 
     draw_png(path, |root| {
         let error = |e: &dyn std::fmt::Display| e.to_string();
@@ -274,6 +283,26 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
         draw_legend(&side, &legend, font(18)).map_err(|e| error(&e))?;
         Ok(())
     })
+}
+
+/// The legend: each labelled series (label, colour, drawn as a line), in
+/// a column right of the plot, where neither the data nor the marks'
+/// labels can run under it; and the column's width in pixels.
+fn legend_of(chart: &Chart) -> (Vec<(String, RGBAColor, bool)>, u32) {
+    let legend: Vec<(String, RGBAColor, bool)> = chart
+        .series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.label.is_empty())
+        .map(|(index, s)| (s.label.clone(), PALETTE[index % PALETTE.len()].to_rgba(), s.line))
+        .collect();
+    let legend_width = legend
+        .iter()
+        .map(|(label, ..)| label.chars().count() as u32 * LEGEND_CHAR_WIDTH + LEGEND_TEXT_AT + 15)
+        .max()
+        .unwrap_or(0)
+        .min(CHART_SIZE.0 / 4);
+    (legend, legend_width)
 }
 
 /// A legend character's width at the legend's font size, pixels (DejaVu
