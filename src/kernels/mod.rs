@@ -54,6 +54,8 @@ mod triangle_intersection;
 mod triangle_overlap;
 mod triangle_penetration;
 mod triangle_triangle;
+#[cfg(target_arch = "x86_64")]
+mod ymm;
 
 pub use compensated::difference_of_products;
 pub use dispatch::SimdLevel;
