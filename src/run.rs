@@ -80,33 +80,40 @@ pub fn run_with(scene: &Scene, options: RunOptions, observer: &mut dyn FnMut(u64
 /// it as [`Termination::NotStarted`].
 pub fn check(scene: &Scene) -> Result<(), SceneError> {
     let OnContact::Simulate { skin, .. } = scene.model.on_contact else { return Ok(()) };
-    let invalid = |field: &str, message: String| {
-        Err(SceneError::Invalid { path: scene.run.source.clone(), field: field.into(), message })
-    };
-    #[cfg(feature = "rapier")]
-    if let Err((body, contact_distance, limit)) =
-        crate::guard::simulate_contact_limit(&scene.model.ccd, &scene.model.bodies, skin)
-    {
-        use crate::math::shortest;
-        return invalid(
-            "ccd.distance_tolerance",
-            format!(
+    simulate_fits(scene, skin).map_err(|(field, message)| SceneError::Invalid {
+        path: scene.run.source.clone(),
+        field: field.into(),
+        message,
+    })
+}
+
+/// Whether this build can run a `Simulate` scene of collider skin `skin`:
+/// `Err` names the field at fault and says why.
+#[cfg(feature = "rapier")]
+fn simulate_fits(scene: &Scene, skin: crate::math::Real) -> Result<(), (&'static str, String)> {
+    use crate::math::shortest;
+    let (body, contact_distance, limit) =
+        match crate::guard::simulate_contact_limit(&scene.model.ccd, &scene.model.bodies, skin) {
+            Ok(()) => return Ok(()),
+            Err(failed) => failed,
+        };
+    Err((
+        "ccd.distance_tolerance",
+        format!(
                 "a pair with `{body}` would have a contact distance of {} under `Simulate`, not below {} (the two colliders' contact skins, or without skins rapier's prediction distance): the guard's wall would lie outside rapier's contact; lower `distance_tolerance` or `minimum_separation`",
                 shortest(contact_distance),
                 shortest(limit)
             ),
-        );
-    }
-    #[cfg(not(feature = "rapier"))]
-    {
-        let _ = skin;
-        return invalid(
-            "on_contact",
-            "`Simulate` solves contacts with rapier3d: build nearmiss with the `rapier` feature".into(),
-        );
-    }
-    #[allow(unreachable_code)]
-    Ok(())
+    ))
+}
+
+/// Without the `rapier` feature no `Simulate` scene can run.
+#[cfg(not(feature = "rapier"))]
+fn simulate_fits(_scene: &Scene, _skin: crate::math::Real) -> Result<(), (&'static str, String)> {
+    Err((
+        "on_contact",
+        "`Simulate` solves contacts with rapier3d: build nearmiss with the `rapier` feature".into(),
+    ))
 }
 
 /// The scene's driver: rapier guarded by nearmiss under `Simulate`, the

@@ -33,7 +33,7 @@ impl Stepper {
                 let reach = motion.center_at(0.0).coords.amax() + motion.travel(model.dt) + radius;
                 let margin = box_margin(&model.ccd, radius)
                     + self.extra_box_margin
-                    + self.parameters.broad_phase_rounding_ulps * Real::EPSILON * reach;
+                    + self.model.parameters.broad_phase_rounding_ulps * Real::EPSILON * reach;
                 boxes.push(swept_box(&body.mesh, motion, model.dt, margin));
             }
             let candidates = &mut self.scratch.candidates;

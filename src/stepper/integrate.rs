@@ -35,7 +35,8 @@ impl Stepper {
         step: u64,
         t0: Real,
     ) -> Result<(), Termination> {
-        let (model, parameters, counters) = (&*self.model, &self.parameters, &mut self.counters);
+        let (model, counters) = (&*self.model, &mut self.counters);
+        let parameters = &model.parameters;
         // Bounces move energy between bodies: the check is per body, so a
         // response that exchanges momentum turns it off.
         let check_energy = !self.response.exchanges_momentum();

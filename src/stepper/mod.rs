@@ -63,7 +63,7 @@ pub(crate) use world::{PairState, World};
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;
 use crate::math::Real;
-use crate::scene::{Model, RunSpec, Scene, StepParameters};
+use crate::scene::{Model, RunSpec, Scene};
 use observe::near_miss::NearMissObserver;
 use observe::poses::PoseObserver;
 use observe::trace::TraceObserver;
@@ -110,7 +110,6 @@ impl Integrated {
 pub(crate) struct Stepper {
     /// What is simulated.
     model: Arc<Model>,
-    parameters: StepParameters,
     options: RunOptions,
     /// What happens at contact.
     response: Box<dyn Response>,
@@ -167,7 +166,6 @@ impl Stepper {
         response: Box<dyn Response>,
     ) -> Stepper {
         Stepper {
-            parameters: model.parameters,
             options,
             response,
             broad: (options.broad_phase && model.bodies.len() > 2).then(BroadPhase::default),

@@ -1,6 +1,6 @@
 //! Stage 5, re-arm: a pair in contact is not reported again until it
 //! separates; at the step's end, a touching pair farther apart than
-//! [`StepParameters::rearm_distance_factor`](super::StepParameters) times
+//! [`StepParameters::rearm_distance_factor`](crate::scene::StepParameters) times
 //! its contact distance is armed again.
 
 use std::sync::Arc;
@@ -24,7 +24,7 @@ impl Stepper {
             let pos_ab = StepMotion::relative_pose(&world.motions[pair.a], &world.motions[pair.b], model.dt);
             let (mesh_a, mesh_b) = (&model.bodies[pair.a].mesh, &model.bodies[pair.b].mesh);
             let rearm_distance =
-                self.response.rearm_distance(contact_distance, self.parameters.rearm_distance_factor);
+                self.response.rearm_distance(contact_distance, self.model.parameters.rearm_distance_factor);
             // The hulls' gap first (GJK from the pair's last simplex, or its
             // last axis turned into a's frame at the step's end): a pair
             // whose hulls are beyond the re-arm distance is separated
