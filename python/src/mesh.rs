@@ -46,6 +46,9 @@ pub(crate) struct Mesh {
 #[pymethods]
 impl Mesh {
     /// A mesh of `vertices` (V, 3) and `faces` (F, 3) vertex indices.
+    /// Faces of zero area (repeated or collinear vertices) are kept and
+    /// take part as the segments or points they span
+    /// (`zero_area_triangles` counts them).
     #[new]
     pub(crate) fn new(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<Mesh> {
         let vertices = converted(vertices, "vertices", "biuf", "float64")?;
@@ -80,7 +83,8 @@ impl Mesh {
         Ok(Mesh { inner: Arc::new(mesh) })
     }
 
-    /// A mesh read from a Wavefront OBJ file.
+    /// A mesh read from a Wavefront OBJ file: faces of zero area kept,
+    /// faces of one or two vertices dropped (`dropped_faces`).
     #[staticmethod]
     pub(crate) fn from_obj(path: std::path::PathBuf) -> PyResult<Mesh> {
         let mesh = nearmiss::mesh::load_obj(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
@@ -106,13 +110,34 @@ impl Mesh {
         self.inner.radius()
     }
 
+    /// Triangles of exactly zero area, kept: each takes part as the
+    /// segment or point it spans.
+    #[getter]
+    pub(crate) fn zero_area_triangles(&self) -> usize {
+        self.inner.zero_area_triangles()
+    }
+
+    /// Faces of fewer than three vertices that the file's reader dropped
+    /// (0 for a mesh made from arrays).
+    #[getter]
+    pub(crate) fn dropped_faces(&self) -> usize {
+        self.inner.dropped_faces()
+    }
+
     pub(crate) fn __len__(&self) -> usize {
         self.inner.triangles().len()
     }
 
     pub(crate) fn __repr__(&self) -> String {
+        let mut notes = String::new();
+        if self.inner.zero_area_triangles() > 0 {
+            notes += &format!(", {} of zero area", self.inner.zero_area_triangles());
+        }
+        if self.inner.dropped_faces() > 0 {
+            notes += &format!(", {} short faces dropped", self.inner.dropped_faces());
+        }
         format!(
-            "Mesh({} vertices, {} triangles, radius {})",
+            "Mesh({} vertices, {} triangles{notes}, radius {})",
             self.inner.vertices().len(),
             self.inner.triangles().len(),
             self.inner.radius()

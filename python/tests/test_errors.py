@@ -23,7 +23,6 @@ CUBE_VERTICES = [[x, y, z] for z in (-0.5, 0.5) for y in (-0.5, 0.5) for x in (-
         (lambda: nearmiss.point_segment_distance([0, 0, 0], [1, 0, 0], [2, 0, 0], "herons"), ValueError, "formula: \"herons\" is not one of"),
         (lambda: nearmiss.Mesh(CUBE_VERTICES, [[0, 1, 9]]), ValueError, "triangle 0 refers to vertex 9, but there are only 8 vertices"),
         (lambda: nearmiss.Mesh(CUBE_VERTICES, [[0, -1, 2]]), ValueError, "faces: element [0, 1] is -1, not a vertex index"),
-        (lambda: nearmiss.Mesh(CUBE_VERTICES, [[0, 1, 1]]), ValueError, "triangle 0 is degenerate"),
         (lambda: nearmiss.Mesh(CUBE_VERTICES, [[0.0, 1.0, 2.0]]), TypeError, "faces: expected numbers of dtype int64, got dtype float64"),
         (lambda: nearmiss.Mesh(CUBE_VERTICES, np.zeros((0, 3), dtype=int)), ValueError, "the mesh has no triangles"),
         (lambda: nearmiss.Mesh([[0, 0, 0], [1, 0, 0], [0, np.nan, 0]], [[0, 1, 2]]), ValueError, "vertices: element [2, 1] is NaN"),
@@ -34,6 +33,20 @@ def test_bad_arrays(call, kind, message):
     with pytest.raises(kind) as raised:
         call()
     assert message in str(raised.value)
+
+
+def test_zero_area_faces_are_kept_and_short_obj_faces_dropped_with_counts(tmp_path):
+    # A segment (a face with a repeated vertex) is a mesh: its distance to
+    # a point-like triangle far along x is the segment's.
+    segment = nearmiss.Mesh([[0, 0, 0], [1, 0, 0]], [[0, 1, 1]])
+    assert segment.zero_area_triangles == 1 and segment.dropped_faces == 0
+    assert "1 of zero area" in repr(segment)
+    tiny = nearmiss.Mesh([[3, 0, 0], [3, 1e-9, 0], [3, 0, 1e-9]], [[0, 1, 2]])
+    assert nearmiss.mesh_distance(segment, None, tiny, None).distance == 2.0
+    obj = tmp_path / "lines.obj"
+    obj.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 3\nf 2\n")
+    mesh = nearmiss.Mesh.from_obj(obj)
+    assert (len(mesh), mesh.zero_area_triangles, mesh.dropped_faces) == (2, 1, 2)
 
 
 def test_bad_poses_and_motions():

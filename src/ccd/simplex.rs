@@ -1,7 +1,7 @@
 //! GJK's simplex: the closest point of a segment, triangle or tetrahedron
 //! to the origin, and which of its points are kept.
 
-use crate::math::{Pose, Vector};
+use crate::math::{Pose, Real, Vector};
 use crate::mesh::TriMesh;
 
 /// The triangles around a vertex, ordered by how squarely they face a
@@ -28,7 +28,9 @@ impl Facing {
         for (k, &t) in triangles.iter().enumerate() {
             let [p, q, r] = mesh.triangle(t as usize);
             let normal = pose.rotation * (q - p).cross(&(r - p));
-            let along = normal.dot(&direction) / normal.norm();
+            // A zero-area triangle (no normal) faces nowhere: last.
+            let length = normal.norm();
+            let along = if length > 0.0 { normal.dot(&direction) / length } else { Real::NEG_INFINITY };
             // Insertion by score, highest first (stable: equals keep their order).
             let mut at = k;
             while at > 0 && score[at - 1] < along {

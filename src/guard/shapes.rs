@@ -57,7 +57,8 @@ pub fn collider_for(
             return Ok((hull, ColliderShape::ConvexHull));
         }
     }
-    ColliderBuilder::trimesh(points, mesh.triangles().to_vec())
+    // Zero-area triangles left out: parry would give them a normal of NaN.
+    ColliderBuilder::trimesh(points, mesh.triangles_with_area().collect())
         .map(|builder| (builder, ColliderShape::TriMesh))
         .map_err(|error| GuardError::Shape { body: String::new(), message: error.to_string() })
 }

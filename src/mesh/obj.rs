@@ -1,6 +1,8 @@
 //! A Wavefront OBJ reader: `v` and `f` lines (polygons fan-triangulated;
 //! `i`, `i/t`, `i//n`, `i/t/n` and negative indices); every other statement
-//! is ignored. Errors name the file, line and column.
+//! is ignored, and so are `f` lines of one or two vertices (a point or a
+//! line, as exporters write them: counted, [`TriMesh::dropped_faces`]).
+//! Errors name the file, line and column.
 
 use std::path::{Path, PathBuf};
 
@@ -84,6 +86,7 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     // Where each triangle came from, to report mesh errors at their line.
     let mut origins: Vec<(usize, usize)> = Vec::new();
+    let mut dropped_faces = 0;
     for (number, raw) in text.lines().enumerate() {
         let line = number + 1;
         let content = raw.split('#').next().unwrap_or("");
@@ -97,11 +100,8 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
             "f" => {
                 let corners = face_of(words, vertices.len()).map_err(|(column, m)| error(line, column, m))?;
                 if corners.len() < 3 {
-                    return Err(error(
-                        line,
-                        1,
-                        format!("a face needs at least 3 vertices, found {}", corners.len()),
-                    ));
+                    dropped_faces += 1;
+                    continue;
                 }
                 for k in 1..corners.len() - 1 {
                     triangles.push([corners[0], corners[k], corners[k + 1]]);
@@ -111,22 +111,24 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
             _ => {}
         }
     }
-    TriMesh::new(vertices, triangles).map_err(|source| match source {
+    let mesh = TriMesh::new(vertices, triangles).map_err(|source| match source {
         MeshError::IndexOutOfRange { triangle, index, vertices } => {
             let (line, column) = origins[triangle];
             let message =
                 format!("the face refers to vertex {}, but the file defines {vertices} vertices", index + 1);
             error(line, column, message)
         }
-        MeshError::DegenerateTriangle { triangle } => {
-            let (line, column) = origins[triangle];
-            error(line, column, source.to_string())
-        }
+        MeshError::Empty if dropped_faces > 0 => error(
+            text.lines().count().max(1),
+            1,
+            format!("the file has no faces of 3 or more vertices (`f` lines; {dropped_faces} of 1 or 2 were skipped)"),
+        ),
         MeshError::Empty => error(text.lines().count().max(1), 1, "the file has no faces (`f` lines)".into()),
         MeshError::NonFinite { .. } | MeshError::OutOfRange { .. } | MeshError::NotClosed(_) => {
             ObjError::Mesh { path: path.into(), source }
         }
-    })
+    })?;
+    Ok(mesh.with_dropped_faces(dropped_faces))
 }
 
 /// A `v` line's vertex from its words after the keyword (`end`: the
@@ -208,12 +210,27 @@ mod tests {
         assert_eq!(mesh.vertices().len(), 4);
     }
 
+    /// Exporters write zero-area faces and `f` lines of two vertices (a
+    /// line); coal and trimesh take such files, and so does the reader:
+    /// the zero-area face is kept, the short faces are dropped, each counted.
+    #[test]
+    fn keeps_zero_area_faces_and_drops_short_ones_with_counts() {
+        let text = "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\nf 2 4\nf 3\nl 1 2\n";
+        let mesh = parse(text).unwrap();
+        assert_eq!(mesh.triangles().len(), 2);
+        assert_eq!(mesh.zero_area_triangles(), 1);
+        assert_eq!(mesh.dropped_faces(), 2);
+    }
+
     #[test]
     fn errors_name_line_and_column() {
         let message = parse("v 0 0 0\nv 1 0 zero\n").unwrap_err().to_string();
         assert_eq!(message, "test.obj:2:7: expected a finite number, found `zero`");
-        let message = parse("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap_err().to_string();
-        assert!(message.starts_with("test.obj:4:1: triangle 0 is degenerate"), "{message}");
+        let message = parse("v 0 0 0\nv 1 0 0\nf 1 2\nf 1\n").unwrap_err().to_string();
+        assert_eq!(
+            message,
+            "test.obj:4:1: the file has no faces of 3 or more vertices (`f` lines; 2 of 1 or 2 were skipped)"
+        );
         let message = parse("v 0 0 0\nf 1 2 9\n").unwrap_err().to_string();
         assert_eq!(message, "test.obj:2:1: the face refers to vertex 2, but the file defines 1 vertices");
         let message = parse("v 0 0 0\nf 1 0 2\n").unwrap_err().to_string();

@@ -80,18 +80,25 @@ pub fn point_signed_distance(
         }
     }
     let (distance, closest, triangle, feature) = best;
-    let normal = pseudo_normal(mesh, triangle, feature) * mesh.orientation();
-    let outside = (point - closest).dot(&normal) >= 0.0;
+    let outside = match pseudo_normal(mesh, triangle, feature) {
+        Some(normal) => (point - closest).dot(&(normal * mesh.orientation())) >= 0.0,
+        // A zero-area triangle takes part: it has no side, so the winding
+        // number decides (its solid angle is zero; the others' sum to ±1
+        // inside a closed surface, 0 outside).
+        None => winding_number(mesh, point).abs() < 0.5,
+    };
     PointSignedDistance { distance: if outside { distance } else { -distance }, closest, triangle, feature }
 }
 
 /// The angle-weighted pseudo-normal at `feature` of `triangle` (not
-/// normalised; the mesh's own orientation).
-fn pseudo_normal(mesh: &TriMesh, triangle: usize, feature: Feature) -> Vector {
+/// normalised; the mesh's own orientation), or `None` where a triangle of
+/// zero area is one of those it is made of (it has no normal, and the
+/// geometric neighbours across it are not its neighbours by index).
+fn pseudo_normal(mesh: &TriMesh, triangle: usize, feature: Feature) -> Option<Vector> {
     let corners = mesh.triangles()[triangle];
     let unit_normal = |t: usize| {
         let [p, q, r] = mesh.triangle(t);
-        (q - p).cross(&(r - p)).try_normalize(0.0).unwrap_or_else(Vector::zeros)
+        (q - p).cross(&(r - p)).try_normalize(0.0).filter(|_| !mesh.is_zero_area(t))
     };
     match feature {
         Feature::Face => unit_normal(triangle),
@@ -102,8 +109,8 @@ fn pseudo_normal(mesh: &TriMesh, triangle: usize, feature: Feature) -> Vector {
                 .triangles_at(u as usize)
                 .iter()
                 .map(|&t| t as usize)
-                .find(|&t| t != triangle && mesh.triangles()[t].contains(&v));
-            unit_normal(triangle) + other.map_or_else(Vector::zeros, unit_normal)
+                .find(|&t| t != triangle && mesh.triangles()[t].contains(&v))?;
+            Some(unit_normal(triangle)? + unit_normal(other)?)
         }
         Feature::Vertex(k) => {
             let v = corners[k as usize];
@@ -118,9 +125,26 @@ fn pseudo_normal(mesh: &TriMesh, triangle: usize, feature: Feature) -> Vector {
                     let (next, previous) =
                         (vertices[ids[(at + 1) % 3] as usize], vertices[ids[(at + 2) % 3] as usize]);
                     let angle = (next - here).angle(&(previous - here));
-                    unit_normal(t) * angle
+                    Some(unit_normal(t)? * angle)
                 })
                 .sum()
         }
     }
+}
+
+/// The winding number of the mesh's surface about `point` (not on it): the
+/// sum of its triangles' signed solid angles over 4π (Van Oosterom and
+/// Strackee's formula); ±1 inside a closed surface, 0 outside. Triangles of
+/// zero area subtend none and are skipped. Linear in the triangles: the
+/// fallback of the rare query whose closest feature touches such a triangle.
+fn winding_number(mesh: &TriMesh, point: &Point) -> Real {
+    let solid_angle = |t: usize| {
+        let [a, b, c] = mesh.triangle(t).map(|q| q - point);
+        let (la, lb, lc) = (a.norm(), b.norm(), c.norm());
+        let numerator = a.dot(&b.cross(&c));
+        let denominator = la * lb * lc + a.dot(&b) * lc + a.dot(&c) * lb + b.dot(&c) * la;
+        2.0 * numerator.atan2(denominator)
+    };
+    let total: Real = (0..mesh.triangles().len()).filter(|&t| !mesh.is_zero_area(t)).map(solid_angle).sum();
+    total / (4.0 * std::f64::consts::PI)
 }

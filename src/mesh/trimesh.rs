@@ -45,12 +45,6 @@ pub enum MeshError {
     /// OBJ files.
     #[error("the mesh is not a closed surface: {0}")]
     NotClosed(String),
-    /// A triangle has no area (repeated or exactly collinear vertices).
-    #[error("triangle {triangle} is degenerate: its vertices are repeated or collinear (zero area)")]
-    DegenerateTriangle {
-        /// The triangle (0-based).
-        triangle: usize,
-    },
 }
 
 /// A triangle mesh with its bounding volume hierarchy.
@@ -83,6 +77,11 @@ pub struct TriMesh {
     orientation: std::sync::OnceLock<Real>,
     /// Whether [`TriMesh::check_closed`] passes, decided at the first call.
     closed: std::sync::OnceLock<bool>,
+    /// The triangles of exactly zero area, ascending (see
+    /// [`TriMesh::zero_area_triangles`]).
+    zero_area: Vec<u32>,
+    /// Faces the file's reader dropped (see [`TriMesh::dropped_faces`]).
+    dropped_faces: usize,
 }
 
 /// How far a vertex may lie outside a triangle's plane, as a fraction of
@@ -97,8 +96,11 @@ impl TriMesh {
     /// Validates the mesh and builds its BVH.
     ///
     /// Rejected: no triangles, an index out of range, a non-finite
-    /// coordinate or one beyond [`MAX_COORDINATE`], a triangle of exactly zero area (decided with exact
-    /// predicates). Needle and sliver triangles are accepted.
+    /// coordinate or one beyond [`MAX_COORDINATE`]. Triangles of zero area
+    /// (repeated or collinear vertices, as real meshes hold them) are kept
+    /// and take part as the segments or points they are: the distance
+    /// kernels, the CCD and the inside tests treat them exactly, and they
+    /// add nothing to a volume. [`TriMesh::zero_area_triangles`] counts them.
     pub fn new(vertices: Vec<Point>, triangles: Vec<[u32; 3]>) -> Result<TriMesh, MeshError> {
         if triangles.is_empty() {
             return Err(MeshError::Empty);
@@ -119,12 +121,14 @@ impl TriMesh {
                     });
                 }
             }
-            let [a, b, c] = indices.map(|i| vertices[i as usize]);
-            if has_zero_area(&a, &b, &c) {
-                return Err(MeshError::DegenerateTriangle { triangle });
-            }
         }
         let (bvh, triangles) = MeshBvh::build(&vertices, triangles);
+        let zero_area = (0..triangles.len() as u32)
+            .filter(|&t| {
+                let [a, b, c] = triangles[t as usize].map(|i| vertices[i as usize]);
+                has_zero_area(&a, &b, &c)
+            })
+            .collect();
         let radius = vertices.iter().map(|v| v.coords.norm()).fold(0.0, Real::max);
         let mut incident_start = vec![0u32; vertices.len() + 1];
         for &v in triangles.iter().flatten() {
@@ -158,7 +162,35 @@ impl TriMesh {
             convex_features: std::sync::OnceLock::new(),
             orientation: std::sync::OnceLock::new(),
             closed: std::sync::OnceLock::new(),
+            zero_area,
+            dropped_faces: 0,
         })
+    }
+
+    /// How many triangles have exactly zero area (repeated or collinear
+    /// vertices, decided with exact predicates). They are kept: each takes
+    /// part as the segment or point it spans.
+    pub fn zero_area_triangles(&self) -> usize {
+        self.zero_area.len()
+    }
+
+    /// Whether triangle `t` has exactly zero area (its normal is zero: it
+    /// bounds no volume and has no side).
+    pub fn is_zero_area(&self, t: usize) -> bool {
+        !self.zero_area.is_empty() && self.zero_area.binary_search(&(t as u32)).is_ok()
+    }
+
+    /// How many faces the file's reader dropped because they had fewer than
+    /// three vertices (an OBJ `f` line of one or two: a point or a line,
+    /// not a face); 0 for a mesh made from arrays.
+    pub fn dropped_faces(&self) -> usize {
+        self.dropped_faces
+    }
+
+    /// The mesh, noting that its reader dropped `count` faces.
+    pub(crate) fn with_dropped_faces(mut self, count: usize) -> TriMesh {
+        self.dropped_faces = count;
+        self
     }
 
     /// The triangles that have vertex `v` as a corner.
@@ -187,6 +219,7 @@ impl TriMesh {
             + std::mem::size_of_val(self.bvh.nodes())
             + 4 * (self.incident_start.len() + self.incident.len())
             + self.support.as_ref().map_or(0, SupportTable::bytes)
+            + 4 * self.zero_area.len()
     }
 
     /// The vertices, in the mesh's frame.
@@ -336,27 +369,39 @@ impl TriMesh {
     }
 
     /// The mesh scaled uniformly about its origin (an error if the scaling
-    /// overflows or collapses a triangle).
+    /// takes a coordinate out of range).
     pub fn scaled(&self, factor: Real) -> Result<TriMesh, MeshError> {
-        TriMesh::new(self.vertices.iter().map(|v| v * factor).collect(), self.triangles.clone())
+        let scaled =
+            TriMesh::new(self.vertices.iter().map(|v| v * factor).collect(), self.triangles.clone())?;
+        Ok(scaled.with_dropped_faces(self.dropped_faces))
     }
 
     /// The same mesh moved so that `origin` becomes the frame's origin.
     pub fn recentered(&self, origin: &Point) -> TriMesh {
         let shift: Vector = origin.coords;
         let vertices = self.vertices.iter().map(|v| v - shift).collect();
-        // Moving the vertices keeps every triangle's area non-zero unless the
-        // subtraction rounds them onto a line; fall back to the original then.
-        TriMesh::new(vertices, self.triangles.clone()).unwrap_or_else(|_| self.clone())
+        // The moved vertices are finite and in range (the shift is a point
+        // of the mesh's hull); fall back to the original if rounding says not.
+        match TriMesh::new(vertices, self.triangles.clone()) {
+            Ok(moved) => moved.with_dropped_faces(self.dropped_faces),
+            Err(_) => self.clone(),
+        }
     }
 }
 
 impl TriMesh {
-    /// The same mesh as parry's `TriMesh` (for comparisons with the peer);
-    /// `None` if parry refuses it.
+    /// The same mesh as parry's `TriMesh` (for comparisons with the peer
+    /// and rapier's colliders) without its zero-area triangles, which parry
+    /// gives a normal of NaN; `None` if parry refuses it.
     pub fn to_parry(&self) -> Option<parry3d_f64::shape::TriMesh> {
         let vertices = self.vertices.iter().map(crate::math::to_parry).collect();
-        parry3d_f64::shape::TriMesh::new(vertices, self.triangles.clone()).ok()
+        let triangles = self.triangles_with_area().collect();
+        parry3d_f64::shape::TriMesh::new(vertices, triangles).ok()
+    }
+
+    /// The triangles of non-zero area, as vertex indices.
+    pub fn triangles_with_area(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
+        (0..self.triangles.len()).filter(|&t| !self.is_zero_area(t)).map(|t| self.triangles[t])
     }
 }
 
@@ -406,11 +451,16 @@ mod tests {
         let mut huge = unit_triangle();
         huge[1].z = -1e31;
         assert_eq!(TriMesh::new(huge, vec![[0, 1, 2]]).unwrap_err(), MeshError::OutOfRange { vertex: 1 });
+    }
+
+    #[test]
+    fn keeps_and_counts_zero_area_triangles() {
         let collinear = vec![Point::new(0.0, 0.0, 0.0), Point::new(1.0, 1.0, 1.0), Point::new(3.0, 3.0, 3.0)];
-        assert_eq!(
-            TriMesh::new(collinear, vec![[0, 1, 2]]).unwrap_err(),
-            MeshError::DegenerateTriangle { triangle: 0 }
-        );
+        let segment = TriMesh::new(collinear, vec![[0, 1, 2], [0, 0, 2], [1, 1, 1]]).unwrap();
+        assert_eq!(segment.zero_area_triangles(), 3);
+        assert_eq!(segment.dropped_faces(), 0);
+        let needle = vec![Point::new(0.0, 0.0, 0.0), Point::new(1.0, 0.0, 0.0), Point::new(0.5, 1e-300, 0.0)];
+        assert_eq!(TriMesh::new(needle, vec![[0, 1, 2]]).unwrap().zero_area_triangles(), 0);
     }
 
     #[test]

@@ -50,7 +50,7 @@ pub use parameters::StepParameters;
 pub use record::{set_expectation, RECORDED_COMMENT};
 
 use crate::math::Real;
-use crate::mesh::DistanceKernel;
+use crate::mesh::{DistanceKernel, TriMesh};
 use crate::motion::Integrator;
 pub use model::{
     Axis, Body, BodyMotion, Expectation, InitialOverlapPolicy, Material, Model, NearMissSpec, PlotSpec,
@@ -80,6 +80,45 @@ pub(crate) fn most_records(count: u64, steps: u64, every: u64) -> u64 {
     count.saturating_mul(steps / every + 2)
 }
 
+/// A mesh of a scene as it was read: zero-area triangles kept (each takes
+/// part as the segment or point it spans) and faces of fewer than three
+/// vertices dropped ([`Scene::mesh_notes`]).
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct MeshNote {
+    /// The bodies that use the mesh.
+    pub bodies: Vec<String>,
+    /// Its triangles of exactly zero area, kept.
+    pub zero_area_triangles: usize,
+    /// Faces of its file with fewer than three vertices, dropped.
+    pub dropped_faces: usize,
+}
+
+impl std::fmt::Display for MeshNote {
+    /// `the mesh of bodies a, b: 3 triangles of zero area (kept: each is the
+    /// segment or point it spans); 2 faces of fewer than 3 vertices (dropped)`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let plural = |n: usize, one: &'static str, many: &'static str| if n == 1 { one } else { many };
+        let names = self.bodies.iter().map(|b| format!("`{b}`")).collect::<Vec<_>>().join(", ");
+        write!(f, "the mesh of {} {names}:", plural(self.bodies.len(), "body", "bodies"))?;
+        let mut parts = Vec::new();
+        if self.zero_area_triangles > 0 {
+            let n = self.zero_area_triangles;
+            parts.push(format!(
+                " {n} {} of zero area (kept: each is the segment or point it spans)",
+                plural(n, "triangle", "triangles")
+            ));
+        }
+        if self.dropped_faces > 0 {
+            let n = self.dropped_faces;
+            parts.push(format!(
+                " {n} {} of fewer than 3 vertices in its file (dropped: a point or a line is no face)",
+                plural(n, "face", "faces")
+            ));
+        }
+        write!(f, "{}", parts.join(";"))
+    }
+}
+
 /// The steps of `dt` that cover `duration` (at least one).
 pub(crate) fn steps_for(duration: Real, dt: Real) -> u64 {
     ((duration / dt) * (1.0 - 4.0 * Real::EPSILON)).ceil().max(1.0) as u64
@@ -97,6 +136,32 @@ impl Scene {
     /// both meshes are convex (see [`initial_overlaps`]).
     pub fn initial_overlaps(&self) -> Vec<InitialOverlap> {
         initial_overlaps(&self.model.bodies)
+    }
+
+    /// The meshes that hold zero-area triangles or whose files had faces
+    /// of fewer than three vertices, once per mesh (bodies that share one
+    /// are named together), in the order of the bodies.
+    pub fn mesh_notes(&self) -> Vec<MeshNote> {
+        let mut notes: Vec<(*const TriMesh, MeshNote)> = Vec::new();
+        for body in self.model.bodies.iter() {
+            let mesh = &body.mesh;
+            if mesh.zero_area_triangles() == 0 && mesh.dropped_faces() == 0 {
+                continue;
+            }
+            let key = std::sync::Arc::as_ptr(mesh);
+            match notes.iter_mut().find(|(k, _)| *k == key) {
+                Some((_, note)) => note.bodies.push(body.name.clone()),
+                None => notes.push((
+                    key,
+                    MeshNote {
+                        bodies: vec![body.name.clone()],
+                        zero_area_triangles: mesh.zero_area_triangles(),
+                        dropped_faces: mesh.dropped_faces(),
+                    },
+                )),
+            }
+        }
+        notes.into_iter().map(|(_, note)| note).collect()
     }
 
     /// What a run of it covers and writes: its name, length, trace, plot,

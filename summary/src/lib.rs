@@ -52,6 +52,10 @@ pub struct Summary<'a> {
     /// Bodies that overlap at time 0 (absent when none do).
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
     pub initial_overlaps: Vec<OverlapJson<'a>>,
+    /// Meshes with zero-area triangles (kept) or faces of fewer than three
+    /// vertices in their files (dropped), with their counts (absent when none).
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub mesh_notes: Vec<nearmiss::scene::MeshNote>,
 }
 
 /// Two bodies overlapping at time 0, in `summary.json`.
@@ -263,6 +267,7 @@ impl<'a> Summary<'a> {
             rapier: None,
             near_misses: None,
             initial_overlaps: Vec::new(),
+            mesh_notes: Vec::new(),
         }
     }
 
@@ -277,6 +282,7 @@ impl<'a> Summary<'a> {
                 .is_some()
                 .then(|| result.near_misses.iter().map(|m| NearMissJson::of(result, m)).collect()),
             initial_overlaps: result.initial_overlaps.iter().map(|o| OverlapJson::of(scene, o)).collect(),
+            mesh_notes: scene.mesh_notes(),
             ..Summary::with_peer(result, peers.parry)
         }
     }

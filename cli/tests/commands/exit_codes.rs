@@ -271,3 +271,50 @@ fn a_near_miss_is_expected_like_a_contact() {
     assert!(stdout.contains("FAIL missed.ron") && stdout.contains("error -0.01"), "{stdout}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// An OBJ as exporters write them (issue 45): a cube whose top face's
+/// edge is split by a T-junction, closed by a triangle of zero area, and
+/// `f` lines of two vertices. The scene loads, says both counts on the
+/// terminal and in summary.json, and the cube lands at t = 1 as a box does.
+#[test]
+fn an_obj_with_zero_area_and_short_faces_runs_and_says_so() {
+    let dir = workspace("as-shipped");
+    let obj = "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n\
+               v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\nv 0 -0.5 0.5\n\
+               f 1 3 2\nf 1 4 3\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n\
+               f 5 7 8\nf 5 9 7\nf 9 6 7\nf 5 6 9\nl 1 2\nf 1 2\nf 3 4\n";
+    std::fs::write(dir.join("cube.obj"), obj).unwrap();
+    let scene = falling("shipped", "").replace(
+        "mesh: Box(half_extents: (0.5, 0.5, 0.5)), position",
+        "mesh: Obj(path: \"cube.obj\"), position",
+    );
+    std::fs::write(dir.join("s.ron"), scene).unwrap();
+    let output = nearmiss(&["run", "s.ron", "-o", "out"], &dir);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(
+        stderr.contains(
+            "note: the mesh of body `box`: 1 triangle of zero area (kept: each is the segment or point it spans); 2 faces of fewer than 3 vertices in its file (dropped: a point or a line is no face)"
+        ),
+        "{stderr}"
+    );
+    let summary = std::fs::read_to_string(dir.join("out/shipped/summary.json")).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
+    assert_eq!(
+        summary["mesh_notes"],
+        serde_json::json!([{"bodies": ["box"], "zero_area_triangles": 1, "dropped_faces": 2}])
+    );
+    // The box's bottom falls 1 at speed 1: contact at t = 1, reported at
+    // most its contact distance early.
+    let contact = &summary["first_contact"];
+    let time = contact["time"].as_f64().unwrap();
+    let early = contact["contact_distance"].as_f64().unwrap();
+    assert!(time <= 1.0 && time >= 1.0 - early, "{contact}");
+    // A plain box scene says nothing of the kind.
+    std::fs::write(dir.join("p.ron"), falling("plain", "")).unwrap();
+    let output = nearmiss(&["run", "p.ron", "-o", "out"], &dir);
+    assert!(!String::from_utf8_lossy(&output.stderr).contains("note:"));
+    let summary = std::fs::read_to_string(dir.join("out/plain/summary.json")).unwrap();
+    assert!(!summary.contains("mesh_notes"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -91,13 +91,11 @@ fn non_positive_step_and_zero_duration() {
 }
 
 #[test]
-fn zero_size_and_degenerate_meshes() {
+fn zero_size_meshes() {
     let text = scene(&GOOD_BODIES.replacen("(0.5, 0.5, 0.5)", "(0.5, 0.0, 0.5)", 1));
     assert_rejected("zero-size", &text, &["`bodies[0].mesh.half_extents`", "positive"]);
-    let text = scene(
-        r#"bodies: [(name: "a", mesh: Triangle(a: (0.0, 0.0, 0.0), b: (1.0, 1.0, 1.0), c: (2.0, 2.0, 2.0)))]"#,
-    );
-    assert_rejected("degenerate", &text, &["`bodies[0].mesh`", "degenerate"]);
+    // A triangle of collinear corners is the segment it spans (issue 45:
+    // meshes keep such faces), said as a note: see `tests/meshes`.
     let text = scene(&GOOD_BODIES.replacen("fixed: true", "scale: 0.0, fixed: true", 1));
     assert_rejected("scale", &text, &["`bodies[0].scale`"]);
 }

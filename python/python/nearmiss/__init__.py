@@ -7,8 +7,10 @@ closest approaches of moving meshes, and scene runs, on numpy arrays.
 Arrays are float64 (anything numpy converts to float64 is accepted);
 every number must be finite. Shapes: a point (3,), a triangle (3, 3) (its
 vertices as rows), batches (N, 3) and (N, 3, 3). Bad input raises
-``ValueError`` (wrong shape, a non-finite number, an index out of range, a
-degenerate triangle) or ``TypeError`` (not numbers), naming the argument.
+``ValueError`` (wrong shape, a non-finite number, an index out of range)
+or ``TypeError`` (not numbers), naming the argument. Faces of zero area
+(repeated or collinear vertices, as real meshes hold them) are kept and
+take part as the segments or points they span (``Mesh.zero_area_triangles``).
 
 A pose is ``(position, rotation)``: position (3,), rotation a unit
 quaternion ``[w, x, y, z]`` (4,) or a rotation matrix (3, 3); ``None`` is

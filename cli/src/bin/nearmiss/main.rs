@@ -163,6 +163,9 @@ pub fn load_scene(path: &Path, max_steps: u64) -> Result<Scene, CliError> {
     // What the scene needs of this build (a `Simulate` scene's contact
     // distances): refused here as bad input, not as a run that never started.
     nearmiss::run::check(&scene).map_err(|error| CliError::BadInput(error.to_string()))?;
+    for note in scene.mesh_notes() {
+        eprintln!("note: {note}");
+    }
     Ok(scene)
 }
 

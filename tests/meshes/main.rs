@@ -1,0 +1,6 @@
+//! Meshes as they ship (issue 45): zero-area triangles and short OBJ faces
+//! accepted and taking part as what they are, and the mesh distance search
+//! against the brute force and the exact reference on meshes written to be
+//! hard for it (slivers, needles, thin and long parts, far apart scales).
+
+mod as_shipped;
