@@ -247,13 +247,22 @@ impl<'n> NodePair<'n> {
     /// a's box support along the unit `u` of a's frame, cut by its sphere.
     #[inline]
     fn support_a(&self, u: &Vector) -> Real {
-        self.na.half_extents.dot(&u.abs()).min(self.na.radius)
+        self.na.half_extents.dot(&self.na.axes.tr_mul(u).abs()).min(self.na.radius)
     }
 
     /// b's box (turned into a's frame) support along `u`, cut by its sphere.
     #[inline]
     fn support_b(&self, u: &Vector) -> Real {
-        self.nb.half_extents.dot(&self.frame.rotation.tr_mul(u).abs()).min(self.nb.radius)
+        self.nb
+            .half_extents
+            .dot(&self.nb.axes.tr_mul(&self.frame.rotation.tr_mul(u)).abs())
+            .min(self.nb.radius)
+    }
+
+    /// The `k`th axis of a's box and of b's (turned into a's frame).
+    #[inline]
+    fn box_axes(&self, k: usize) -> (Vector, Vector) {
+        (self.na.axes.column(k).into_owned(), self.frame.rotation * self.nb.axes.column(k))
     }
 }
 
@@ -305,8 +314,9 @@ fn node_pair_bounds(
     }
     if sphere_time.max(box_time(&best.1, best.0)) < needed {
         for k in 0..3 {
-            best = consider(best, Vector::ith(k, 1.0));
-            best = consider(best, frame.rotation.column(k).into_owned());
+            let (axis_a, axis_b) = pair.box_axes(k);
+            best = consider(best, axis_a);
+            best = consider(best, axis_b);
         }
     }
     let box_time = box_time(&best.1, best.0);
@@ -354,8 +364,7 @@ fn spin_swept_gap(pair: &NodePair<'_>, horizon: Real) -> (Real, Vector) {
     directions[1] = axis_a.unwrap_or_else(Vector::zeros);
     directions[2] = axis_b.unwrap_or_else(Vector::zeros);
     for k in 0..3 {
-        directions[3 + k] = Vector::ith(k, 1.0);
-        directions[6 + k] = frame.rotation.column(k).into_owned();
+        (directions[3 + k], directions[6 + k]) = pair.box_axes(k);
     }
     let (mut widest, mut spin_direction) = (Real::NEG_INFINITY, Vector::zeros());
     for u in directions.iter().filter(|u| u.norm_squared() > 0.0) {

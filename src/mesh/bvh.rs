@@ -1,12 +1,23 @@
 //! A bounding volume hierarchy over a mesh's triangles: a binary tree of
-//! axis-aligned boxes in the mesh's frame, each with a bounding sphere
-//! about the box's centre (the sphere bound is unchanged by rotation, the
-//! box bound is tighter for elongated nodes; queries use the better one).
+//! oriented boxes in the mesh's frame, each with a bounding sphere about
+//! the box's centre (the sphere bound is unchanged by rotation, the box
+//! bound is tighter for elongated and flat nodes; queries use the better
+//! one).
+//!
+//! A node's box is the tighter (by volume) of the box along the mesh's own
+//! axes and the box along the principal axes of the node's vertices: a
+//! strip of a gear's teeth or a slanted wall gets a box along itself, not
+//! the much larger one along the mesh's axes (on pybullet_data's meshes,
+//! the search's node bounds cut the triangle pairs evaluated many times
+//! over; see BENCHMARKS.md). Boxes along the mesh's axes are kept where
+//! they are as tight, so an axis-aligned part keeps exact box faces.
 //!
 //! Built top-down: each node's triangles are split at the median centroid
 //! along the longest axis of the centroids' box, down to leaves of at most
 //! [`BVH_LEAF_SIZE`] triangles (a 4 × 4 leaf pair fills two 8-lane batches
 //! of the triangle kernel).
+
+use nalgebra::{Matrix3, SymmetricEigen};
 
 use crate::math::{Point, Real, Vector};
 
@@ -18,7 +29,10 @@ pub(crate) const BVH_LEAF_SIZE: usize = 4;
 pub struct BvhNode {
     /// The centre of the node's box.
     pub center: Point,
-    /// The half extents of the node's box.
+    /// The box's axes: orthonormal columns, in the mesh's frame (the
+    /// identity for a box along the mesh's axes).
+    pub axes: Matrix3<Real>,
+    /// The half extents of the node's box along its axes.
     pub half_extents: Vector,
     /// The largest distance from `center` to a vertex of the node.
     pub radius: Real,
@@ -67,7 +81,14 @@ impl MeshBvh {
 }
 
 fn placeholder() -> BvhNode {
-    BvhNode { center: Point::origin(), half_extents: Vector::zeros(), radius: 0.0, first: 0, count: 0 }
+    BvhNode {
+        center: Point::origin(),
+        axes: Matrix3::identity(),
+        half_extents: Vector::zeros(),
+        radius: 0.0,
+        first: 0,
+        count: 0,
+    }
 }
 
 struct Builder<'a> {
@@ -83,11 +104,9 @@ impl Builder<'_> {
     fn build(&mut self, index: usize, order: &mut [usize], offset: usize) {
         let corners =
             || order.iter().flat_map(|&t| self.triangles[t].iter().map(|&v| self.vertices[v as usize]));
-        let (low, high) = bounds(corners());
-        let center = Point::from((low.coords + high.coords) / 2.0);
+        let (center, axes, half_extents) = fitted_box(corners);
         let radius = corners().map(|p| (p - center).norm()).fold(0.0, Real::max);
-        let mut node =
-            BvhNode { center, half_extents: (high - low) / 2.0, radius, first: offset as u32, count: 0 };
+        let mut node = BvhNode { center, axes, half_extents, radius, first: offset as u32, count: 0 };
         if order.len() <= BVH_LEAF_SIZE {
             node.count = order.len() as u32;
             self.nodes[index] = node;
@@ -107,6 +126,51 @@ impl Builder<'_> {
         self.build(first_child, left, offset);
         self.build(first_child + 1, right, offset + middle);
     }
+}
+
+/// A box that holds `points`: its centre, axes and half extents. The box
+/// along the principal axes of the points where its volume is below
+/// [`PRINCIPAL_BOX_GAIN`] of the box along the mesh's axes, that box
+/// otherwise. Half extents are widened by a few ulps of the box's reach,
+/// so that the rounding of the projections never leaves a point outside.
+fn fitted_box<I: Iterator<Item = Point>>(points: impl Fn() -> I) -> (Point, Matrix3<Real>, Vector) {
+    let (low, high) = bounds(points());
+    let aligned = (Point::from((low.coords + high.coords) / 2.0), Matrix3::identity(), (high - low) / 2.0);
+    let count = points().count() as Real;
+    let mean = points().fold(Vector::zeros(), |sum, p| sum + p.coords) / count;
+    let covariance = points().fold(Matrix3::zeros(), |sum, p| {
+        let d = p.coords - mean;
+        sum + d * d.transpose()
+    });
+    let axes = SymmetricEigen::new(covariance).eigenvectors;
+    // Only a proper orthonormal frame (the solver's columns are unit and
+    // orthogonal to rounding; anything else keeps the mesh's axes).
+    if !axes.iter().all(|c| c.is_finite()) || (axes.transpose() * axes - Matrix3::identity()).amax() > 1e-12 {
+        return widened(aligned);
+    }
+    let (plow, phigh) = bounds(points().map(|p| Point::from(axes.tr_mul(&p.coords))));
+    let half = (phigh - plow) / 2.0;
+    let volume = |h: &Vector| h.iter().map(|e| e.max(Real::EPSILON * (1.0 + h.amax()))).product::<Real>();
+    if volume(&half) < PRINCIPAL_BOX_GAIN * volume(&aligned.2) {
+        widened((Point::from(axes * ((plow.coords + phigh.coords) / 2.0)), axes, half))
+    } else {
+        widened(aligned)
+    }
+}
+
+/// The share of the axis-aligned box's volume the principal-axes box must
+/// stay under to be taken: `0.9` (a box hardly tighter is not worth its
+/// rotated projections' rounding and the loss of exact axis-aligned faces).
+const PRINCIPAL_BOX_GAIN: Real = 0.9;
+
+/// The box widened by 8 ulps of its reach from the origin (the rounding of
+/// the projections and of the centre's rotation back).
+fn widened((center, axes, half): (Point, Matrix3<Real>, Vector)) -> (Point, Matrix3<Real>, Vector) {
+    if axes == Matrix3::identity() {
+        return (center, axes, half);
+    }
+    let reach = center.coords.amax() + half.amax();
+    (center, axes, half.add_scalar(8.0 * Real::EPSILON * reach))
 }
 
 /// The smallest and largest corners of a set of points.
@@ -134,7 +198,7 @@ mod tests {
                     for p in mesh.triangle(t as usize) {
                         for &a in ancestors.iter().chain([index].iter()) {
                             let n = &nodes[a];
-                            assert!(((p - n.center).abs() - n.half_extents).max() <= 1e-15);
+                            assert!((n.axes.tr_mul(&(p - n.center)).abs() - n.half_extents).max() <= 1e-15);
                             assert!((p - n.center).norm() <= n.radius * (1.0 + 1e-15));
                         }
                     }

@@ -51,7 +51,7 @@ pub fn point_signed_distance(
     let bound = |i: u32| {
         let node = &nodes[i as usize];
         let offset = point - node.center;
-        let boxes = (offset.abs() - node.half_extents).sup(&Vector::zeros()).norm();
+        let boxes = (node.axes.tr_mul(&offset).abs() - node.half_extents).sup(&Vector::zeros()).norm();
         boxes.max(offset.norm() - node.radius) - slack
     };
     let mut best = (Real::INFINITY, Point::origin(), 0usize, Feature::Face);

@@ -4,3 +4,4 @@
 //! hard for it (slivers, needles, thin and long parts, far apart scales).
 
 mod as_shipped;
+mod distance_search;
