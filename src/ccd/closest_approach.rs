@@ -24,7 +24,8 @@
 //!
 //! Where the meshes come within the CCD's contact distance (touching), the
 //! answer is that contact ([`ApproachStatus::Contact`]): its time of first
-//! contact is then what a caller wants.
+//! contact is then what a caller wants. A query for every approach (no
+//! `within`) asks that first, with one run at separation 0.
 
 use super::contact::{ContactRule, TARGET_FRACTION};
 use super::convex_measure::measure;
@@ -51,6 +52,13 @@ pub(crate) const MAX_APPROACH_RUNS: usize = 64;
 /// above its target; one that finds a time stops within this tolerance of
 /// the target.
 pub(crate) const RUN_TOLERANCE_FRACTION: Real = 0.25;
+
+/// A run that runs out of iterations is run again with ten times the
+/// budget, up to this many times the options' `max_iterations`: `100`
+/// (`10⁶` advancement steps with the default budget). Only a run that
+/// still cannot decide then makes the answer
+/// [`ApproachStatus::Undecided`].
+pub(crate) const BUDGET_GROWTH: usize = 100;
 
 /// After a closer point is found, the next run asks whether anything comes
 /// closer than it less this fraction of the width: `0.75`. If nothing
@@ -220,6 +228,28 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
         answer.keep(found, s);
     }
     let mut warm = WarmStart::default();
+    if !query.within.is_finite() {
+        // Every approach is wanted: first, do they touch? That run is the
+        // time of impact's own (cheap where the meshes stay apart: its
+        // filters settle it), and a pair that touches is answered by it,
+        // where the runs from the ends' distance down would each search
+        // every triangle pair within that distance.
+        let (run, result) = runs.below(query, 0.0, warm, scratch);
+        answer.runs += 1;
+        warm = WarmStart { lower_bound: None, hint: result.hint, axis: result.axis, simplex: result.simplex };
+        match run {
+            Run::Touching { time } => {
+                answer.touch(measure(&a, &b, time, result.hint, scratch), time);
+                return answer;
+            }
+            Run::Beyond { lower } => answer.lower = lower.min(answer.upper),
+            Run::Undecided => {
+                answer.status = ApproachStatus::Undecided;
+                return answer;
+            }
+            Run::Closer { .. } => {}
+        }
+    }
     while answer.runs < MAX_APPROACH_RUNS {
         // The first run asks for `within`; each later one whether anything
         // comes closer than the best found less three quarters of the
@@ -246,10 +276,7 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
                 return answer;
             }
             Run::Touching { time } => {
-                let closest = measure(&a, &b, time, result.hint, scratch);
-                (answer.status, answer.lower, answer.upper) =
-                    (ApproachStatus::Contact, 0.0, closest.distance);
-                (answer.time, answer.closest) = (time, Some(closest));
+                answer.touch(measure(&a, &b, time, result.hint, scratch), time);
                 return answer;
             }
             Run::Closer { time } => {
@@ -323,7 +350,18 @@ impl Runs {
             contact: ContactRule::Separation(separation),
             kernel: query.kernel,
         };
-        let result = mesh_time_of_impact_with(&ccd, warm, scratch, Touching::Named);
+        let mut result = mesh_time_of_impact_with(&ccd, warm, scratch, Touching::Named);
+        // Out of iterations: the run again with ten times the budget, up to
+        // `BUDGET_GROWTH` times the options' (a grazing pass can need many
+        // small advancement steps; a larger budget decides it).
+        let mut budget = self.options.max_iterations;
+        while result.status == CcdStatus::OutOfIterations
+            && budget < self.options.max_iterations.saturating_mul(BUDGET_GROWTH)
+        {
+            budget = budget.saturating_mul(10);
+            let ccd = MeshCcdQuery { options: CcdOptions { max_iterations: budget, ..self.options }, ..ccd };
+            result = mesh_time_of_impact_with(&ccd, warm, scratch, Touching::Named);
+        }
         let run = match (result.status, result.time_of_impact) {
             (CcdStatus::OutOfIterations, _) => Run::Undecided,
             // Never within the run's guaranteed distance: certified.
@@ -365,6 +403,12 @@ pub(crate) fn screen(
 }
 
 impl ClosestApproach {
+    /// The meshes touch, first at `time`, `found` apart there.
+    fn touch(&mut self, found: MeshDistance, time: Real) {
+        (self.status, self.lower, self.upper) = (ApproachStatus::Contact, 0.0, found.distance);
+        (self.time, self.closest) = (time, Some(found));
+    }
+
     /// Keeps `found` (at time `s`) if it is the closest yet.
     fn keep(&mut self, found: MeshDistance, s: Real) {
         if self.closest.is_none() || found.distance < self.upper {

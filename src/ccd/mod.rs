@@ -62,6 +62,8 @@ mod spin_sweep;
 mod vertex_face;
 
 pub use advance::ROUNDING_FLOOR_ULPS;
+#[cfg(test)]
+pub(crate) use closest_approach::BUDGET_GROWTH;
 pub(crate) use closest_approach::PROOF_MARGIN_FRACTION;
 pub use closest_approach::{
     closest_approach, ApproachStatus, ClosestApproach, ClosestApproachQuery, DEFAULT_APPROACH_TOLERANCE,

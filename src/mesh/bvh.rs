@@ -161,7 +161,7 @@ fn fitted_box<I: Iterator<Item = Point>>(points: impl Fn() -> I) -> (Point, Matr
 /// The share of the axis-aligned box's volume the principal-axes box must
 /// stay under to be taken: `0.9` (a box hardly tighter is not worth its
 /// rotated projections' rounding and the loss of exact axis-aligned faces).
-const PRINCIPAL_BOX_GAIN: Real = 0.9;
+pub(crate) const PRINCIPAL_BOX_GAIN: Real = 0.9;
 
 /// The box widened by 8 ulps of its reach from the origin (the rounding of
 /// the projections and of the centre's rotation back).

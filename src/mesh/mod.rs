@@ -26,6 +26,8 @@ pub use bvh::{BvhNode, MeshBvh};
 
 pub(crate) use bvh::BVH_LEAF_SIZE;
 #[cfg(test)]
+pub(crate) use bvh::PRINCIPAL_BOX_GAIN;
+#[cfg(test)]
 pub(crate) use convex_features::FLAT_EDGE_TOLERANCE;
 pub(crate) use distance::triangle_pair_distance;
 pub use distance::{
