@@ -200,6 +200,11 @@ pub(crate) fn rows<'py>(py: Python<'py>, points: Vec<Point>) -> Bound<'py, PyArr
     Array2::from_shape_vec((n, 3), flat).expect("n rows of 3").into_pyarray(py)
 }
 
+/// How far `MᵀM` may be from the identity for a matrix to be read as the
+/// rotation it is, with no projection onto the nearest one: `1e-14`
+/// (float64 rotations as computed, a few dozen ulps).
+const ORTHONORMAL_TO_ROUNDING: f64 = 1e-14;
+
 /// A pose from a position (3,) and a rotation: a unit quaternion (4,)
 /// `[w, x, y, z]` or a rotation matrix (3, 3), each within
 /// [`ROTATION_TOLERANCE`] of one.
@@ -232,7 +237,13 @@ pub(crate) fn pose(
                     m.determinant()
                 )));
             }
-            nalgebra::UnitQuaternion::from_matrix(&m)
+            if off <= ORTHONORMAL_TO_ROUNDING {
+                // A rotation to rounding: read directly (Shepperd's method;
+                // the nearest-rotation iteration moves it by a few ulps more).
+                nalgebra::UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(m))
+            } else {
+                nalgebra::UnitQuaternion::from_matrix(&m)
+            }
         }
         shape => {
             return Err(PyValueError::new_err(format!(

@@ -123,10 +123,44 @@ pub fn mesh_distance(
     search: &DistanceSearch,
     scratch: &mut MeshDistanceScratch,
 ) -> MeshDistance {
-    let mut found = mesh_distance_relative(a, b, &pose_a.inv_mul(pose_b), search, scratch);
+    // b's frame in a's as a matrix product of the two rotations (fewer
+    // roundings than composing the quaternions and turning the result
+    // into a matrix).
+    let (rotation_a, rotation_b) = (
+        pose_a.rotation.to_rotation_matrix().into_inner(),
+        pose_b.rotation.to_rotation_matrix().into_inner(),
+    );
+    let relative = Relative {
+        rotation: rotation_a.tr_mul(&rotation_b),
+        shift: rotation_a.tr_mul(&(pose_b.translation.vector - pose_a.translation.vector)),
+    };
+    let mut found = search_relative(a, b, &relative, search, scratch);
     found.point_a = pose_a * found.point_a;
     found.point_b = pose_a * found.point_b;
     found
+}
+
+/// Mesh `b`'s frame in mesh `a`'s: `p ↦ rotation · p + shift`.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Relative {
+    pub(crate) rotation: Matrix3<Real>,
+    pub(crate) shift: Vector,
+}
+
+impl Relative {
+    /// The relative pose `pos_ab` as a matrix and a shift.
+    pub(crate) fn of(pos_ab: &Pose) -> Relative {
+        Relative {
+            rotation: pos_ab.rotation.to_rotation_matrix().into_inner(),
+            shift: pos_ab.translation.vector,
+        }
+    }
+
+    /// `p` of b's frame in a's.
+    #[inline]
+    pub(crate) fn apply(&self, p: &Point) -> Point {
+        Point::from(self.rotation * p.coords + self.shift)
+    }
 }
 
 /// [`mesh_distance`] with `b` given in the frame of `a` (`pos_ab`, parry's
@@ -138,18 +172,26 @@ pub fn mesh_distance_relative(
     search: &DistanceSearch,
     scratch: &mut MeshDistanceScratch,
 ) -> MeshDistance {
+    search_relative(a, b, &Relative::of(pos_ab), search, scratch)
+}
+
+/// The search of [`mesh_distance_relative`], b's frame in a's given as a
+/// matrix and a shift.
+fn search_relative(
+    a: &TriMesh,
+    b: &TriMesh,
+    relative: &Relative,
+    search: &DistanceSearch,
+    scratch: &mut MeshDistanceScratch,
+) -> MeshDistance {
     let DistanceSearch { kernel, hint, enough } = *search;
-    let pos_ab = *pos_ab;
-    let rotation = pos_ab.rotation.to_rotation_matrix().into_inner();
-    let slack =
-        PRUNE_SLACK_ULPS * Real::EPSILON * (pos_ab.translation.vector.norm() + a.radius() + b.radius());
+    let Relative { rotation, shift } = *relative;
+    let slack = PRUNE_SLACK_ULPS * Real::EPSILON * (shift.norm() + a.radius() + b.radius());
     let nodes_a = a.bvh().nodes();
     let nodes_b = b.bvh().nodes();
     // b's triangles moved by the rotation matrix (fewer roundings than the
     // quaternion's sandwich, and faster).
-    let shift = pos_ab.translation.vector;
-    let triangle_b =
-        |j: usize| -> Triangle { b.triangle(j).map(|p| Point::from(rotation * p.coords + shift)) };
+    let triangle_b = |j: usize| -> Triangle { b.triangle(j).map(|p| relative.apply(&p)) };
     let pair_distance = |ta: &Triangle, tb: &Triangle| match kernel {
         DistanceKernel::Exact => triangle_distance(ta, tb).distance,
         DistanceKernel::Dyop(formula) => dyop_distance(ta, tb, formula),
@@ -161,7 +203,7 @@ pub fn mesh_distance_relative(
     }
     let lower_bound = |i: u32, j: u32, best: Real| {
         let (na, nb) = (&nodes_a[i as usize], &nodes_b[j as usize]);
-        node_lower_bound(na, nb, &pos_ab, &rotation, best + slack) - slack
+        node_lower_bound(na, nb, relative, best + slack) - slack
     };
 
     scratch.stack.clear();
@@ -229,7 +271,7 @@ pub fn mesh_distance_relative(
     let (i, j) = (search.best_pair.0 as usize, search.best_pair.1 as usize);
     // The kernel's value (DyOP's, if chosen), points and features exact.
     scratch.triangle_pairs = search.evaluated;
-    MeshDistance { distance: search.best, ..triangle_pair_distance(a, i, b, j, &pos_ab) }
+    MeshDistance { distance: search.best, ..pair_distance_relative(a, i, b, j, relative) }
 }
 
 /// Triangle `i` of `a` and triangle `j` of `b` (posed by `pos_ab` in `a`'s
@@ -241,9 +283,12 @@ pub(crate) fn triangle_pair_distance(
     j: usize,
     pos_ab: &Pose,
 ) -> MeshDistance {
-    let rotation = pos_ab.rotation.to_rotation_matrix().into_inner();
-    let moved = b.triangle(j).map(|p| Point::from(rotation * p.coords + pos_ab.translation.vector));
-    let closest = triangle_distance(&a.triangle(i), &moved);
+    pair_distance_relative(a, i, b, j, &Relative::of(pos_ab))
+}
+
+/// [`triangle_pair_distance`] with b's frame in a's given as a matrix.
+fn pair_distance_relative(a: &TriMesh, i: usize, b: &TriMesh, j: usize, relative: &Relative) -> MeshDistance {
+    let closest = triangle_distance(&a.triangle(i), &b.triangle(j).map(|p| relative.apply(&p)));
     MeshDistance {
         distance: closest.distance,
         point_a: closest.point_a,
@@ -359,21 +404,21 @@ fn flush(scratch: &mut MeshDistanceScratch, kernel: DistanceKernel, search: &mut
 }
 
 /// A lower bound on the distance between node `na` (frame of `a`) and node
-/// `nb` moved by `pos_ab` (`rotation` its rotation as a matrix): the
-/// largest of the sphere–sphere distance and the distances between each
-/// node's box and the box around the other node's box, taken along the
-/// first box's axes (each box's three face axes: the bound is the same
-/// with the meshes in either order). Pairs whose spheres are `cutoff` or
-/// more apart skip the boxes (pruned either way).
+/// `nb` moved into a's frame by `relative`: the largest of the sphere–sphere
+/// distance and the distances between each node's box and the box around
+/// the other node's box, taken along the first box's axes (each box's
+/// three face axes: the bound is the same with the meshes in either
+/// order). Pairs whose spheres are `cutoff` or more apart skip the boxes
+/// (pruned either way).
 #[inline]
 pub(crate) fn node_lower_bound(
     na: &super::BvhNode,
     nb: &super::BvhNode,
-    pos_ab: &Pose,
-    rotation: &Matrix3<Real>,
+    relative: &Relative,
     cutoff: Real,
 ) -> Real {
-    let center_b = rotation * nb.center.coords + pos_ab.translation.vector;
+    let rotation = &relative.rotation;
+    let center_b = rotation * nb.center.coords + relative.shift;
     let offset = center_b - na.center.coords;
     let spheres = offset.norm() - na.radius - nb.radius;
     if spheres >= cutoff {

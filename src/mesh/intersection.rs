@@ -11,7 +11,7 @@
 //! curve: closed loops for closed meshes in general position, each segment
 //! labelled with the two triangles it lies on.
 
-use super::distance::{node_lower_bound, PRUNE_SLACK_ULPS};
+use super::distance::{node_lower_bound, Relative, PRUNE_SLACK_ULPS};
 use super::trimesh::TriMesh;
 use super::BVH_LEAF_SIZE;
 use crate::kernels::{triangle_intersection, TriangleIntersection};
@@ -76,7 +76,7 @@ pub fn mesh_intersection(
 ) {
     out.pairs.clear();
     let pos_ab = pose_a.inv_mul(pose_b);
-    let rotation = pos_ab.rotation.to_rotation_matrix().into_inner();
+    let relative = Relative::of(&pos_ab);
     let slack =
         PRUNE_SLACK_ULPS * Real::EPSILON * (pos_ab.translation.vector.norm() + a.radius() + b.radius());
     let (nodes_a, nodes_b) = (a.bvh().nodes(), b.bvh().nodes());
@@ -84,7 +84,7 @@ pub fn mesh_intersection(
     scratch.stack.push((0, 0));
     while let Some((i, j)) = scratch.stack.pop() {
         let (na, nb) = (&nodes_a[i as usize], &nodes_b[j as usize]);
-        if node_lower_bound(na, nb, &pos_ab, &rotation, slack) > slack {
+        if node_lower_bound(na, nb, &relative, slack) > slack {
             continue;
         }
         if na.is_leaf() && nb.is_leaf() {

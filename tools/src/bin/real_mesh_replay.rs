@@ -98,7 +98,12 @@ fn main() {
         total += seconds;
         total_swapped += swapped;
         total_coal += q.coal_seconds;
-        let ulp = (distance - q.coal).abs() / (a.radius().max(b.radius()) * Real::EPSILON);
+        // Ulps of the largest coordinate of the posed meshes (as the Python
+        // run measures them).
+        let largest =
+            |m: &TriMesh, p: &Pose| m.vertices().iter().map(|v| (p * v).coords.amax()).fold(0.0, Real::max);
+        let largest = largest(a, &q.pose_a).max(largest(b, &q.pose_b));
+        let ulp = (distance - q.coal).abs() / (largest * Real::EPSILON / 2.0);
         rows.push((seconds / q.coal_seconds, seconds, swapped, pairs, pairs_swapped, ulp, q));
     }
     println!(
@@ -109,6 +114,13 @@ fn main() {
         total_coal,
         total / total_coal,
         total_swapped / total_coal
+    );
+    let worst_ulps = rows.iter().map(|r| r.5).fold(0.0, Real::max);
+    let mut ulps: Vec<Real> = rows.iter().map(|r| r.5).collect();
+    ulps.sort_by(|x, y| x.total_cmp(y));
+    println!(
+        "|nearmiss − coal|: median {:.2}, worst {worst_ulps:.2} ulps of the largest coordinate",
+        ulps[ulps.len() / 2]
     );
     rows.sort_by(|x, y| y.0.total_cmp(&x.0));
     println!(
