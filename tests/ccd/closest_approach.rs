@@ -4,7 +4,9 @@
 //! brute-force scan of tumbling pairs (every triangle pair, exact kernel):
 //! no sample is below `lower`, and `upper` is the distance at `time`.
 
-use nearmiss::ccd::{closest_approach, ApproachStatus, ClosestApproachQuery, MeshCcdScratch, MovingMesh};
+use nearmiss::ccd::{
+    closest_approach, ApproachStatus, CcdOptions, ClosestApproachQuery, MeshCcdScratch, MovingMesh,
+};
 use nearmiss::math::{Pose, Real, Vector};
 use nearmiss::mesh::{box_mesh, icosphere, mesh_distance_brute_force, TriMesh};
 use nearmiss::motion::StepMotion;
@@ -212,4 +214,34 @@ fn a_fast_spin_that_never_reaches_a_wall_is_decided() {
     let r = 0.5f64.hypot(0.5);
     let analytic = (std::f64::consts::FRAC_PI_4 - (0.7 / r).acos()) / 1e6;
     assert!(contact.time <= analytic && analytic - contact.time < 1e-9, "{} vs {analytic}", contact.time);
+}
+
+/// Issue 45 §3, open: a ball flying through a turning ring's hole (inside
+/// its hull, so the BVH search advances step by step), 0.246 from the ring
+/// at the closest. The closest approach ends `Undecided` on its third run
+/// within 0.3 s with the default budget: the run stops short of its
+/// iterations (no budget growth helps: it ends the same with `BUDGET_GROWTH`
+/// at 1 and at 100). Kept as the reproduction of what is left to mend.
+#[test]
+#[ignore = "issue 45 open: the proof run of this pass is undecided whatever the budget"]
+fn a_ball_through_a_turning_ring_is_bracketed() {
+    let ring = nearmiss::mesh::torus(1.0, 0.25, 48, 16).unwrap();
+    let block = icosphere(0.2, 2).unwrap();
+    let tumbling = StepMotion::new(Pose::identity(), Vector::zeros(), Vector::new(0.2, 0.1, 3.0));
+    let fixed =
+        StepMotion::new(Pose::translation(0.3, 0.0, -2.0), Vector::new(0.0, 0.0, 4.0), Vector::zeros());
+    let query = |max_iterations: usize| {
+        let mut q = ClosestApproachQuery::new(
+            MovingMesh { mesh: &ring, motion: &tumbling },
+            MovingMesh { mesh: &block, motion: &fixed },
+            1.0,
+        );
+        q.options.max_iterations = max_iterations;
+        closest_approach(&q, &mut MeshCcdScratch::default())
+    };
+    let full = query(CcdOptions::default().max_iterations);
+    let short = query(20);
+    assert_eq!(full.status, ApproachStatus::Bracketed, "{full:?}");
+    assert_eq!(short.status, ApproachStatus::Bracketed, "{short:?}");
+    assert!(short.lower <= full.upper && full.lower <= short.upper, "{short:?} vs {full:?}");
 }
