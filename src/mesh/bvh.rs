@@ -145,7 +145,8 @@ fn fitted_box<I: Iterator<Item = Point>>(points: impl Fn() -> I) -> (Point, Matr
     let axes = SymmetricEigen::new(covariance).eigenvectors;
     // Only a proper orthonormal frame (the solver's columns are unit and
     // orthogonal to rounding; anything else keeps the mesh's axes).
-    if !axes.iter().all(|c| c.is_finite()) || (axes.transpose() * axes - Matrix3::identity()).amax() > 1e-12 {
+    let off = (axes.transpose() * axes - Matrix3::identity()).amax();
+    if !axes.iter().all(|c| c.is_finite()) || off > PRINCIPAL_AXES_ORTHONORMAL {
         return widened(aligned);
     }
     let (plow, phigh) = bounds(points().map(|p| Point::from(axes.tr_mul(&p.coords))));
@@ -163,14 +164,24 @@ fn fitted_box<I: Iterator<Item = Point>>(points: impl Fn() -> I) -> (Point, Matr
 /// rotated projections' rounding and the loss of exact axis-aligned faces).
 pub(crate) const PRINCIPAL_BOX_GAIN: Real = 0.9;
 
-/// The box widened by 8 ulps of its reach from the origin (the rounding of
+/// How far the eigen solver's axes may be from orthonormal (`AᵀA` from the
+/// identity) for a node's box to be taken along them: `1e-12` (its
+/// rounding is ~1e-15; anything farther keeps the mesh's axes).
+const PRINCIPAL_AXES_ORTHONORMAL: Real = 1e-12;
+
+/// How much a principal-axes box is widened, in ulps of its reach from the
+/// origin: `8` (each vertex's projection onto an axis and the centre's
+/// rotation back round a few times).
+const BOX_WIDENING_ULPS: Real = 8.0;
+
+/// The box widened by `BOX_WIDENING_ULPS` of its reach from the origin (the rounding of
 /// the projections and of the centre's rotation back).
 fn widened((center, axes, half): (Point, Matrix3<Real>, Vector)) -> (Point, Matrix3<Real>, Vector) {
     if axes == Matrix3::identity() {
         return (center, axes, half);
     }
     let reach = center.coords.amax() + half.amax();
-    (center, axes, half.add_scalar(8.0 * Real::EPSILON * reach))
+    (center, axes, half.add_scalar(BOX_WIDENING_ULPS * Real::EPSILON * reach))
 }
 
 /// The smallest and largest corners of a set of points.
