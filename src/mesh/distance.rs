@@ -15,7 +15,7 @@ use nalgebra::Matrix3;
 
 use super::bvh::BVH_LEAF_SIZE;
 use super::trimesh::TriMesh;
-use crate::kernels::{batch, dyop_distance, triangle_distance, Feature, PointEdgeFormula};
+use crate::kernels::{batch, dyop_distance, point_triangle, triangle_distance, Feature, PointEdgeFormula};
 use crate::math::{Point, Pose, Real, Triangle, Vector};
 
 /// Triangle pairs queued before a batched kernel call.
@@ -203,7 +203,19 @@ fn search_relative(
     }
     let lower_bound = |i: u32, j: u32, best: Real| {
         let (na, nb) = (&nodes_a[i as usize], &nodes_b[j as usize]);
-        node_lower_bound(na, nb, relative, best + slack) - slack
+        let cutoff = best + slack;
+        let mut bound = node_lower_bound(na, nb, relative, cutoff);
+        // Where the boxes are apart but too loose to prune (a small node
+        // far from a leaf of slanted triangles), the leaf's triangles
+        // against the other node's sphere, each way round.
+        if bound < cutoff && nb.is_leaf() && na.radius < bound.min(nb.radius) {
+            let centre_a = Point::from(rotation.tr_mul(&(na.center.coords - shift)));
+            bound = bound.max(leaf_sphere_gap(b, nb, &centre_a, na.radius));
+        }
+        if bound < cutoff && na.is_leaf() && nb.radius < bound.min(na.radius) {
+            bound = bound.max(leaf_sphere_gap(a, na, &relative.apply(&nb.center), nb.radius));
+        }
+        bound - slack
     };
 
     scratch.stack.clear();
@@ -257,8 +269,11 @@ fn search_relative(
             let (ca, cb) = (nodes_a[ci as usize].center, nodes_b[cj as usize].center);
             (rotation * cb.coords + shift - ca.coords).norm_squared()
         };
-        let first =
-            bounds[0] < bounds[1] || (bounds[0] == bounds[1] && centres(children[0]) <= centres(children[1]));
+        let first = if (bounds[0] - bounds[1]).abs() <= slack {
+            centres(children[0]) <= centres(children[1])
+        } else {
+            bounds[0] < bounds[1]
+        };
         let order = if first { [1, 0] } else { [0, 1] };
         for k in order {
             if bounds[k] < search.best {
@@ -358,6 +373,20 @@ impl LeafTriangle {
     fn gap(&self, other: &LeafTriangle) -> Real {
         box_gap(&self.box_here, &other.box_here).max(box_gap(&self.box_there, &other.box_there))
     }
+}
+
+/// A lower bound on the distance between the triangles of `leaf` (of
+/// `mesh`) and a sphere (`centre` in `mesh`'s frame, `radius`): the least
+/// distance from the centre to a triangle, less the radius. Far tighter
+/// than two boxes where the sphere is small beside its distance, as a
+/// robot link's node in a gear ring's hole: each ring triangle's box
+/// leaves a millimetre of slack where the candidates lie within a tenth
+/// of one another.
+fn leaf_sphere_gap(mesh: &TriMesh, leaf: &super::BvhNode, centre: &Point, radius: Real) -> Real {
+    let triangles = leaf.first as usize..(leaf.first + leaf.count) as usize;
+    let nearest =
+        triangles.map(|t| point_triangle(centre, &mesh.triangle(t)).distance).fold(Real::INFINITY, Real::min);
+    nearest - radius
 }
 
 /// The best pair so far.
