@@ -19,7 +19,7 @@ use crate::kernels::{batch, dyop_distance, point_triangle, triangle_distance, Fe
 use crate::math::{Point, Pose, Real, Triangle, Vector};
 
 /// Triangle pairs queued before a batched kernel call.
-const FLUSH_PAIRS: usize = 32;
+const FLUSH_PAIRS: usize = 16;
 
 /// Rounding slack of the node lower bounds, in ulps of the relative
 /// frame's size: a node pair is pruned only if its bound beats the best
