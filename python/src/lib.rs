@@ -28,6 +28,7 @@ create_exception!(
 #[pymodule]
 fn _nearmiss(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SceneError", m.py().get_type::<SceneError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<mesh::Mesh>()?;
     m.add_function(wrap_pyfunction!(kernels::triangle_distance, m)?)?;
     m.add_function(wrap_pyfunction!(kernels::triangle_distances, m)?)?;

@@ -87,3 +87,15 @@ def test_bad_scenes_name_the_file_line_and_column(tmp_path):
     typo.write_text('Scene(name: "x", dt: 0.01, stepz: 10, bodies: [])\n')
     with pytest.raises(nearmiss.SceneError, match="stepz"):
         nearmiss.run_scene(typo)
+
+
+def test_the_package_says_its_version():
+    """``nearmiss.__version__`` is the version the package was built as:
+    pyproject.toml's, and the installed distribution's."""
+    import importlib.metadata
+    import re
+
+    text = (ROOT / "python" / "pyproject.toml").read_text()
+    declared = re.search(r'^version\s*=\s*"([^"]+)"', text, re.MULTILINE).group(1)
+    assert nearmiss.__version__ == declared
+    assert importlib.metadata.version("nearmiss") == declared

@@ -30,6 +30,9 @@ import numpy as np
 from . import _nearmiss
 from ._nearmiss import Mesh, SceneError
 
+#: The version of the package (and of the Rust crates it is built from).
+__version__: str = _nearmiss.__version__
+
 __all__ = [
     "FEATURES",
     "FORMULAS",

@@ -16,6 +16,8 @@ PoseArrays = Tuple[FloatArray, FloatArray]
 MotionArrays = Tuple[FloatArray, FloatArray]
 MeshDistanceTuple = Tuple[float, FloatArray, FloatArray, int, int, str, str]
 
+__version__: str
+
 class SceneError(ValueError):
     """A scene file that cannot be read or is not valid."""
 
