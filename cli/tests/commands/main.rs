@@ -3,6 +3,7 @@
 
 mod exit_codes;
 mod query_file_errors;
+mod readme_first_run;
 mod scene_errors;
 mod test_reports;
 mod undecided_is_not_contact;
