@@ -98,3 +98,68 @@ def test_a_pair_that_stays_beyond_within_costs_one_run(cube):
     )
     assert far.status == "beyond" and far.runs == 1
     assert far.lower >= 1.0 and far.closest is None
+
+
+def test_poses_as_users_have_them(cube):
+    """One pose written five ways gives one distance: (position,
+    quaternion), (position, matrix), a 4 x 4 transform, an object with
+    ``as_matrix()`` (scipy's ``Rotation``), and an ``[x, y, z, w]``
+    quaternion through ``quaternion_from_xyzw``."""
+    half = math.sqrt(0.5)
+    # A quarter turn about z, and a shift of 3 along x.
+    wxyz = np.array([half, 0.0, 0.0, half])
+    matrix = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    transform = np.eye(4)
+    transform[:3, :3], transform[:3, 3] = matrix, [3.0, 0.0, 0.0]
+
+    class Turn:
+        def as_matrix(self):
+            return matrix
+
+    poses = [
+        ([3.0, 0.0, 0.0], wxyz),
+        ([3.0, 0.0, 0.0], matrix),
+        transform,
+        transform.tolist(),
+        ([3.0, 0.0, 0.0], Turn()),
+        ([3.0, 0.0, 0.0], nearmiss.quaternion_from_xyzw([0.0, 0.0, half, half])),
+    ]
+    # Unit cubes 3 apart along x, one turned about z: faces 2 apart.
+    for pose in poses:
+        assert nearmiss.mesh_distance(cube, None, cube, pose).distance == pytest.approx(2.0, rel=1e-15)
+    bad = np.eye(4)
+    bad[3, 0] = 1.0
+    with pytest.raises(ValueError, match=r"pose_b: a 4 x 4 transform's last row must be \[0, 0, 0, 1\]"):
+        nearmiss.mesh_distance(cube, None, cube, bad)
+    with pytest.raises(ValueError, match=r"pose_b: expected \(position, rotation\), a 4 x 4 transform"):
+        nearmiss.mesh_distance(cube, None, cube, np.eye(3))
+    rotation = pytest.importorskip("scipy.spatial.transform").Rotation
+    turn = rotation.from_quat([0.0, 0.0, half, half])  # scipy's [x, y, z, w]
+    assert nearmiss.mesh_distance(cube, None, cube, ([3.0, 0.0, 0.0], turn)).distance == pytest.approx(2.0, rel=1e-15)
+
+
+def test_meshes_as_other_libraries_hold_them(cube):
+    """Any object with ``vertices`` and ``faces`` (a ``trimesh.Trimesh``)
+    is a mesh wherever one is taken, converted once while unchanged."""
+
+    class Held:
+        def __init__(self, vertices, faces):
+            self.vertices, self.faces = vertices, faces
+
+    held = Held(cube.vertices.copy(), cube.faces.copy())
+    d = nearmiss.mesh_distance(held, None, cube, ([2.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]))
+    assert d.distance == pytest.approx(1.0, rel=1e-15)
+    # A cube 3 along x closing at 1: faces 2 apart, contact at t = 2 (never late).
+    toi = nearmiss.mesh_time_of_impact(
+        held, None, None, cube, ([3.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]), ([-1.0, 0.0, 0.0], [0.0, 0.0, 0.0]), 3.0
+    )
+    assert toi.time is not None and 2.0 - 1e-6 <= toi.time <= 2.0
+    # Changed in place: converted again, not the old mesh.
+    held.vertices[:, 0] -= 1.0
+    d = nearmiss.mesh_distance(held, None, cube, ([2.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]))
+    assert d.distance == pytest.approx(2.0, rel=1e-15)
+    with pytest.raises(TypeError, match="mesh_a: expected a nearmiss.Mesh or an object with vertices and faces"):
+        nearmiss.mesh_distance(object(), None, cube, None)
+    trimesh = pytest.importorskip("trimesh")
+    box = trimesh.creation.box(extents=[1.0, 1.0, 1.0])
+    assert nearmiss.mesh_distance(box, None, cube, ([3.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0])).distance == pytest.approx(2.0, rel=1e-15)

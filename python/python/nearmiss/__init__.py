@@ -12,17 +12,24 @@ or ``TypeError`` (not numbers), naming the argument. Faces of zero area
 (repeated or collinear vertices, as real meshes hold them) are kept and
 take part as the segments or points they span (``Mesh.zero_area_triangles``).
 
+A mesh is a :class:`Mesh` or any object with ``vertices`` and ``faces``
+(a ``trimesh.Trimesh``: converted once and kept while it is unchanged).
 A pose is ``(position, rotation)``: position (3,), rotation a unit
-quaternion ``[w, x, y, z]`` (4,) or a rotation matrix (3, 3); ``None`` is
-the identity. A motion is ``(velocity, angular_velocity)``, both (3,) in
+quaternion ``[w, x, y, z]`` (4,), a rotation matrix (3, 3) or a scipy
+``Rotation``; or a 4 x 4 homogeneous transform; ``None`` is the identity.
+Quaternions are always ``[w, x, y, z]``: one in scipy's, ROS's or Eigen's
+``[x, y, z, w]`` order is a unit quaternion too and cannot be told apart,
+so convert it with :func:`quaternion_from_xyzw`. A motion is ``(velocity, angular_velocity)``, both (3,) in
 the world frame, constant over the query (the mesh turns about its own
 frame's origin, placed by the pose); ``None`` is at rest.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
+import weakref
 from typing import Any, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -56,6 +63,7 @@ __all__ = [
     "mesh_time_of_impact",
     "point_segment_distance",
     "point_segment_distances",
+    "quaternion_from_xyzw",
     "run_scene",
     "signed_distance",
     "triangle_closest_points",
@@ -76,7 +84,7 @@ FEATURES: Tuple[str, ...] = ("vertex 0", "vertex 1", "vertex 2", "edge 0", "edge
 FORMULAS: Tuple[str, ...] = ("vector", "plain_vector", "heron", "stable_heron")
 
 ArrayLike = Union[np.ndarray, Sequence[Any]]
-Pose = Optional[Tuple[ArrayLike, ArrayLike]]
+Pose = Optional[Union[Tuple[ArrayLike, Any], ArrayLike]]
 Motion = Optional[Tuple[ArrayLike, ArrayLike]]
 
 
@@ -216,14 +224,44 @@ def _floats(name: str, value: Any) -> np.ndarray:
     return np.ascontiguousarray(array, dtype=np.float64)
 
 
+def quaternion_from_xyzw(q: ArrayLike) -> np.ndarray:
+    """A quaternion in scipy's, ROS's and Eigen's ``[x, y, z, w]`` order as
+    nearmiss takes it, ``[w, x, y, z]``. (Both orders hold unit
+    quaternions, so nearmiss cannot tell them apart: it never guesses.)"""
+    q = _floats("q", q)
+    if q.shape != (4,):
+        raise ValueError(f"q: expected a quaternion of shape (4,), got shape {q.shape}")
+    return np.array([q[3], q[0], q[1], q[2]])
+
+
+def _rotation(name: str, rotation: Any) -> np.ndarray:
+    # A scipy ``Rotation`` (or anything with ``as_matrix()``): its matrix.
+    as_matrix = getattr(rotation, "as_matrix", None)
+    if callable(as_matrix):
+        rotation = as_matrix()
+    return _floats(name, rotation)
+
+
 def _pose(name: str, pose: Pose) -> Tuple[np.ndarray, np.ndarray]:
     if pose is None:
         return np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0])
+    if isinstance(pose, np.ndarray) or (isinstance(pose, (list, tuple)) and len(pose) == 4):
+        # A 4 x 4 homogeneous transform: rotation and position, last row 0 0 0 1.
+        matrix = _floats(name, pose)
+        if matrix.shape != (4, 4):
+            raise ValueError(
+                f"{name}: expected (position, rotation), a 4 x 4 transform or None, got an array of shape {matrix.shape}"
+            )
+        if not np.array_equal(matrix[3], [0.0, 0.0, 0.0, 1.0]):
+            raise ValueError(f"{name}: a 4 x 4 transform's last row must be [0, 0, 0, 1], got {matrix[3].tolist()}")
+        return np.ascontiguousarray(matrix[:3, 3]), np.ascontiguousarray(matrix[:3, :3])
     try:
         position, rotation = pose
     except (TypeError, ValueError):
-        raise TypeError(f"{name}: expected (position, rotation) or None, got {type(pose).__name__}") from None
-    return _floats(f"{name} position", position), _floats(f"{name} rotation", rotation)
+        raise TypeError(
+            f"{name}: expected (position, rotation), a 4 x 4 transform or None, got {type(pose).__name__}"
+        ) from None
+    return _floats(f"{name} position", position), _rotation(f"{name} rotation", rotation)
 
 
 def _motion(name: str, motion: Motion) -> Tuple[np.ndarray, np.ndarray]:
@@ -238,10 +276,39 @@ def _motion(name: str, motion: Motion) -> Tuple[np.ndarray, np.ndarray]:
     return _floats(f"{name} velocity", velocity), _floats(f"{name} angular velocity", angular_velocity)
 
 
+#: Meshes built from other libraries' objects (a ``trimesh.Trimesh``),
+#: each kept while its object lives and its arrays are unchanged, so a
+#: query in a loop does not rebuild the tree.
+_converted: "weakref.WeakKeyDictionary[Any, Tuple[bytes, Mesh]]" = weakref.WeakKeyDictionary()
+
+
 def _mesh(name: str, mesh: Any) -> Mesh:
-    if not isinstance(mesh, Mesh):
-        raise TypeError(f"{name}: expected a nearmiss.Mesh, got {type(mesh).__name__}")
-    return mesh
+    if isinstance(mesh, Mesh):
+        return mesh
+    vertices, faces = getattr(mesh, "vertices", None), getattr(mesh, "faces", None)
+    if vertices is None or faces is None:
+        raise TypeError(
+            f"{name}: expected a nearmiss.Mesh or an object with vertices and faces (a trimesh.Trimesh), "
+            f"got {type(mesh).__name__}"
+        )
+    vertices = _floats(f"{name}.vertices", vertices)
+    faces = np.ascontiguousarray(np.asarray(faces))
+    digest = hashlib.blake2b(vertices.data, digest_size=16)
+    digest.update(faces.data)
+    digest.update(str(faces.dtype).encode())
+    key = digest.digest()
+    try:
+        kept = _converted.get(mesh)
+    except TypeError:  # not weakly referenceable: converted each time
+        kept = None
+    if kept is not None and kept[0] == key:
+        return kept[1]
+    converted = Mesh(vertices, faces)
+    try:
+        _converted[mesh] = (key, converted)
+    except TypeError:
+        pass
+    return converted
 
 
 def _moving(mesh_a, pose_a, motion_a, mesh_b, pose_b, motion_b, duration) -> tuple:
