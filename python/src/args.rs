@@ -16,11 +16,13 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 /// How far a rotation argument may be from one: a quaternion's norm from 1,
-/// a matrix's `MᵀM` from the identity (largest entry): `1e-9`, room for
-/// the rounding of a rotation computed in float64 and written out, far
-/// below a mistake (a quaternion is then normalised, a matrix taken as
-/// its nearest rotation).
-pub(crate) const ROTATION_TOLERANCE: f64 = 1e-9;
+/// a matrix's `MᵀM` from the identity (largest entry): `1e-6`, room for a
+/// rotation stored in float32 (about 1e-7 off) and for the noise of forward
+/// kinematics, far below a mistake. Within it the rotation is
+/// re-orthonormalised (a quaternion normalised, a matrix projected onto its
+/// nearest rotation); farther, it is refused with a message saying how to
+/// make it one.
+pub(crate) const ROTATION_TOLERANCE: f64 = 1e-6;
 
 /// Pairs per parallel task of the batched queries.
 pub(crate) const BATCH_CHUNK: usize = 1024;
@@ -221,7 +223,7 @@ pub(crate) fn pose(
             let q = nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]);
             if (q.norm() - 1.0).abs() > ROTATION_TOLERANCE {
                 return Err(PyValueError::new_err(format!(
-                    "{rotation_name}: a quaternion [w, x, y, z] must have norm 1, this one has {}",
+                    "{rotation_name}: a quaternion [w, x, y, z] must have norm 1 (within {ROTATION_TOLERANCE:e}), this one has {}; divide it by its norm if it is meant as a rotation",
                     q.norm()
                 )));
             }
@@ -233,7 +235,7 @@ pub(crate) fn pose(
             let off = (m.transpose() * m - nalgebra::Matrix3::identity()).amax();
             if off > ROTATION_TOLERANCE || m.determinant() < 0.0 {
                 return Err(PyValueError::new_err(format!(
-                    "{rotation_name}: not a rotation matrix (orthonormal, determinant +1): M^T M is off the identity by {off:e}, det {}",
+                    "{rotation_name}: not a rotation matrix (orthonormal, determinant +1): M^T M is off the identity by {off:e} (at most {ROTATION_TOLERANCE:e} is re-orthonormalised), det {}; if it is a rotation with noise, take its nearest rotation first (scipy.spatial.transform.Rotation.from_matrix(M).as_matrix(), or U V^T of its SVD)",
                     m.determinant()
                 )));
             }

@@ -99,3 +99,31 @@ def test_the_package_says_its_version():
     declared = re.search(r'^version\s*=\s*"([^"]+)"', text, re.MULTILINE).group(1)
     assert nearmiss.__version__ == declared
     assert importlib.metadata.version("nearmiss") == declared
+
+
+def test_float32_and_noisy_rotations_are_made_rotations_again():
+    """A rotation stored in float32 or carrying 1e-7 of noise is
+    re-orthonormalised (issue 46: the old 1e-9 tolerance refused 100 of 100
+    float32 matrices); one 1e-4 off is refused, saying how to fix it."""
+    cube = nearmiss.Mesh(CUBE_VERTICES, [[0, 1, 3]])
+    rng = np.random.default_rng(46)
+    for _ in range(100):
+        q = rng.normal(size=4)
+        q /= np.linalg.norm(q)
+        w, x, y, z = q
+        matrix = np.array(
+            [
+                [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+            ]
+        )
+        exact = nearmiss.mesh_distance(cube, None, cube, ([2.0, 0.5, 0.3], matrix)).distance
+        for rotation in (matrix.astype(np.float32), q.astype(np.float32), matrix + rng.normal(size=(3, 3)) * 1e-7):
+            d = nearmiss.mesh_distance(cube, None, cube, ([2.0, 0.5, 0.3], rotation)).distance
+            # The rotation moved by ~1e-7: the distance by that times the reach.
+            assert abs(d - exact) <= 1e-6
+    with pytest.raises(ValueError, match=r"pose_b rotation: not a rotation matrix .* take its nearest rotation first"):
+        nearmiss.mesh_distance(cube, None, cube, ([0, 0, 0], np.eye(3) + 1e-4))
+    with pytest.raises(ValueError, match=r"divide it by its norm"):
+        nearmiss.mesh_distance(cube, None, cube, ([0, 0, 0], [1.0, 1e-2, 0.0, 0.0]))
