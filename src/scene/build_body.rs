@@ -398,8 +398,18 @@ impl Builder<'_> {
     fn orientation(&self, field: &str, settings: &OrientationSettings) -> Result<UnitQuaternion<Real>> {
         match settings {
             OrientationSettings::Identity => Ok(UnitQuaternion::identity()),
-            OrientationSettings::AxisAngle { axis, degrees } => {
-                let degrees = self.finite(&format!("{field}.degrees"), *degrees)?;
+            OrientationSettings::AxisAngle { axis, degrees, radians } => {
+                let radians = match (degrees, radians) {
+                    (Some(degrees), None) => self.finite(&format!("{field}.degrees"), *degrees)?.to_radians(),
+                    (None, Some(radians)) => self.finite(&format!("{field}.radians"), *radians)?,
+                    (None, None) => {
+                        return self
+                            .invalid(field, "AxisAngle needs its angle: `degrees: 30.0` or `radians: 0.5`")
+                    }
+                    (Some(_), Some(_)) => {
+                        return self.invalid(field, "AxisAngle takes `degrees` or `radians`, not both")
+                    }
+                };
                 // Only the axis's direction matters: any finite size is
                 // normalised (scaled by its largest component first, so that
                 // its square cannot overflow or underflow).
@@ -407,11 +417,11 @@ impl Builder<'_> {
                 let Some([x, y, z]) = self.direction(&format!("{field}.axis"), components)? else {
                     return self.invalid(format!("{field}.axis"), "the axis must not be zero");
                 };
-                if degrees == 0.0 {
+                if radians == 0.0 {
                     return Ok(UnitQuaternion::identity());
                 }
                 let axis = nalgebra::Unit::new_normalize(Vector::new(x, y, z));
-                Ok(UnitQuaternion::from_axis_angle(&axis, degrees.to_radians()))
+                Ok(UnitQuaternion::from_axis_angle(&axis, radians))
             }
             OrientationSettings::Quaternion { w, x, y, z } => {
                 match self.direction(field, [*w, *x, *y, *z])? {

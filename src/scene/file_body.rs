@@ -170,12 +170,17 @@ pub enum OrientationSettings {
     /// No rotation.
     #[default]
     Identity,
-    /// A rotation about an axis (need not be unit), in degrees.
+    /// A rotation about an axis (need not be unit), by an angle in
+    /// `degrees` or in `radians` (exactly one of the two).
     AxisAngle {
         /// The axis.
         axis: Triple,
         /// The angle in degrees.
-        degrees: f64,
+        #[serde(default)]
+        degrees: Option<f64>,
+        /// The angle in radians.
+        #[serde(default)]
+        radians: Option<f64>,
     },
     /// A quaternion; normalised on reading.
     Quaternion {

@@ -425,3 +425,34 @@ fn a_response_without_its_parentheses_says_what_to_write() {
         format!("Scene(name: \"bad\", dt: 0.01, duration: 1.0,\n  on_contact: Bounce,\n  {GOOD_BODIES})");
     assert_rejected("bare bounce", &text, &["scene.ron:2:", "`Bounce(restitution: 1.0)`"]);
 }
+
+#[test]
+fn an_axis_angle_takes_radians_or_degrees_not_both_nor_neither() {
+    // Issue 46: spins are in radians, orientations were in degrees only.
+    let body = |orientation: &str| {
+        scene(&GOOD_BODIES.replacen("fixed: true", &format!("orientation: {orientation}, fixed: true"), 1))
+    };
+    let rotation = |orientation: &str| {
+        nearmiss::scene::Scene::from_ron_str(&body(orientation)).unwrap().model().bodies[0].pose.rotation
+    };
+    let degrees = rotation("AxisAngle(axis: (1.0, 2.0, 2.0), degrees: 90.0)");
+    let radians =
+        rotation(&format!("AxisAngle(axis: (1.0, 2.0, 2.0), radians: {:e})", std::f64::consts::FRAC_PI_2));
+    assert!(degrees.angle_to(&radians) < 1e-15);
+    assert!((radians.angle() - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+    assert_rejected(
+        "angle-both",
+        &body("AxisAngle(axis: (0.0, 0.0, 1.0), degrees: 30.0, radians: 0.5)"),
+        &["`bodies[0].orientation`", "`degrees` or `radians`, not both"],
+    );
+    assert_rejected(
+        "angle-neither",
+        &body("AxisAngle(axis: (0.0, 0.0, 1.0))"),
+        &["`bodies[0].orientation`", "needs its angle"],
+    );
+    assert_rejected(
+        "angle-nan",
+        &body("AxisAngle(axis: (0.0, 0.0, 1.0), radians: NaN)"),
+        &["`bodies[0].orientation.radians`"],
+    );
+}
