@@ -58,8 +58,10 @@ fn summary_table(page: &mut String, result: &RunResult, scene: &Scene) {
     let c = &result.counters.work;
     let _ = writeln!(
         page,
-        "| work | {} CCD advancement steps, {} triangle pairs, {} pair-steps skipped without a mesh query |",
-        c.distance_queries, c.triangle_pairs, c.pairs_culled
+        "| work | {}, {}, {} skipped without a mesh query |",
+        text::count(c.distance_queries as u64, "CCD advancement step"),
+        text::count(c.triangle_pairs as u64, "triangle pair"),
+        text::count(c.pairs_culled as u64, "pair-step")
     );
     page.push('\n');
     if let Some(verdict) = crate::regression::verdict(scene, result) {

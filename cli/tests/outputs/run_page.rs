@@ -54,3 +54,15 @@ fn a_pipe_in_a_body_name_stays_in_its_cell() {
     assert_eq!(unescaped, 7, "{row}");
     assert!(row.contains("floor\\|slab / a\\|b"), "{row}");
 }
+
+#[test]
+fn the_work_line_counts_in_the_singular_where_it_is_one() {
+    // Issue 46: two triangles meeting took "1 triangle pairs".
+    let scene = Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/two_triangles.ron")).unwrap();
+    let result = nearmiss::run(&scene);
+    assert_eq!(result.counters.work.triangle_pairs, 1);
+    let page = nearmiss_cli::run_page::run_page(&result, &scene, &["summary.json", "report.md"]);
+    let work = page.lines().find(|l| l.starts_with("| work |")).expect("the work row");
+    assert!(work.contains(", 1 triangle pair,"), "{work}");
+    assert!(work.contains("CCD advancement steps") && work.contains("pair-steps skipped"), "{work}");
+}
