@@ -318,3 +318,34 @@ fn an_obj_with_zero_area_and_short_faces_runs_and_says_so() {
     assert!(!summary.contains("mesh_notes"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn check_warns_of_bodies_that_start_overlapped_as_run_does() {
+    // Issue 46: `check` said `ok` for a scene `run` warned about.
+    let dir = workspace("check-overlap");
+    let scene = r#"Scene(
+    name: "overlapped",
+    dt: 0.01,
+    duration: 0.1,
+    bodies: [
+        (name: "floor", mesh: Box(half_extents: (1.0, 1.0, 0.5)), position: (0.0, 0.0, -0.5), fixed: true),
+        (name: "box", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (0.0, 0.0, 0.3)),
+    ],
+)
+"#;
+    std::fs::write(dir.join("overlapped.ron"), scene).unwrap();
+    let check = nearmiss(&["check", "overlapped.ron"], &dir);
+    let run = nearmiss(&["run", "overlapped.ron"], &dir);
+    let warning = |output: &Output| {
+        String::from_utf8_lossy(&output.stderr)
+            .lines()
+            .find(|l| l.starts_with("warning: at t = 0"))
+            .map(str::to_string)
+    };
+    assert_eq!(check.status.code(), Some(0), "{}", String::from_utf8_lossy(&check.stderr));
+    assert!(String::from_utf8_lossy(&check.stdout).starts_with("ok overlapped.ron"));
+    let said = warning(&check).expect("check warns");
+    assert!(said.contains("floor") && said.contains("box") && said.contains("starts overlapped"), "{said}");
+    assert_eq!(Some(said), warning(&run), "check and run say the same");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -40,6 +40,10 @@ pub fn main(args: Args) -> CommandResult {
                     text::count(scene.run().steps, "step"),
                     text::time(scene.model().dt)
                 );
+                // As `run` warns: bodies that start overlapped.
+                for overlap in scene.initial_overlaps() {
+                    eprintln!("{}", crate::run::overlap_warning(&overlap, &scene.model().bodies));
+                }
                 if let Some(first) = names.get(&scene.run().name) {
                     eprintln!(
                         "warning: {} and {} are both named `{}`: their runs would write one output folder",

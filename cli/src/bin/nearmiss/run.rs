@@ -206,10 +206,7 @@ fn print_result(scene: &Scene, result: &RunResult) {
     let overlaps = &result.initial_overlaps;
     let bodies = &scene.model().bodies;
     for overlap in overlaps {
-        eprintln!(
-            "warning: at t = 0 {}. The run starts overlapped; move them apart, or add `initial_overlap: Refuse` to refuse such scenes",
-            overlap.describe(bodies)
-        );
+        eprintln!("{}", overlap_warning(overlap, bodies));
     }
     let overlapping =
         |a: usize, b: usize| overlaps.iter().any(|o| (o.body_a, o.body_b) == (a.min(b), a.max(b)));
@@ -225,4 +222,15 @@ fn print_result(scene: &Scene, result: &RunResult) {
             at_start.join(", ")
         );
     }
+}
+
+/// The warning of two bodies overlapping at the start (`run` and `check`).
+pub(crate) fn overlap_warning(
+    overlap: &nearmiss::scene::InitialOverlap,
+    bodies: &[nearmiss::scene::Body],
+) -> String {
+    format!(
+        "warning: at t = 0 {}. The run starts overlapped; move them apart, or add `initial_overlap: Refuse` to refuse such scenes",
+        overlap.describe(bodies)
+    )
 }
