@@ -3,10 +3,15 @@
 //!
 //! Mesh `b` is expressed in the frame of mesh `a` (`pos_ab`, parry's `pos12`):
 //! `a`'s triangles are used as stored, `b`'s are moved once. Node pairs are
-//! visited depth first, nearer child first; a node pair whose lower bound
-//! (the larger of the box–box and the sphere–sphere distance, `b`'s box
-//! being the box around its rotated box) is not below the best distance
-//! found so far is pruned. Leaf pairs queue their triangle pairs, and the
+//! visited depth first, nearer child first (children whose bounds agree to
+//! rounding: the one with the nearer centres, so either argument order
+//! visits alike); a node pair whose lower bound is not below the best
+//! distance found so far is pruned. The bound is the largest of the
+//! sphere–sphere distance, the oriented boxes' gap along each box's axes
+//! ([`node_lower_bound`]) and, where a leaf faces a smaller node, the
+//! leaf's triangles' distance to that node's sphere. Leaf pairs queue
+//! their triangle pairs (those whose boxes, in either mesh's frame, may
+//! beat the best), and the
 //! queue is flushed through [`batch::triangle_distances`] (eight pairs per
 //! vector pass) whenever it holds [`FLUSH_PAIRS`] pairs; the best pair is
 //! then finished by the scalar kernel for its closest points and features.
