@@ -166,6 +166,12 @@ impl Relative {
     pub(crate) fn apply(&self, p: &Point) -> Point {
         Point::from(self.rotation * p.coords + self.shift)
     }
+
+    /// `p` of a's frame in b's (the inverse of [`Relative::apply`]).
+    #[inline]
+    pub(crate) fn apply_inverse(&self, p: &Point) -> Point {
+        Point::from(self.rotation.tr_mul(&(p.coords - self.shift)))
+    }
 }
 
 /// [`mesh_distance`] with `b` given in the frame of `a` (`pos_ab`, parry's
@@ -212,10 +218,11 @@ fn search_relative(
         let mut bound = node_lower_bound(na, nb, relative, cutoff);
         // Where the boxes are apart but too loose to prune (a small node
         // far from a leaf of slanted triangles), the leaf's triangles
-        // against the other node's sphere, each way round.
+        // against the other node's sphere, each way round; only where that
+        // sphere is smaller than the leaf and than the boxes' gap (elsewhere
+        // it seldom prunes more and costs four point–triangle distances).
         if bound < cutoff && nb.is_leaf() && na.radius < bound.min(nb.radius) {
-            let centre_a = Point::from(rotation.tr_mul(&(na.center.coords - shift)));
-            bound = bound.max(leaf_sphere_gap(b, nb, &centre_a, na.radius));
+            bound = bound.max(leaf_sphere_gap(b, nb, &relative.apply_inverse(&na.center), na.radius));
         }
         if bound < cutoff && na.is_leaf() && nb.radius < bound.min(na.radius) {
             bound = bound.max(leaf_sphere_gap(a, na, &relative.apply(&nb.center), nb.radius));
@@ -239,7 +246,7 @@ fn search_relative(
             let mut leaf_a = [LeafTriangle::default(); BVH_LEAF_SIZE];
             for (k, ta) in (na.first..na.first + na.count).enumerate() {
                 let triangle = a.triangle(ta as usize);
-                let in_b = triangle.map(|p| Point::from(rotation.tr_mul(&(p.coords - shift))));
+                let in_b = triangle.map(|p| relative.apply_inverse(&p));
                 leaf_a[k] = LeafTriangle::of(triangle, triangle_box(&in_b));
             }
             for tb in nb.first..nb.first + nb.count {

@@ -19,9 +19,11 @@ quaternion ``[w, x, y, z]`` (4,), a rotation matrix (3, 3) or a scipy
 ``Rotation``; or a 4 x 4 homogeneous transform; ``None`` is the identity.
 Quaternions are always ``[w, x, y, z]``: one in scipy's, ROS's or Eigen's
 ``[x, y, z, w]`` order is a unit quaternion too and cannot be told apart,
-so convert it with :func:`quaternion_from_xyzw`. A motion is ``(velocity, angular_velocity)``, both (3,) in
-the world frame, constant over the query (the mesh turns about its own
-frame's origin, placed by the pose); ``None`` is at rest.
+so convert it with :func:`quaternion_from_xyzw`.
+
+A motion is ``(velocity, angular_velocity)``, both (3,) in the world
+frame, constant over the query (the mesh turns about its own frame's
+origin, placed by the pose); ``None`` is at rest.
 """
 
 from __future__ import annotations
