@@ -60,16 +60,21 @@ pub struct MeshBvh {
 impl MeshBvh {
     /// Builds the tree over `triangles` (at least one) and returns it with
     /// the triangles reordered so that each leaf holds a contiguous range.
+    ///
+    /// Subtrees of [`PARALLEL_BUILD_TRIANGLES`] or more are built on
+    /// rayon's threads, each into the slots the one-thread build would give
+    /// it (a subtree's node count follows from its triangle count alone), so
+    /// the tree is the same whatever the thread count.
     pub fn build(vertices: &[Point], triangles: Vec<[u32; 3]>) -> (MeshBvh, Vec<[u32; 3]>) {
         let centroids: Vec<Point> = triangles
             .iter()
             .map(|t| Point::from(t.iter().map(|&i| vertices[i as usize].coords).sum::<Vector>() / 3.0))
             .collect();
         let mut order: Vec<usize> = (0..triangles.len()).collect();
-        let mut nodes = vec![placeholder()];
-        let mut builder =
-            Builder { vertices, triangles: &triangles, centroids: &centroids, nodes: &mut nodes };
-        builder.build(0, &mut order, 0);
+        let mut nodes = vec![placeholder(); node_count(triangles.len())];
+        let builder = Builder { vertices, triangles: &triangles, centroids: &centroids };
+        let (root, descendants) = nodes.split_at_mut(1);
+        builder.build(&mut root[0], descendants, 1, &mut order, 0);
         let reordered = order.iter().map(|&i| triangles[i]).collect();
         (MeshBvh { nodes }, reordered)
     }
@@ -78,6 +83,30 @@ impl MeshBvh {
     pub fn nodes(&self) -> &[BvhNode] {
         &self.nodes
     }
+}
+
+/// The fewest triangles of a subtree built on a thread of its own while
+/// its sibling is built on another: `16_384` (smaller ones take well under
+/// a millisecond, less than the hand-over is worth).
+pub(crate) const PARALLEL_BUILD_TRIANGLES: usize = 16_384;
+
+/// The number of nodes of a tree over `triangles` triangles: a node splits
+/// at `triangles / 2` until a leaf holds at most [`BVH_LEAF_SIZE`].
+fn node_count(triangles: usize) -> usize {
+    // Each level holds at most two distinct counts (n and n + 1), so the
+    // recursion is walked level by level over those.
+    fn count(n: usize, known: &mut Vec<(usize, usize)>) -> usize {
+        if n <= BVH_LEAF_SIZE {
+            return 1;
+        }
+        if let Some(&(_, c)) = known.iter().find(|(m, _)| *m == n) {
+            return c;
+        }
+        let c = 1 + count(n / 2, known) + count(n - n / 2, known);
+        known.push((n, c));
+        c
+    }
+    count(triangles, &mut Vec::new())
 }
 
 fn placeholder() -> BvhNode {
@@ -95,21 +124,28 @@ struct Builder<'a> {
     vertices: &'a [Point],
     triangles: &'a [[u32; 3]],
     centroids: &'a [Point],
-    nodes: &'a mut Vec<BvhNode>,
 }
 
 impl Builder<'_> {
-    /// Fills node `index` with the triangles `order` (which start at
-    /// position `offset` of the final order).
-    fn build(&mut self, index: usize, order: &mut [usize], offset: usize) {
+    /// Fills `node` with the triangles `order` (which start at position
+    /// `offset` of the final order), and `descendants` (its subtree's other
+    /// nodes, the first at index `base` of the tree) with its subtree:
+    /// children first, then the first child's subtree, then the second's.
+    fn build(
+        &self,
+        node: &mut BvhNode,
+        descendants: &mut [BvhNode],
+        base: usize,
+        order: &mut [usize],
+        offset: usize,
+    ) {
         let corners =
             || order.iter().flat_map(|&t| self.triangles[t].iter().map(|&v| self.vertices[v as usize]));
-        let (center, axes, half_extents) = fitted_box(corners);
+        let (center, axes, half_extents) = fitted_box(corners, 3 * order.len());
         let radius = corners().map(|p| (p - center).norm()).fold(0.0, Real::max);
-        let mut node = BvhNode { center, axes, half_extents, radius, first: offset as u32, count: 0 };
+        *node = BvhNode { center, axes, half_extents, radius, first: offset as u32, count: 0 };
         if order.len() <= BVH_LEAF_SIZE {
             node.count = order.len() as u32;
-            self.nodes[index] = node;
             return;
         }
         let (centroid_low, centroid_high) = bounds(order.iter().map(|&t| self.centroids[t]));
@@ -118,13 +154,22 @@ impl Builder<'_> {
         order.select_nth_unstable_by(middle, |&i, &j| {
             self.centroids[i][axis].total_cmp(&self.centroids[j][axis]).then(i.cmp(&j))
         });
-        let first_child = self.nodes.len();
-        node.first = first_child as u32;
-        self.nodes[index] = node;
-        self.nodes.extend([placeholder(), placeholder()]);
+        node.first = base as u32;
+        let (children, rest) = descendants.split_at_mut(2);
+        let (left_node, right_node) = children.split_at_mut(1);
+        let left_size = node_count(middle) - 1;
+        let (left_rest, right_rest) = rest.split_at_mut(left_size);
         let (left, right) = order.split_at_mut(middle);
-        self.build(first_child, left, offset);
-        self.build(first_child + 1, right, offset + middle);
+        let parallel = right.len() >= PARALLEL_BUILD_TRIANGLES;
+        let mut build_left = || self.build(&mut left_node[0], left_rest, base + 2, left, offset);
+        let mut build_right =
+            || self.build(&mut right_node[0], right_rest, base + 2 + left_size, right, offset + middle);
+        if parallel {
+            rayon::join(build_left, build_right);
+        } else {
+            build_left();
+            build_right();
+        }
     }
 }
 
@@ -133,11 +178,17 @@ impl Builder<'_> {
 /// [`PRINCIPAL_BOX_GAIN`] of the box along the mesh's axes, that box
 /// otherwise. Half extents are widened by a few ulps of the box's reach,
 /// so that the rounding of the projections never leaves a point outside.
-fn fitted_box<I: Iterator<Item = Point>>(points: impl Fn() -> I) -> (Point, Matrix3<Real>, Vector) {
-    let (low, high) = bounds(points());
+/// `count` is the number of points.
+fn fitted_box<I: Iterator<Item = Point>>(
+    points: impl Fn() -> I,
+    count: usize,
+) -> (Point, Matrix3<Real>, Vector) {
+    // The box along the mesh's axes and the points' sum in one pass.
+    let start = (Point::from([Real::INFINITY; 3]), Point::from([Real::NEG_INFINITY; 3]), Vector::zeros());
+    let (low, high, sum) =
+        points().fold(start, |(low, high, sum), p| (low.inf(&p), high.sup(&p), sum + p.coords));
     let aligned = (Point::from((low.coords + high.coords) / 2.0), Matrix3::identity(), (high - low) / 2.0);
-    let count = points().count() as Real;
-    let mean = points().fold(Vector::zeros(), |sum, p| sum + p.coords) / count;
+    let mean = sum / count as Real;
     let covariance = points().fold(Matrix3::zeros(), |sum, p| {
         let d = p.coords - mean;
         sum + d * d.transpose()
@@ -222,5 +273,25 @@ mod tests {
             }
         }
         assert!(seen.iter().all(|&n| n == 1));
+    }
+
+    /// A tree big enough to be built on several threads is the one a
+    /// single thread builds, node for node, and fills exactly the slots
+    /// `node_count` gives it.
+    #[test]
+    fn the_tree_does_not_depend_on_the_thread_count() {
+        let mesh = super::super::primitives::torus(1.0, 0.3, 300, 150).unwrap();
+        let build = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| super::MeshBvh::build(mesh.vertices(), mesh.triangles().to_vec()))
+        };
+        let (one, one_order) = build(1);
+        let (four, four_order) = build(4);
+        assert!(mesh.triangles().len() > 4 * super::PARALLEL_BUILD_TRIANGLES);
+        assert_eq!(one.nodes(), four.nodes());
+        assert_eq!(one_order, four_order);
+        assert_eq!(one.nodes().len(), super::node_count(mesh.triangles().len()));
+        // Every slot filled: no node is left as the placeholder.
+        assert!(one.nodes().iter().all(|n| n.radius > 0.0));
     }
 }

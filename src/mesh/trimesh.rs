@@ -62,8 +62,10 @@ pub struct TriMesh {
     /// `incident[incident_start[v]..incident_start[v + 1]]`.
     incident_start: Vec<u32>,
     incident: Vec<u32>,
-    /// The farthest-vertex table (`None` for small meshes, scanned whole).
-    support: Option<SupportTable>,
+    /// The farthest-vertex table (`None` for small meshes, scanned whole),
+    /// built at the first call of [`TriMesh::farthest_vertex`]: a mesh that
+    /// never needs one (a large non-convex asset) never pays for it.
+    support: std::sync::OnceLock<Option<SupportTable>>,
     /// The box of the vertices in the mesh's frame: smallest and largest corners.
     bounds: (Point, Point),
     /// Whether the mesh is the boundary of its vertices' hull (see
@@ -145,7 +147,6 @@ impl TriMesh {
                 filled[v as usize] += 1;
             }
         }
-        let support = SupportTable::build(&vertices);
         // Triangles exist and index vertices: there is a first vertex.
         let bounds =
             vertices.iter().fold((vertices[0], vertices[0]), |(low, high), v| (low.inf(v), high.sup(v)));
@@ -156,7 +157,7 @@ impl TriMesh {
             radius,
             incident_start,
             incident,
-            support,
+            support: std::sync::OnceLock::new(),
             bounds,
             convex: std::sync::OnceLock::new(),
             convex_features: std::sync::OnceLock::new(),
@@ -205,20 +206,22 @@ impl TriMesh {
     /// vertices or more.
     #[inline]
     pub fn farthest_vertex(&self, direction: &Vector) -> usize {
-        match self.support.as_ref().and_then(|table| table.candidates(direction)) {
+        let table = self.support.get_or_init(|| SupportTable::build(&self.vertices));
+        match table.as_ref().and_then(|table| table.candidates(direction)) {
             Some(candidates) => support::farthest_of(&self.vertices, candidates, direction),
             None => support::farthest_by_scan(&self.vertices, direction),
         }
     }
 
     /// Bytes the mesh holds on the heap: vertices, triangles, BVH, the
-    /// triangles around each vertex, and the farthest-vertex table.
+    /// triangles around each vertex, and the farthest-vertex table (once
+    /// built).
     pub fn heap_bytes(&self) -> usize {
         std::mem::size_of_val(self.vertices.as_slice())
             + std::mem::size_of_val(self.triangles.as_slice())
             + std::mem::size_of_val(self.bvh.nodes())
             + 4 * (self.incident_start.len() + self.incident.len())
-            + self.support.as_ref().map_or(0, SupportTable::bytes)
+            + self.support.get().and_then(Option::as_ref).map_or(0, SupportTable::bytes)
             + 4 * self.zero_area.len()
     }
 
