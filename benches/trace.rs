@@ -248,7 +248,7 @@ fn tumbling_convex(c: &mut Criterion) {
             (first + r.pair.0, first + r.pair.1)
         })
         .collect();
-    assert!(result.poses.len() % bodies == 0 && samples.len() == result.trace.len());
+    assert!(result.poses.len().is_multiple_of(bodies) && samples.len() == result.trace.len());
     // The two compute the same distances (parry's GJK to its own tolerance).
     let worst = samples
         .iter()

@@ -125,7 +125,7 @@ impl BroadPhase {
                     // parry's incremental optimisation rebuilds a few
                     // subtrees a call.
                     self.refits += 1;
-                    if self.refits % OPTIMIZE_EVERY_REFITS == 0 {
+                    if self.refits.is_multiple_of(OPTIMIZE_EVERY_REFITS) {
                         tree.optimize_incremental(&mut self.workspace);
                     }
                     tree

@@ -50,9 +50,9 @@ impl ReadError {
     }
 }
 
-/// Reads `path` as UTF-8 text of at most `limit` bytes (`what` names the
-/// kind of file in the error), without a leading byte-order mark.
-pub fn read_text(path: &Path, limit: u64, what: &'static str) -> Result<String, ReadError> {
+/// Reads `path` whole, at most `limit` bytes (`what` names the kind of
+/// file in the error); a folder, FIFO or device is refused before opening.
+pub fn read_bytes(path: &Path, limit: u64, what: &'static str) -> Result<Vec<u8>, ReadError> {
     // Checked before opening: opening a FIFO blocks until a writer comes.
     if !std::fs::metadata(path)?.is_file() {
         return Err(ReadError::NotRegular);
@@ -62,6 +62,18 @@ pub fn read_text(path: &Path, limit: u64, what: &'static str) -> Result<String, 
     if bytes.len() as u64 > limit {
         return Err(ReadError::TooLarge { limit, what });
     }
+    Ok(bytes)
+}
+
+/// Reads `path` as UTF-8 text of at most `limit` bytes (`what` names the
+/// kind of file in the error), without a leading byte-order mark.
+pub fn read_text(path: &Path, limit: u64, what: &'static str) -> Result<String, ReadError> {
+    text_of(read_bytes(path, limit, what)?)
+}
+
+/// `bytes` as UTF-8 text without a leading byte-order mark; the first bad
+/// byte is named by its line and column.
+pub fn text_of(bytes: Vec<u8>) -> Result<String, ReadError> {
     let text = String::from_utf8(bytes).map_err(|error| {
         let valid = &error.as_bytes()[..error.utf8_error().valid_up_to()];
         // Valid up to here, so this slice is text.

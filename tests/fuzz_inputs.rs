@@ -1,6 +1,7 @@
 //! Bad-input fuzzing on the stable toolchain: generated edits of real
-//! inputs (the shipped scenes, an OBJ file) go through the scene loader,
-//! the OBJ reader and a short run, and proptest minimises whatever fails.
+//! inputs (the shipped scenes, an OBJ file, STL, PLY and GLB files) go
+//! through the scene loader, the mesh readers and a short run, and
+//! proptest minimises whatever fails.
 //!
 //! What must hold for any text: the loader never panics and either refuses
 //! it with a message, or accepts a scene whose run (when short enough to
@@ -234,6 +235,75 @@ fn edited_obj_files_are_refused_with_a_message_or_read_whole() {
             Err(error) => prop_assert!(error.to_string().contains("fuzz.obj"), "{error}"),
             Ok(mesh) => {
                 prop_assert!(mesh.radius().is_finite() && mesh.radius() > 0.0);
+                let count = mesh.vertices().len() as u32;
+                prop_assert!(mesh.triangles().iter().flatten().all(|&v| v < count));
+            }
+        }
+        Ok(())
+    });
+    if let Err(error) = result {
+        panic!("{error}");
+    }
+}
+
+/// The mesh files in every other format (`tests/data/mesh_files`, written
+/// by trimesh) the byte edits start from.
+const MESH_FILES: &[(&str, &[u8])] = &[
+    ("box.stl", include_bytes!("data/mesh_files/box.stl")),
+    ("box_ascii.stl", include_bytes!("data/mesh_files/box_ascii.stl")),
+    ("box.ply", include_bytes!("data/mesh_files/box.ply")),
+    ("box_ascii.ply", include_bytes!("data/mesh_files/box_ascii.ply")),
+    ("box.glb", include_bytes!("data/mesh_files/box.glb")),
+];
+
+/// One edit of a file's bytes; positions are taken modulo its length.
+#[derive(Clone, Debug)]
+enum ByteEdit {
+    /// The byte at `at` becomes `value`.
+    Set { at: usize, value: u8 },
+    /// `len` bytes from `at` go.
+    Delete { at: usize, len: usize },
+    /// `len` bytes from `at` appear twice.
+    Repeat { at: usize, len: usize },
+}
+
+fn byte_edit() -> impl Strategy<Value = ByteEdit> {
+    prop_oneof![
+        (0..4096usize, any::<u8>()).prop_map(|(at, value)| ByteEdit::Set { at, value }),
+        (0..4096usize, 1..64usize).prop_map(|(at, len)| ByteEdit::Delete { at, len }),
+        (0..4096usize, 1..200usize).prop_map(|(at, len)| ByteEdit::Repeat { at, len }),
+    ]
+}
+
+#[test]
+fn edited_stl_ply_and_glb_files_are_refused_with_a_message_or_read_whole() {
+    let plan = (0..MESH_FILES.len(), proptest::collection::vec(byte_edit(), 1..6));
+    let result = runner(cases() * 4).run(&plan, |(seed, edits)| {
+        let (name, original) = MESH_FILES[seed];
+        let mut bytes = original.to_vec();
+        for edit in &edits {
+            let at = |at: usize| at % (bytes.len() + 1);
+            match *edit {
+                ByteEdit::Set { at: a, value } if !bytes.is_empty() => {
+                    let a = a % bytes.len();
+                    bytes[a] = value;
+                }
+                ByteEdit::Set { .. } => {}
+                ByteEdit::Delete { at: a, len } => {
+                    let a = at(a);
+                    bytes.drain(a..(a + len).min(bytes.len()));
+                }
+                ByteEdit::Repeat { at: a, len } => {
+                    let a = at(a);
+                    let copy = bytes[a..(a + len).min(bytes.len())].to_vec();
+                    bytes.splice(a..a, copy);
+                }
+            }
+        }
+        match nearmiss::mesh::read_mesh(bytes, Path::new(name)) {
+            Err(error) => prop_assert!(error.to_string().starts_with(name), "{error}"),
+            Ok(mesh) => {
+                prop_assert!(mesh.radius().is_finite());
                 let count = mesh.vertices().len() as u32;
                 prop_assert!(mesh.triangles().iter().flatten().all(|&v| v < count));
             }

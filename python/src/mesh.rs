@@ -83,12 +83,23 @@ impl Mesh {
         Ok(Mesh { inner: Arc::new(mesh) })
     }
 
-    /// A mesh read from a Wavefront OBJ file: faces of zero area kept,
-    /// faces of one or two vertices dropped (`dropped_faces`).
+    /// A mesh read from a file: OBJ, STL (binary or ASCII), PLY (ASCII or
+    /// binary) or glTF 2.0 (`.gltf` with its buffers, or `.glb`: every
+    /// triangle primitive the scene places, node transforms applied), the
+    /// format told by the contents. Coincident vertices are welded (STL
+    /// stores each triangle's corners apart), faces of zero area kept,
+    /// faces of one or two vertices dropped (`dropped_faces`). Errors name
+    /// the file, the format and the place.
+    #[staticmethod]
+    pub(crate) fn from_file(path: std::path::PathBuf) -> PyResult<Mesh> {
+        let mesh = nearmiss::mesh::load_mesh(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(Mesh { inner: Arc::new(mesh) })
+    }
+
+    /// `Mesh.from_file`, by its name of the OBJ-only days.
     #[staticmethod]
     pub(crate) fn from_obj(path: std::path::PathBuf) -> PyResult<Mesh> {
-        let mesh = nearmiss::mesh::load_obj(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
-        Ok(Mesh { inner: Arc::new(mesh) })
+        Mesh::from_file(path)
     }
 
     /// The vertices, (V, 3).

@@ -163,3 +163,48 @@ def test_meshes_as_other_libraries_hold_them(cube):
     trimesh = pytest.importorskip("trimesh")
     box = trimesh.creation.box(extents=[1.0, 1.0, 1.0])
     assert nearmiss.mesh_distance(box, None, cube, ([3.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0])).distance == pytest.approx(2.0, rel=1e-15)
+
+
+def test_a_binary_stl_file_is_welded_into_the_closed_cube(cube, tmp_path):
+    """STL stores each triangle's corners apart: read back, they are welded
+    to the cube's 8 corners, and it answers as the cube does."""
+    corners = cube.vertices[cube.faces].astype("<f4")  # (12, 3, 3)
+    records = np.zeros(12, dtype=[("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
+    records["corners"] = corners
+    path = tmp_path / "cube.stl"
+    path.write_bytes(b"solid cube".ljust(80) + np.uint32(12).tobytes() + records.tobytes())
+    read = nearmiss.Mesh.from_file(path)
+    assert read.vertices.shape == (8, 3) and len(read) == 12
+    assert sorted(map(tuple, read.vertices)) == sorted(map(tuple, cube.vertices))
+    d = nearmiss.mesh_distance(read, None, cube, ([2.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]))
+    assert d.distance == pytest.approx(1.0, rel=1e-15)
+    path.write_bytes(path.read_bytes()[:-10])
+    with pytest.raises(ValueError, match=r"cube\.stl: binary STL, the header: it states 12 triangles"):
+        nearmiss.Mesh.from_file(path)
+
+
+@pytest.mark.parametrize(
+    "file_type, options",
+    [("stl", {}), ("stl_ascii", {}), ("ply", {"encoding": "binary"}), ("ply", {"encoding": "ascii"}),
+     ("glb", {}), ("obj", {})],
+)
+def test_files_trimesh_writes_read_as_trimesh_reads_them(tmp_path, file_type, options):
+    """trimesh, the peer: the files it writes read to the vertices and
+    faces its own loader (which merges vertices) finds in them."""
+    trimesh = pytest.importorskip("trimesh")
+    shape = trimesh.creation.annulus(r_min=0.5, r_max=1.0, height=0.3, sections=24)
+    shape.apply_translation([0.25, -0.5, 2.0])
+    path = tmp_path / f"annulus.{file_type.split('_')[0]}"
+    exported = shape.export(file_type=file_type, **options)
+    path.write_bytes(exported.encode() if isinstance(exported, str) else exported)
+    peer = trimesh.load(str(path), force="mesh", process=True)
+    read = nearmiss.Mesh.from_file(path)
+    assert len(read) == len(peer.faces)
+    assert read.vertices.shape == peer.vertices.shape
+    np.testing.assert_allclose(
+        np.sort(read.vertices, axis=0), np.sort(peer.vertices, axis=0), rtol=0, atol=1e-6
+    )
+    # The same surface: each face's corners, as sets, match the peer's.
+    ours = sorted(tuple(sorted(map(tuple, np.round(read.vertices[f], 5)))) for f in read.faces)
+    theirs = sorted(tuple(sorted(map(tuple, np.round(peer.vertices[f], 5)))) for f in peer.faces)
+    assert ours == theirs

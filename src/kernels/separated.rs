@@ -43,7 +43,7 @@ impl Candidate {
     #[inline]
     pub fn decode(code: usize) -> Candidate {
         match code {
-            0..=5 if code % 2 == 0 => Candidate::VertexOfBOverFaceOfA(code / 2),
+            0..=5 if code.is_multiple_of(2) => Candidate::VertexOfBOverFaceOfA(code / 2),
             0..=5 => Candidate::VertexOfAOverFaceOfB(code / 2),
             _ => Candidate::Edges(((code - 6) / 3).min(2), (code - 6) % 3),
         }

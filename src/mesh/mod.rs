@@ -11,14 +11,18 @@
 mod bvh;
 mod convex_features;
 pub(crate) mod distance;
+mod files;
+mod gltf;
 mod intersection;
 mod local_depth;
 mod mass;
 mod obj;
 mod penetration;
+mod ply;
 mod point_query;
 mod primitives;
 mod signed_distance;
+mod stl;
 mod support;
 mod trimesh;
 
@@ -34,6 +38,7 @@ pub use distance::{
     mesh_distance, mesh_distance_brute_force, mesh_distance_relative, DistanceKernel, DistanceSearch,
     MeshDistance, MeshDistanceScratch,
 };
+pub use files::{load_mesh, read_mesh, weld, MeshFileError, MeshFormat};
 pub use intersection::{
     mesh_intersection, mesh_intersection_brute_force, CrossingPair, MeshIntersection, MeshIntersectionScratch,
 };

@@ -111,11 +111,15 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriMesh, ObjError> {
             _ => {}
         }
     }
+    // OBJ shares vertices by its format, but exporters repeat positions
+    // at texture seams: welded as every mesh file is.
+    let defined = vertices.len();
+    let (vertices, triangles) = super::files::weld(vertices, triangles);
     let mesh = TriMesh::new(vertices, triangles).map_err(|source| match source {
-        MeshError::IndexOutOfRange { triangle, index, vertices } => {
+        MeshError::IndexOutOfRange { triangle, index, .. } => {
             let (line, column) = origins[triangle];
             let message =
-                format!("the face refers to vertex {}, but the file defines {vertices} vertices", index + 1);
+                format!("the face refers to vertex {}, but the file defines {defined} vertices", index + 1);
             error(line, column, message)
         }
         MeshError::Empty if dropped_faces > 0 => error(

@@ -388,8 +388,8 @@ impl Builder<'_> {
                 }
                 mesh::torus(major, minor, *around, *across)
             }
-            MeshSettings::Obj { path } => {
-                return mesh::load_obj(&base.join(path)).or_else(|e| self.invalid(field, e.to_string()));
+            MeshSettings::File { path } | MeshSettings::Obj { path } => {
+                return mesh::load_mesh(&base.join(path)).or_else(|e| self.invalid(field, e.to_string()));
             }
         };
         built.or_else(|e| self.invalid(field, e.to_string()))

@@ -156,7 +156,14 @@ pub enum MeshSettings {
         #[serde(default = "default_torus_across")]
         across: u32,
     },
-    /// An OBJ file, its path relative to the scene file.
+    /// A mesh file, its path relative to the scene file: OBJ, STL (binary
+    /// or ASCII), PLY or glTF/GLB, the format told by the contents;
+    /// coincident vertices welded (see [`crate::mesh::load_mesh`]).
+    File {
+        /// The path.
+        path: String,
+    },
+    /// A mesh file as `File` reads it (the name of the OBJ-only days, kept).
     Obj {
         /// The path.
         path: String,

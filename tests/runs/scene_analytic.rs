@@ -229,3 +229,48 @@ fn record_mode_reports_each_plate_once() {
     assert_eq!(result.bodies[lower.body_a], "lower");
     assert!(lower.time <= 0.1499 * (1.0 + 1e-15) && 0.1499 - lower.time <= 1e-9, "{}", lower.time);
 }
+
+/// Bodies read from mesh files (issue 46): the moving box of
+/// [`pure_translation_hits_at_gap_over_speed_whatever_the_step`] written as
+/// a binary STL and as an ASCII PLY, given a density (which needs the STL's
+/// corners welded into a closed surface), hits at the same analytic time.
+#[test]
+fn bodies_from_stl_and_ply_files_hit_at_the_analytic_time() {
+    let unit = nearmiss::mesh::box_mesh(&nearmiss::math::Vector::new(0.3, 0.2, 0.4)).unwrap();
+    let corner = |v: u32| unit.vertices()[v as usize].coords.map(|c| c as f32);
+    let mut stl = vec![b' '; 80];
+    stl.extend_from_slice(&(unit.triangles().len() as u32).to_le_bytes());
+    for t in unit.triangles() {
+        stl.extend_from_slice(&[0; 12]);
+        for &v in t {
+            corner(v).iter().for_each(|c| stl.extend(c.to_le_bytes()));
+        }
+        stl.extend_from_slice(&[0, 0]);
+    }
+    let mut ply = format!(
+        "ply\nformat ascii 1.0\nelement vertex {}\nproperty double x\nproperty double y\nproperty double z\nelement face {}\nproperty list uchar uint vertex_indices\nend_header\n",
+        unit.vertices().len(),
+        unit.triangles().len()
+    );
+    unit.vertices().iter().for_each(|p| ply += &format!("{} {} {}\n", p.x, p.y, p.z));
+    unit.triangles().iter().for_each(|[a, b, c]| ply += &format!("3 {a} {b} {c}\n"));
+    let folder = std::env::temp_dir().join(format!("nearmiss-scene-files-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    std::fs::write(folder.join("b.stl"), stl).unwrap();
+    std::fs::write(folder.join("b.ply"), ply).unwrap();
+    // STL holds f32: the box's face at x = -(0.3 as f32), nearer than 0.3
+    // by 1.2e-8, so the contact is that over the speed sooner.
+    let stl_time = (2.0 - 0.5 - f64::from(0.3f32)) / 3.0;
+    for (file, expected) in [("b.stl", stl_time), ("b.ply", 0.4)] {
+        let text = r#"Scene(name: "t", dt: 0.013, duration: 1.0, ccd: (distance_tolerance: 1e-9), bodies: [
+            (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), fixed: true),
+            (name: "b", mesh: File(path: "FILE"), density: 1000.0,
+             position: (2.0, 0.1, 0.05), velocity: (-3.0, 0.0, 0.0)),
+        ])"#
+        .replace("FILE", file);
+        let path = folder.join("scene.ron");
+        std::fs::write(&path, text).unwrap();
+        let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert_contact(&run(&scene), ("a", "b"), expected, 3.0);
+    }
+}

@@ -43,7 +43,7 @@ impl PoseObserver {
     /// After `step` steps (ending at `time`, the bodies at `s` into their
     /// step motions): records if the cadence asks for it.
     pub fn step_done(&mut self, step: u64, time: Real, s: Real, motions: &[StepMotion]) {
-        if step % self.every == 0 || step == self.last_step {
+        if step.is_multiple_of(self.every) || step == self.last_step {
             self.sample(step, time, s, motions);
         }
     }

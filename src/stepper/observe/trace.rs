@@ -145,7 +145,7 @@ impl TraceObserver {
     /// After step `step` (1-based count of steps done) ending at `time`:
     /// samples if the cadence asks for it.
     pub fn step_done(&mut self, step: u64, time: Real, motions: &[StepMotion]) {
-        if step % self.spec.every == 0 || step == self.steps {
+        if step.is_multiple_of(self.spec.every) || step == self.steps {
             self.sample(step, time, self.model.dt, motions);
         }
     }
