@@ -104,17 +104,18 @@ fn bad_number(text: &[u8], k: usize) -> Option<(usize, String)> {
     let mut facets = 0;
     for (number, line) in String::from_utf8_lossy(text).lines().enumerate() {
         let mut words = line.split_ascii_whitespace();
-        let numbers = match words.next() {
+        // The words before the numbers: `facet normal`, `vertex`.
+        let keywords = match words.next() {
             Some("facet") => {
                 facets += 1;
-                words.skip(1)
+                1
             }
-            Some("vertex") if facets == k + 1 => words.skip(0),
+            Some("vertex") if facets == k + 1 => 0,
             Some("endfacet") if facets == k + 1 => return None,
             _ => continue,
         };
         if facets == k + 1 {
-            if let Some(word) = numbers.into_iter().find(|w| !w.parse::<f32>().is_ok_and(f32::is_finite)) {
+            if let Some(word) = words.skip(keywords).find(|w| !w.parse::<f32>().is_ok_and(f32::is_finite)) {
                 return Some((number + 1, word.chars().take(40).collect()));
             }
         }
