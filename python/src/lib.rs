@@ -39,6 +39,7 @@ fn _nearmiss(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(queries::mesh_distance_between, m)?)?;
     m.add_function(wrap_pyfunction!(queries::mesh_time_of_impact, m)?)?;
     m.add_function(wrap_pyfunction!(queries::closest_approach_between, m)?)?;
+    m.add_function(wrap_pyfunction!(queries::motion_between, m)?)?;
     m.add_function(wrap_pyfunction!(queries::triangle_intersection, m)?)?;
     m.add_function(wrap_pyfunction!(queries::triangle_penetration, m)?)?;
     m.add_function(wrap_pyfunction!(queries::mesh_intersection_between, m)?)?;

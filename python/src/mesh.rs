@@ -135,6 +135,15 @@ impl Mesh {
         self.inner.dropped_faces()
     }
 
+    /// The same mesh in the frame whose origin is its point `about`
+    /// (vertices minus `about`; the triangles in the same order), for a body
+    /// that turns about that point (`motion_between`).
+    pub(crate) fn pivoted(&self, about: numpy::PyReadonlyArrayDyn<'_, f64>) -> PyResult<Mesh> {
+        let about = crate::args::point("about", &about)?;
+        let moved = self.inner.pivoted(&about).map_err(|e| PyValueError::new_err(format!("about: {e}")))?;
+        Ok(Mesh { inner: Arc::new(moved) })
+    }
+
     pub(crate) fn __len__(&self) -> usize {
         self.inner.triangles().len()
     }

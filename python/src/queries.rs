@@ -82,6 +82,38 @@ pub(crate) fn mesh_time_of_impact<'py>(
     ))
 }
 
+/// The motion from `pose0` to `pose1` in `duration` turning about the
+/// body's point `about` (its own frame): `(position, quaternion, velocity,
+/// angular_velocity)` of the frame at `about`, quaternion `[w, x, y, z]`.
+#[allow(clippy::type_complexity)]
+#[pyfunction]
+pub(crate) fn motion_between<'py>(
+    py: Python<'py>,
+    pose0: Arrays<'py>,
+    pose1: Arrays<'py>,
+    duration: f64,
+    about: PyReadonlyArrayDyn<'py, f64>,
+) -> PyResult<(
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+)> {
+    let start = pose("pose0", &pose0.0, &pose0.1)?;
+    let end = pose("pose1", &pose1.0, &pose1.1)?;
+    let duration = positive_duration(duration)?;
+    let about = point("about", &about)?;
+    let motion = nearmiss::motion::StepMotion::between_about(&start, &end, duration, &about);
+    let q = motion.reference.rotation.into_inner();
+    let array = |values: Vec<f64>| values.into_pyarray(py);
+    Ok((
+        array(motion.reference.translation.vector.iter().copied().collect()),
+        array(vec![q.w, q.i, q.j, q.k]),
+        array(motion.velocity.iter().copied().collect()),
+        array(motion.angular_velocity.iter().copied().collect()),
+    ))
+}
+
 /// The closest approach of two moving meshes over `[0, duration]` as a
 /// certified bracket, without the GIL: `(status, lower, upper, time,
 /// closest or None, runs)`.

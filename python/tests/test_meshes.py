@@ -208,3 +208,38 @@ def test_files_trimesh_writes_read_as_trimesh_reads_them(tmp_path, file_type, op
     ours = sorted(tuple(sorted(map(tuple, np.round(read.vertices[f], 5)))) for f in read.faces)
     theirs = sorted(tuple(sorted(map(tuple, np.round(peer.vertices[f], 5)))) for f in peer.faces)
     assert ours == theirs
+
+
+def test_a_rod_hinged_at_its_end_swings_about_its_joint(tmp_path):
+    """motion_between about a joint: a rod (2 x 0.1 x 0.1 about its centre)
+    hinged at its end swings a quarter turn about z, the joint fixed at the
+    origin. Its far top edge (radius r = sqrt(4.0025), phi = atan(0.025)
+    ahead of its axis) reaches the bottom face y = 0.5 of the block
+    [1.5, 2] x [0.5, 1.5] when r sin(theta + phi) = 0.5: never late."""
+    rod = box((1.0, 0.05, 0.05))
+    joint = [-1.0, 0.0, 0.0]
+    turned = [math.cos(math.pi / 4), 0.0, 0.0, math.sin(math.pi / 4)]  # a quarter about z
+    start = np.eye(4)
+    start[0, 3] = 1.0  # the joint at the origin
+    motion = nearmiss.motion_between(start, ([0.0, 1.0, 0.0], turned), 1.0, about=joint)
+    np.testing.assert_allclose(motion.velocity, [0.0, 0.0, 0.0], atol=1e-15)  # the joint stays put
+    np.testing.assert_allclose(motion.angular_velocity, [0.0, 0.0, math.pi / 2], rtol=1e-15)
+    block = box((0.25, 0.5, 1.0))
+    at_block = ([1.75, 1.0, 0.0], [1.0, 0.0, 0.0, 0.0])
+    r = math.sqrt(4.0025)
+    expected = (math.asin(0.5 / r) - math.atan(0.025)) / (math.pi / 2)
+    toi = nearmiss.mesh_time_of_impact(rod, None, motion, block, at_block, None, 1.0, distance_tolerance=1e-9)
+    assert toi.status == "converged"
+    closing = r * math.pi / 2 * math.cos(math.asin(0.5 / r))
+    assert 0.0 <= expected - toi.time <= 1.01 * toi.contact_distance / closing
+    # The witness triangle indexes the rod as the caller holds it.
+    assert 0 <= toi.closest.triangle_a < len(rod)
+    # Beyond the reach: [-0.5, 0.5] x [2.01, 3]; the far corners peak at
+    # sqrt(4.0025) along y (at theta = atan 40), 2.01 - sqrt(4.0025) short.
+    far = ([0.0, 2.505, 0.0], [1.0, 0.0, 0.0, 0.0])
+    approach = nearmiss.closest_approach(rod, None, motion, box((0.5, 0.495, 1.0)), far, None, 1.0)
+    gap = 2.01 - r
+    assert approach.status == "bracketed"
+    assert approach.lower <= gap <= approach.upper * (1 + 1e-12)
+    with pytest.raises(TypeError, match="pass None as the pose"):
+        nearmiss.mesh_time_of_impact(rod, start, motion, block, at_block, None, 1.0)

@@ -79,6 +79,29 @@ impl MeshBvh {
         (MeshBvh { nodes }, reordered)
     }
 
+    /// The same tree over vertices moved by `-shift`: each node's centre
+    /// moved, its box and sphere widened by the rounding of the move (of the
+    /// vertices and of the centre: [`BOX_WIDENING_ULPS`] of the reach of
+    /// both), so that they still hold the moved vertices.
+    pub(crate) fn translated(&self, shift: &Vector) -> MeshBvh {
+        let nodes = self
+            .nodes
+            .iter()
+            .map(|node| {
+                let center = node.center - shift;
+                let reach = center.coords.norm() + shift.norm() + node.radius;
+                let widening = BOX_WIDENING_ULPS * Real::EPSILON * reach;
+                BvhNode {
+                    center,
+                    half_extents: node.half_extents.add_scalar(widening),
+                    radius: node.radius + widening,
+                    ..*node
+                }
+            })
+            .collect();
+        MeshBvh { nodes }
+    }
+
     /// The nodes; node 0 is the root, children of an internal node are adjacent.
     pub fn nodes(&self) -> &[BvhNode] {
         &self.nodes
@@ -248,6 +271,16 @@ mod tests {
     #[test]
     fn every_triangle_in_exactly_one_leaf_and_inside_its_bounds() {
         let mesh = icosphere(1.0, 3).unwrap();
+        assert_holds_its_triangles(&mesh);
+        // Moved far from its pivot, the tree moved with it still holds them
+        // (a sphere off the origin, its pivot off the other way).
+        let offset = icosphere(1.0, 3).unwrap().pivoted(&crate::math::Point::new(-1e3, 2e3, -5e2)).unwrap();
+        assert_eq!(offset.triangles(), mesh.triangles(), "the triangles keep their order");
+        assert_holds_its_triangles(&offset);
+        assert_holds_its_triangles(&offset.pivoted(&crate::math::Point::new(1e3 + 0.1, -2e3, 5e2)).unwrap());
+    }
+
+    fn assert_holds_its_triangles(mesh: &crate::mesh::TriMesh) {
         let nodes = mesh.bvh().nodes();
         let mut seen = vec![0; mesh.triangles().len()];
         // Walk from the root, checking that each node's box holds its subtree.

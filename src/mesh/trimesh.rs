@@ -107,12 +107,7 @@ impl TriMesh {
         if triangles.is_empty() {
             return Err(MeshError::Empty);
         }
-        if let Some(vertex) = vertices.iter().position(|v| !v.coords.iter().all(|c| c.is_finite())) {
-            return Err(MeshError::NonFinite { vertex });
-        }
-        if let Some(vertex) = vertices.iter().position(|v| v.coords.amax() > MAX_COORDINATE) {
-            return Err(MeshError::OutOfRange { vertex });
-        }
+        check_coordinates(&vertices)?;
         for (triangle, indices) in triangles.iter().enumerate() {
             for &index in indices {
                 if index as usize >= vertices.len() {
@@ -125,13 +120,6 @@ impl TriMesh {
             }
         }
         let (bvh, triangles) = MeshBvh::build(&vertices, triangles);
-        let zero_area = (0..triangles.len() as u32)
-            .filter(|&t| {
-                let [a, b, c] = triangles[t as usize].map(|i| vertices[i as usize]);
-                has_zero_area(&a, &b, &c)
-            })
-            .collect();
-        let radius = vertices.iter().map(|v| v.coords.norm()).fold(0.0, Real::max);
         let mut incident_start = vec![0u32; vertices.len() + 1];
         for &v in triangles.iter().flatten() {
             incident_start[v as usize + 1] += 1;
@@ -147,10 +135,29 @@ impl TriMesh {
                 filled[v as usize] += 1;
             }
         }
+        Ok(TriMesh::assemble(vertices, triangles, bvh, (incident_start, incident)))
+    }
+
+    /// The mesh from checked vertices, triangles in its BVH's order, the BVH
+    /// and the triangles around each vertex; what follows from them is
+    /// computed here (the rest at first use).
+    fn assemble(
+        vertices: Vec<Point>,
+        triangles: Vec<[u32; 3]>,
+        bvh: MeshBvh,
+        (incident_start, incident): (Vec<u32>, Vec<u32>),
+    ) -> TriMesh {
+        let zero_area = (0..triangles.len() as u32)
+            .filter(|&t| {
+                let [a, b, c] = triangles[t as usize].map(|i| vertices[i as usize]);
+                has_zero_area(&a, &b, &c)
+            })
+            .collect();
+        let radius = vertices.iter().map(|v| v.coords.norm()).fold(0.0, Real::max);
         // Triangles exist and index vertices: there is a first vertex.
         let bounds =
             vertices.iter().fold((vertices[0], vertices[0]), |(low, high), v| (low.inf(v), high.sup(v)));
-        Ok(TriMesh {
+        TriMesh {
             vertices,
             triangles,
             bvh,
@@ -165,7 +172,7 @@ impl TriMesh {
             closed: std::sync::OnceLock::new(),
             zero_area,
             dropped_faces: 0,
-        })
+        }
     }
 
     /// How many triangles have exactly zero area (repeated or collinear
@@ -396,16 +403,34 @@ impl TriMesh {
         Ok(scaled.with_dropped_faces(self.dropped_faces))
     }
 
-    /// The same mesh moved so that `origin` becomes the frame's origin.
+    /// The same mesh moved so that `origin` becomes the frame's origin (for
+    /// a point of the mesh's hull, whose moved vertices stay in range; the
+    /// mesh as it is where rounding says not).
     pub fn recentered(&self, origin: &Point) -> TriMesh {
         let shift: Vector = origin.coords;
         let vertices = self.vertices.iter().map(|v| v - shift).collect();
-        // The moved vertices are finite and in range (the shift is a point
-        // of the mesh's hull); fall back to the original if rounding says not.
         match TriMesh::new(vertices, self.triangles.clone()) {
             Ok(moved) => moved.with_dropped_faces(self.dropped_faces),
             Err(_) => self.clone(),
         }
+    }
+
+    /// The mesh in the frame whose origin is its point `about` (vertices
+    /// minus `about`), for a body that turns about that point
+    /// ([`StepMotion::between_about`](crate::motion::StepMotion::between_about)).
+    /// An error where a moved vertex leaves the usable range.
+    ///
+    /// The triangles keep their order (a witness triangle's index is the
+    /// same in both) and the tree its shape: its nodes move with the
+    /// vertices, each widened by the rounding of the move.
+    pub fn pivoted(&self, about: &Point) -> Result<TriMesh, MeshError> {
+        let shift: Vector = about.coords;
+        let vertices: Vec<Point> = self.vertices.iter().map(|v| v - shift).collect();
+        check_coordinates(&vertices)?;
+        let bvh = self.bvh.translated(&shift);
+        let incident = (self.incident_start.clone(), self.incident.clone());
+        Ok(TriMesh::assemble(vertices, self.triangles.clone(), bvh, incident)
+            .with_dropped_faces(self.dropped_faces))
     }
 }
 
@@ -427,6 +452,17 @@ impl TriMesh {
 
 /// Whether a triangle has exactly zero area: all three coordinate-plane
 /// projections are degenerate (exact orientation predicates).
+/// Every coordinate finite and within [`MAX_COORDINATE`].
+fn check_coordinates(vertices: &[Point]) -> Result<(), MeshError> {
+    if let Some(vertex) = vertices.iter().position(|v| !v.coords.iter().all(|c| c.is_finite())) {
+        return Err(MeshError::NonFinite { vertex });
+    }
+    if let Some(vertex) = vertices.iter().position(|v| v.coords.amax() > MAX_COORDINATE) {
+        return Err(MeshError::OutOfRange { vertex });
+    }
+    Ok(())
+}
+
 fn has_zero_area(a: &Point, b: &Point, c: &Point) -> bool {
     let orient = |i: usize, j: usize| {
         let p = |q: &Point| robust::Coord { x: q[i], y: q[j] };

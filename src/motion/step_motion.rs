@@ -78,6 +78,26 @@ impl StepMotion {
         }
     }
 
+    /// The motion that takes a body from `pose_t0` to `pose_t1` in time `dt`
+    /// turning about its point `about` (in the body's own frame: a link's
+    /// joint): constant angular velocity (the short way, less than π) and
+    /// constant linear velocity of that point (zero for a joint that stays
+    /// put), not of the frame's origin.
+    ///
+    /// It is the motion of the frame placed at `about` with the body's
+    /// orientation, so it moves the body's mesh as that frame holds it:
+    /// [`TriMesh::pivoted`](crate::mesh::TriMesh::pivoted) at `about`. The
+    /// pair is exact for the time of impact, near misses and closest
+    /// approach: at 0 and at `dt` every vertex is where the two poses put
+    /// it, and between them it turns about `about`.
+    pub fn between_about(pose_t0: &Pose, pose_t1: &Pose, dt: Real, about: &Point) -> StepMotion {
+        let pivot_frame =
+            |pose: &Pose| Pose::from_parts(Translation3::from((pose * about).coords), pose.rotation);
+        let mut motion = StepMotion::between(&pivot_frame(pose_t0), &pivot_frame(pose_t1), dt);
+        motion.integrated = false;
+        motion
+    }
+
     /// The motion that takes `pose_t0` to `pose_t1` in time `dt` with
     /// constant velocities, its rotation the one of the turns that do so
     /// (about the same axis, by the short angle plus whole turns, or the

@@ -7,3 +7,4 @@ mod closest_approach;
 mod contact_contract;
 mod large_floor_contact_time;
 mod mesh_ccd_scan;
+mod pivot;

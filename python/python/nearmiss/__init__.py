@@ -48,6 +48,7 @@ __all__ = [
     "ClosestApproach",
     "Mesh",
     "MeshDistance",
+    "MotionBetween",
     "MeshIntersection",
     "SignedDistance",
     "SceneError",
@@ -63,6 +64,7 @@ __all__ = [
     "mesh_distance",
     "mesh_intersection",
     "mesh_time_of_impact",
+    "motion_between",
     "point_segment_distance",
     "point_segment_distances",
     "quaternion_from_xyzw",
@@ -87,7 +89,8 @@ FORMULAS: Tuple[str, ...] = ("vector", "plain_vector", "heron", "stable_heron")
 
 ArrayLike = Union[np.ndarray, Sequence[Any]]
 Pose = Optional[Union[Tuple[ArrayLike, Any], ArrayLike]]
-Motion = Optional[Tuple[ArrayLike, ArrayLike]]
+#: ``(velocity, angular_velocity)``, a :class:`MotionBetween`, or None (at rest).
+Motion = Optional[Union[Tuple[ArrayLike, ArrayLike], "MotionBetween"]]
 
 
 class TriangleDistance(NamedTuple):
@@ -219,6 +222,20 @@ class ClosestApproach(NamedTuple):
     runs: int
 
 
+class MotionBetween(NamedTuple):
+    """A motion from :func:`motion_between`: pass it as a body's motion,
+    with ``None`` as its pose (the motion holds where it starts)."""
+
+    #: The start pose of the frame at ``about``: ``(position, [w, x, y, z])``.
+    pose: Tuple[np.ndarray, np.ndarray]
+    #: The constant velocity of the point ``about`` (world frame).
+    velocity: np.ndarray
+    #: The constant angular velocity (world frame, radians per unit time).
+    angular_velocity: np.ndarray
+    #: The point turned about, in the mesh's own frame.
+    about: np.ndarray
+
+
 def _floats(name: str, value: Any) -> np.ndarray:
     array = np.asarray(value)
     if array.dtype.kind not in "biuf":
@@ -313,14 +330,59 @@ def _mesh(name: str, mesh: Any) -> Mesh:
     return converted
 
 
+#: Meshes moved to a pivot (:meth:`Mesh.pivoted`) for motions from
+#: :func:`motion_between`, by mesh and point, so that a query in a loop
+#: does not rebuild them; the oldest go first past a few dozen.
+_pivoted: "dict[Tuple[int, bytes], Tuple[Mesh, Mesh]]" = {}
+
+
+def _body(side: str, mesh: Any, pose: Pose, motion: Any) -> tuple:
+    """One moving body's arguments: ``(mesh, pose arrays, motion arrays)``;
+    a :class:`MotionBetween` brings its pivot frame's pose and the mesh in
+    that frame."""
+    mesh = _mesh(f"mesh_{side}", mesh)
+    if not isinstance(motion, MotionBetween):
+        return mesh, _pose(f"pose_{side}", pose), _motion(f"motion_{side}", motion)
+    if pose is not None:
+        raise TypeError(
+            f"pose_{side}: a motion from motion_between holds its start pose: pass None as the pose"
+        )
+    key = (id(mesh), motion.about.tobytes())
+    kept = _pivoted.get(key)
+    if kept is None or kept[0] is not mesh:
+        if len(_pivoted) >= 64:
+            del _pivoted[next(iter(_pivoted))]
+        kept = _pivoted[key] = (mesh, mesh.pivoted(motion.about))
+    return kept[1], _pose(f"pose_{side}", motion.pose), (motion.velocity, motion.angular_velocity)
+
+
 def _moving(mesh_a, pose_a, motion_a, mesh_b, pose_b, motion_b, duration) -> tuple:
     """A moving pair's arguments, converted and checked: each body as
     ``(mesh, pose arrays, motion arrays)``, then the duration."""
-    return (
-        (_mesh("mesh_a", mesh_a), _pose("pose_a", pose_a), _motion("motion_a", motion_a)),
-        (_mesh("mesh_b", mesh_b), _pose("pose_b", pose_b), _motion("motion_b", motion_b)),
-        float(duration),
+    return _body("a", mesh_a, pose_a, motion_a), _body("b", mesh_b, pose_b, motion_b), float(duration)
+
+
+def motion_between(pose0: Pose, pose1: Pose, duration: float = 1.0, about: ArrayLike = (0.0, 0.0, 0.0)) -> MotionBetween:
+    """The motion that takes a body from ``pose0`` to ``pose1`` in
+    ``duration``, turning about its point ``about`` (in the mesh's own
+    frame: a link's joint) with constant angular velocity, and moving that
+    point with constant velocity (zero for a joint that stays put).
+
+    Pass it as the body's motion, with ``None`` as its pose, to
+    :func:`mesh_time_of_impact` or :func:`closest_approach`: every vertex is
+    where ``pose0`` puts it at 0 and ``pose1`` at ``duration`` (to
+    rounding), turning about ``about`` between. The turn is taken the short
+    way (less than half a turn); split a longer one into several motions.
+    Poses as everywhere: ``(position, rotation)``, a 4 x 4 transform, a
+    quaternion ``[w, x, y, z]``, a matrix or a scipy ``Rotation``.
+    """
+    position0, rotation0 = _pose("pose0", pose0)
+    position1, rotation1 = _pose("pose1", pose1)
+    about = _floats("about", about)
+    position, quaternion, velocity, angular = _nearmiss.motion_between(
+        (position0, rotation0), (position1, rotation1), float(duration), about
     )
+    return MotionBetween((position, quaternion), velocity, angular, about)
 
 
 def _mesh_distance(raw: Optional[tuple]) -> Optional[MeshDistance]:
