@@ -19,6 +19,55 @@ pub struct Verdict {
     pub obtained: String,
     /// obtained − expected time, when both are times.
     pub error: Option<Real>,
+    /// Why a failed expectation may be the expectation's own fault: a
+    /// contact early by no more than the contact contract allows, against a
+    /// tolerance tighter than that.
+    pub hint: Option<String>,
+}
+
+/// The speed at which a contact's closest points close along the line
+/// between them, the bodies as they are at the contact (positive when
+/// closing).
+fn closing_speed(result: &RunResult, contact: &nearmiss::run::Contact) -> Real {
+    let [a, b] = [contact.body_a, contact.body_b].map(|i| &result.final_states[i]);
+    let velocity = |s: &nearmiss::motion::RigidState, p: &nearmiss::math::Point| {
+        s.velocity + s.angular_velocity.cross(&(p - s.position))
+    };
+    let relative = velocity(a, &contact.closest.point_a) - velocity(b, &contact.closest.point_b);
+    let gap = contact.closest.point_b - contact.closest.point_a;
+    if gap.norm() > 0.0 {
+        relative.dot(&gap) / gap.norm()
+    } else {
+        relative.norm()
+    }
+}
+
+/// The hint for a contact `early` before the expected time (positive)
+/// that the contact contract allows (its contact distance over the closing
+/// speed) but the expectation's `tolerance` does not.
+fn contract_hint(
+    result: &RunResult,
+    contact: &nearmiss::run::Contact,
+    early: Real,
+    tolerance: Real,
+) -> Option<String> {
+    let closing = closing_speed(result, contact);
+    if !(early > tolerance && closing > 0.0) {
+        return None;
+    }
+    let allowed = contact.contact_distance / closing;
+    // A little over the bound: the closing speed is taken at the contact.
+    (early <= 1.01 * allowed).then(|| {
+        format!(
+            "the contact came {} early, within what the CCD's contract allows here: its contact distance {} over the closing speed {} is {}. The expectation's tolerance {} is tighter: widen it to at least {}, or make `ccd.distance_tolerance` smaller (it sets the contact distance)",
+            text::approx(early, 3),
+            text::approx(contact.contact_distance, 3),
+            text::approx(closing, 3),
+            text::approx(allowed, 3),
+            text::approx(tolerance, 2),
+            text::approx(allowed, 2)
+        )
+    })
 }
 
 /// Checks a run against the scene's expectation (`None` without one).
@@ -45,6 +94,7 @@ pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
             expected: "no contact".into(),
             obtained,
             error: None,
+            hint: None,
         },
         Expectation::NearMiss { bodies, distance, tolerance } => {
             let miss = result
@@ -75,14 +125,20 @@ pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
                 ),
                 obtained,
                 error: miss.map(|m| m.distance - distance),
+                hint: None,
             }
         }
         Expectation::Contact { time, tolerance, bodies, recorded } => {
             let contact = result.first_contact.as_ref().filter(|_| !diverged);
             let error = contact.map(|c| c.time - time);
             let same_bodies = contact.is_some_and(|c| (c.body_a, c.body_b) == *bodies);
+            let passed = same_bodies && error.is_some_and(|e| e.abs() <= *tolerance);
+            let hint = match (contact, error) {
+                (Some(c), Some(e)) if same_bodies && !passed => contract_hint(result, c, -e, *tolerance),
+                _ => None,
+            };
             Verdict {
-                passed: same_bodies && error.is_some_and(|e| e.abs() <= *tolerance),
+                passed,
                 expected: format!(
                     "contact {} / {} at t = {} ± {}{}",
                     name(bodies.0),
@@ -93,6 +149,7 @@ pub fn verdict(scene: &Scene, result: &RunResult) -> Option<Verdict> {
                 ),
                 obtained,
                 error,
+                hint,
             }
         }
     })
@@ -172,15 +229,7 @@ pub fn record(path: &Path, max_steps: u64) -> Result<Recorded, String> {
             Expectation::NoContact,
         ),
         Some(c) => {
-            // The contact points' closing speed along the contact normal,
-            // the bodies as they are at the contact.
-            let [a, b] = [c.body_a, c.body_b].map(|i| &result.final_states[i]);
-            let velocity = |s: &nearmiss::motion::RigidState, p: &nearmiss::math::Point| {
-                s.velocity + s.angular_velocity.cross(&(p - s.position))
-            };
-            let relative = velocity(a, &c.closest.point_a) - velocity(b, &c.closest.point_b);
-            let gap = c.closest.point_b - c.closest.point_a;
-            let closing = if gap.norm() > 0.0 { relative.dot(&gap) / gap.norm() } else { relative.norm() };
+            let closing = closing_speed(&result, c);
             let tolerance = if closing > 0.0 {
                 RECORD_TOLERANCE_FACTOR * c.contact_distance / closing
             } else {

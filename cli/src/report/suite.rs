@@ -41,7 +41,8 @@ pub struct SuiteCase {
     pub obtained: Option<String>,
     /// obtained − expected time, when both are times.
     pub error: Option<Real>,
-    /// Why a bad scene is bad.
+    /// Why a bad scene is bad; for a failed one, the hint of its verdict
+    /// (a tolerance tighter than the contact contract allows).
     pub message: Option<String>,
     /// Loading and running, seconds (not deterministic).
     pub wall_time_s: Real,
@@ -77,6 +78,7 @@ pub fn run_case(path: &Path, max_steps: u64) -> SuiteCase {
         if let Some(v) = verdict(&scene, &result) {
             case.status = if v.passed { CaseStatus::Passed } else { CaseStatus::Failed };
             (case.expected, case.obtained, case.error) = (Some(v.expected), Some(v.obtained), v.error);
+            case.message = v.hint;
         }
     }
     case.wall_time_s = start.elapsed().as_secs_f64();
@@ -104,8 +106,9 @@ pub fn case_line(case: &SuiteCase) -> String {
         CaseStatus::Passed | CaseStatus::Failed => {
             let error =
                 case.error.map_or(String::new(), |e| format!(", error {}", crate::text::signed(e, 3)));
+            let hint = case.message.as_ref().map_or(String::new(), |h| format!("\n  hint: {h}"));
             format!(
-                "{} {}: expected {}; obtained {}{error}",
+                "{} {}: expected {}; obtained {}{error}{hint}",
                 if case.status == CaseStatus::Passed { "pass" } else { "FAIL" },
                 case.file,
                 case.expected.as_deref().unwrap_or(""),

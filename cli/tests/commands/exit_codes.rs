@@ -62,6 +62,41 @@ fn a_missed_expectation_is_printed_and_exits_1() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A tolerance tighter than the contact contract allows: the box falling
+/// at 1 with `ccd.distance_tolerance` 1e-3 may be reported up to its
+/// contact distance (1e-3 of the smaller radius, √3/2) over the closing
+/// speed early; an expectation of t = 1 ± 1e-12 fails with a hint that
+/// names the field and the earliness allowed, and one whose own answer is
+/// wrong (t = 0.5) gets none.
+#[test]
+fn a_tolerance_tighter_than_the_contract_gets_a_hint_naming_the_field() {
+    let dir = workspace("hint");
+    let ccd = ", ccd: (distance_tolerance: 1e-3)";
+    let tight = format!(r#"{ccd}, expect: Contact(time: 1.0, tolerance: 1e-12, bodies: ("floor", "box"))"#);
+    let wrong = format!(r#"{ccd}, expect: Contact(time: 0.5, tolerance: 1e-12, bodies: ("floor", "box"))"#);
+    std::fs::write(dir.join("tight.ron"), falling("tight", &tight)).unwrap();
+    std::fs::write(dir.join("wrong.ron"), falling("wrong", &wrong)).unwrap();
+
+    let output = nearmiss(&["run", "tight.ron", "-o", "out"], &dir);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(1), "{stdout}");
+    let hint =
+        stdout.lines().find(|l| l.starts_with("hint: ")).unwrap_or_else(|| panic!("no hint: {stdout}"));
+    assert!(hint.contains("within what the CCD's contract allows here"), "{hint}");
+    assert!(hint.contains("`ccd.distance_tolerance`"), "{hint}");
+    // The contact distance is 1e-3 × √3/2 ≈ 8.66e-4, closing at 1.
+    assert!(hint.contains("is 8.66e-4"), "{hint}");
+    let output = nearmiss(&["test", "tight.ron"], &dir);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("\n  hint: the contact came "), "{stdout}");
+
+    let output = nearmiss(&["run", "wrong.ron", "-o", "out"], &dir);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(1), "{stdout}");
+    assert!(!stdout.contains("hint:"), "{stdout}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `spin.ron` in `dir`: a torus spinning at 60 rad/s around a bar through
 /// its hole, with too few iterations for the CCD to decide (as
 /// `undecided_is_not_contact.rs`).

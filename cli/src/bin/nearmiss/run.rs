@@ -130,6 +130,9 @@ fn run_one(args: &Args, path: &std::path::Path, scene: &Scene) -> CommandResult 
             true => println!("expectation met: {}{error}", v.expected),
             false => println!("expectation NOT met: expected {}; obtained {}{error}", v.expected, v.obtained),
         }
+        if let Some(hint) = &v.hint {
+            println!("hint: {hint}");
+        }
     }
     match result.termination {
         Termination::Diverged { .. } | Termination::Failed { .. } => {
