@@ -46,6 +46,7 @@ __all__ = [
     "FEATURES",
     "FORMULAS",
     "ClosestApproach",
+    "CollisionManager",
     "Mesh",
     "MeshDistance",
     "MotionBetween",
@@ -595,3 +596,7 @@ def run_scene(path: Union[str, os.PathLike], *, trace: bool = False) -> Any:
         return summary
     keys = ("step", "time", "body_a", "body_b", "distance")
     return summary, dict(zip(keys, columns))
+
+
+# One mesh against many (imports the queries above).
+from .collision import CollisionManager  # noqa: E402

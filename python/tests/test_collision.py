@@ -1,0 +1,87 @@
+"""nearmiss.CollisionManager: one mesh against many, under trimesh's
+names and return shapes. Analytic answers on cubes in a row, then the
+same calls as trimesh's own manager (python-fcl underneath) on random
+scenes, where both are installed."""
+
+import numpy as np
+import pytest
+
+import nearmiss
+from conftest import box
+
+
+def at(x, y=0.0, z=0.0):
+    transform = np.eye(4)
+    transform[:3, 3] = [x, y, z]
+    return transform
+
+
+@pytest.fixture
+def row():
+    """Unit cubes centred at x = 0, 3 and 7."""
+    manager = nearmiss.CollisionManager()
+    for name, x in (("a", 0.0), ("b", 3.0), ("c", 7.0)):
+        manager.add_object(name, box((0.5, 0.5, 0.5)), at(x))
+    return manager
+
+
+def test_a_cube_against_a_row_of_cubes(row):
+    cube = box((0.5, 0.5, 0.5))
+    # Centred at 1.4: 0.4 from a's face, 0.6 from b's.
+    assert row.min_distance_single(cube, at(1.4)) == pytest.approx(0.4, rel=1e-15)
+    distance, name, data = row.min_distance_single(cube, at(1.4), return_name=True, return_data=True)
+    assert name == "a" and data.names == {"a", "__external"}
+    assert data.point("a")[0] == pytest.approx(0.5) and data.point("__external")[0] == pytest.approx(0.9)
+    assert row.in_collision_single(cube, at(1.4)) is False
+    # Centred at 0.9: it crosses a's face.
+    hit, names, contacts = row.in_collision_single(cube, at(0.9), return_names=True, return_data=True)
+    assert hit is True and names == {"a"} and contacts[0].names == {"a", "__external"}
+    assert 0.4 - 1e-12 <= contacts[0].point[0] <= 0.5 + 1e-12
+    with pytest.raises(NotImplementedError, match="signed_distance"):
+        contacts[0].depth
+
+
+def test_the_row_among_itself(row):
+    assert row.in_collision_internal() is False
+    assert row.min_distance_internal(return_names=True) == (pytest.approx(2.0, rel=1e-15), ("a", "b"))
+    assert row.min_distance_internal(name="c", return_names=True) == (pytest.approx(3.0, rel=1e-15), ("b", "c"))
+    row.set_transform("c", at(0.9, 0.2))
+    assert row.in_collision_internal(return_names=True) == (True, {("a", "c")})
+    assert row.min_distance_internal() == 0.0
+    row.remove_object("a")
+    assert row.in_collision_internal() is False
+    with pytest.raises(ValueError, match="a not in collision manager"):
+        row.remove_object("a")
+    assert nearmiss.CollisionManager().min_distance_single(box((0.5, 0.5, 0.5))) == float("inf")
+
+
+def test_the_same_answers_as_trimesh_and_python_fcl():
+    trimesh = pytest.importorskip("trimesh")
+    pytest.importorskip("fcl")
+    for seed in range(4):
+        rng = np.random.default_rng(seed)
+        ours, peer = nearmiss.CollisionManager(), trimesh.collision.CollisionManager()
+        for k in range(24):
+            if k % 2:
+                mesh = trimesh.creation.icosphere(subdivisions=2, radius=rng.uniform(0.2, 0.6))
+            else:
+                mesh = trimesh.creation.box(extents=rng.uniform(0.2, 1.0, 3))
+            transform = trimesh.transformations.random_rotation_matrix(rng.random(3))
+            transform[:3, 3] = rng.uniform(-3.0, 3.0, 3)
+            ours.add_object(f"o{k}", mesh, transform)
+            peer.add_object(f"o{k}", mesh, transform)
+        assert ours.in_collision_internal(return_names=True) == peer.in_collision_internal(return_names=True)
+        for _ in range(8):
+            query = trimesh.creation.box(extents=rng.uniform(0.1, 0.6, 3))
+            transform = trimesh.transformations.random_rotation_matrix(rng.random(3))
+            transform[:3, 3] = rng.uniform(-3.0, 3.0, 3)
+            assert ours.in_collision_single(query, transform, return_names=True) == peer.in_collision_single(
+                query, transform, return_names=True
+            )
+            distance, name = ours.min_distance_single(query, transform, return_name=True)
+            peer_distance, peer_name = peer.min_distance_single(query, transform, return_name=True)
+            if peer_distance > 0.0:
+                # FCL's own distance is good to about 1e-8 here; nearmiss's is exact.
+                assert (distance, name) == (pytest.approx(peer_distance, rel=1e-6, abs=1e-9), peer_name)
+            else:
+                assert distance == 0.0
