@@ -58,6 +58,7 @@ def test_the_row_among_itself(row):
 def test_the_same_answers_as_trimesh_and_python_fcl():
     trimesh = pytest.importorskip("trimesh")
     pytest.importorskip("fcl")
+    pytest.importorskip("scipy")  # trimesh's manager needs it
     for seed in range(4):
         rng = np.random.default_rng(seed)
         ours, peer = nearmiss.CollisionManager(), trimesh.collision.CollisionManager()
