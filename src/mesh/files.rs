@@ -69,7 +69,9 @@ impl MeshFormat {
             MeshFormat::Glb
         } else if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n") {
             MeshFormat::Ply
-        } else if binary_stl_count(bytes).is_some_and(|n| bytes.len() as u64 == 84 + 50 * n as u64) {
+        } else if super::stl::stated_count(bytes)
+            .is_some_and(|n| bytes.len() as u64 == super::stl::binary_size(n))
+        {
             MeshFormat::BinaryStl
         } else if start.starts_with(b"solid") && std::str::from_utf8(start).is_ok() {
             MeshFormat::AsciiStl
@@ -81,11 +83,6 @@ impl MeshFormat {
             MeshFormat::Obj
         }
     }
-}
-
-/// The triangle count a binary STL states at byte 80.
-fn binary_stl_count(bytes: &[u8]) -> Option<u32> {
-    Some(u32::from_le_bytes(bytes.get(80..84)?.try_into().ok()?))
 }
 
 /// Why a mesh file could not be read.

@@ -40,9 +40,20 @@ pub(super) fn read(mut bytes: Vec<u8>, format: MeshFormat) -> Result<Soup, Malfo
     Ok(Soup { vertices, triangles, dropped: 0 })
 }
 
-/// A binary STL's size must be 84 bytes (header and count) and 50 a facet.
+/// The triangle count a binary STL states at byte 80.
+pub(super) fn stated_count(bytes: &[u8]) -> Option<u32> {
+    Some(u32::from_le_bytes(bytes.get(80..84)?.try_into().ok()?))
+}
+
+/// The size of a binary STL of `count` triangles: 84 bytes (header and
+/// count) and 50 a facet.
+pub(super) fn binary_size(count: u32) -> u64 {
+    84 + 50 * u64::from(count)
+}
+
+/// A binary STL's size must be [`binary_size`] of the count it states.
 fn check_binary_size(bytes: &[u8]) -> Result<(), Malformed> {
-    let Some(count) = bytes.get(80..84).map(|b| u32::from_le_bytes(b.try_into().expect("4 bytes"))) else {
+    let Some(count) = stated_count(bytes) else {
         return Err(Malformed::at(
             "the header",
             format!(
@@ -51,7 +62,7 @@ fn check_binary_size(bytes: &[u8]) -> Result<(), Malformed> {
             ),
         ));
     };
-    let expected = 84 + 50 * count as u64;
+    let expected = binary_size(count);
     if bytes.len() as u64 != expected {
         return Err(Malformed::at(
             "the header",

@@ -211,13 +211,7 @@ class CollisionManager:
             if found.distance < best:
                 best, best_name, best_points = found.distance, name, (found.point_a, found.point_b)
         data = None if best_name is None else DistanceData((best_name, EXTERNAL), best, best_points)
-        if return_name and return_data:
-            return best, best_name, data
-        if return_name:
-            return best, best_name
-        if return_data:
-            return best, data
-        return best
+        return _shaped(best, best_name, data, return_name, return_data)
 
     def min_distance_internal(self, name: Optional[str] = None, return_names: bool = False, return_data: bool = False):
         """The least distance between two objects (of ``name`` to the others
@@ -244,16 +238,12 @@ class CollisionManager:
                 best, best_pair, best_points = found.distance, (a, b), (found.point_a, found.point_b)
         data = None if best_pair is None else DistanceData(best_pair, best, best_points)
         sorted_names = None if best_pair is None else tuple(sorted(best_pair))
-        if return_names and return_data:
-            return best, sorted_names, data
-        if return_names:
-            return best, sorted_names
-        if return_data:
-            return best, data
-        return best
+        return _shaped(best, sorted_names, data, return_names, return_data)
 
 
-def _shaped(result: bool, names: Any, data: List[ContactData], return_names: bool, return_data: bool):
+def _shaped(result: Any, names: Any, data: Any, return_names: bool, return_data: bool):
+    """trimesh's return shapes: the result, then the names and the data
+    where asked for."""
     if return_names and return_data:
         return result, names, data
     if return_names:
