@@ -64,6 +64,10 @@ fn scene_defaults_are_the_documented_ones() {
     // them when it costs more than handing it over, 1e-4 s (under the guard 3e-4 s).
     // motion/step_motion.rs: a whole turn's axis is the spin's below 4 ulps.
     assert_eq!(crate::motion::TURN_ROUNDING_ULPS, 4.0);
+    // scene/build_body.rs: a keyframe's time on a step within `1e-9` of
+    // itself; keyframes' turns under half a turn by `1e-9` rad.
+    assert_eq!(crate::scene::KEYFRAME_TIME_TOLERANCE, 1e-9);
+    assert_eq!(crate::scene::KEYFRAME_TURN_MARGIN, 1e-9);
     // broad_phase.rs: the tree re-optimised at every second refit.
     assert_eq!(crate::broad_phase::OPTIMIZE_EVERY_REFITS, 2);
     let parameters = crate::scene::StepParameters::default();

@@ -96,6 +96,7 @@ impl<B: RapierBodies> Guard<B> {
                 motion: if body.kind == BodyKind::Fixed { BodyMotion::Fixed } else { BodyMotion::Free },
                 kinematic: matches!(body.kind, BodyKind::Kinematic { .. }),
                 material: None,
+                path: None,
             });
             centers.push(center);
             stoppable.push(matches!(body.kind, BodyKind::Dynamic { .. }));

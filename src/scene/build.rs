@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
-use super::file::{BodySettings, CcdSettings, FormulaSettings, KernelSettings, SceneFile, Triple};
+use super::file::{BodySettings, CcdSettings, FormulaSettings, KernelSettings, OnContact, SceneFile, Triple};
 use super::{Scene, SceneError};
 use crate::ccd::CcdOptions;
 use crate::kernels::PointEdgeFormula;
@@ -172,6 +172,12 @@ impl Builder<'_> {
         let springs = self.springs(&file, &names, &bodies, &centers)?;
         let pushed_by_contacts = self.response(&file.on_contact)?;
         self.motions(&file.bodies, &mut bodies, springs, gravity, pushed_by_contacts, dt)?;
+        let stops_kinematic = match &file.on_contact {
+            OnContact::Bounce { .. } => Some("Bounce"),
+            OnContact::Simulate { .. } => Some("Simulate"),
+            _ => None,
+        };
+        self.paths(&file.bodies, &mut bodies, &centers, dt, stops_kinematic)?;
         self.materials(&file.on_contact, &file.bodies, &mut bodies)?;
         let trace = self.trace(file.trace.as_ref(), &names, &bodies, steps)?;
         let poses = match &file.poses {

@@ -17,6 +17,16 @@ use crate::mesh::{self, TriMesh, MAX_ICOSPHERE_SUBDIVISIONS};
 use crate::motion::classify::{needs_integration, spin_precesses, Influences};
 use crate::motion::{Dynamics, Spring, MAX_TURN_PER_STEP};
 
+/// A keyframe's time is on a step when it is within this fraction of
+/// itself of a whole number of `dt`: `1e-9` (times written in decimals,
+/// `0.3` with `dt: 0.1`); it is then taken as that step's time.
+pub const KEYFRAME_TIME_TOLERANCE: Real = 1e-9;
+
+/// Two keyframes' orientations must differ by less than half a turn by at
+/// least this angle: `1e-9` rad (a segment turns the short way; half a
+/// turn has no short way).
+pub const KEYFRAME_TURN_MARGIN: Real = 1e-9;
+
 /// The most segments a `Torus` mesh takes along either direction
 /// (4096 × 4096 × 2 triangles, about 33 million, is already too many to
 /// run). `4096`.
@@ -157,6 +167,10 @@ impl Builder<'_> {
                     "a body is `fixed` (never moves) or `kinematic` (moves at its given velocity), not both",
                 );
             }
+            if settings.pivot.is_some() && settings.fixed {
+                return self
+                    .invalid(format!("bodies[{i}].pivot"), "a fixed body never turns: remove `pivot`");
+            }
             body.motion = if settings.fixed {
                 if body.velocity.norm() > 0.0 || body.angular_velocity.norm() > 0.0 {
                     return self.invalid(format!("bodies[{i}].fixed"), "a fixed body cannot have a velocity");
@@ -172,6 +186,15 @@ impl Builder<'_> {
                     springs: !springs[i].is_empty(),
                     pushed_by_contacts,
                 };
+                if needs_integration(influences, precesses) && settings.pivot.is_some() {
+                    return self.invalid(
+                        format!("bodies[{i}].pivot"),
+                        format!(
+                            "`{}` is moved by forces (gravity, springs or contacts), and a body under forces turns about its centre of mass: make it `kinematic` to turn it about a pivot",
+                            body.name
+                        ),
+                    );
+                }
                 if needs_integration(influences, precesses) {
                     let turn = body.angular_velocity.norm() * dt;
                     if turn >= MAX_TURN_PER_STEP {
@@ -192,6 +215,94 @@ impl Builder<'_> {
                     BodyMotion::Free
                 }
             };
+        }
+        Ok(())
+    }
+
+    /// The keyframes of the bodies with a `path` (kinematic, moving only as
+    /// the path says; `centers`: each body's centre in its mesh's frame),
+    /// and the pivots a response cannot take. `stops_kinematic`: the name
+    /// of a response that stops or pushes kinematic bodies.
+    pub(super) fn paths(
+        &self,
+        settings: &[BodySettings],
+        bodies: &mut [Body],
+        centers: &[Vector],
+        dt: Real,
+        stops_kinematic: Option<&str>,
+    ) -> Result<()> {
+        for (i, (settings, body)) in settings.iter().zip(bodies.iter_mut()).enumerate() {
+            let field = |name: &str| format!("bodies[{i}].{name}");
+            if settings.pivot.is_some() && stops_kinematic == Some("Simulate") {
+                return self.invalid(
+                    field("pivot"),
+                    "rapier turns its bodies about their centres of mass: `pivot` is not taken under `on_contact: Simulate`",
+                );
+            }
+            if settings.path.is_empty() {
+                continue;
+            }
+            if !settings.kinematic {
+                return self.invalid(
+                    field("path"),
+                    "only a kinematic body follows a path (forces and contacts move the others): add `kinematic: true`",
+                );
+            }
+            if body.velocity != Vector::zeros() || body.angular_velocity != Vector::zeros() {
+                return self.invalid(
+                    field("path"),
+                    "a body with a path moves as its keyframes say: remove `velocity` and `angular_velocity`",
+                );
+            }
+            if let Some(response) = stops_kinematic {
+                return self.invalid(
+                    field("path"),
+                    format!("`on_contact: {response}` stops or pushes kinematic bodies, which a path cannot follow: use `Stop` or `Record`"),
+                );
+            }
+            let mut keys = vec![(0u64, body.pose)];
+            for (k, key) in settings.path.iter().enumerate() {
+                let at = |name: &str| format!("bodies[{i}].path[{k}].{name}");
+                let time = self.finite(&at("time"), key.time)?;
+                let (previous_step, previous) = keys[keys.len() - 1];
+                let step = (time / dt).round();
+                if step <= previous_step as Real || time <= 0.0 {
+                    return self.invalid(
+                        at("time"),
+                        format!(
+                            "{} is not after the previous keyframe's time (at least one step, dt = {dt:?})",
+                            shortest(time)
+                        ),
+                    );
+                }
+                if (step * dt - time).abs() > KEYFRAME_TIME_TOLERANCE * time.max(dt) {
+                    return self.invalid(
+                        at("time"),
+                        format!(
+                            "{} is not on a step (a whole number of dt = {dt:?}): the nearest are {} and {}",
+                            shortest(time),
+                            shortest((time / dt).floor() * dt),
+                            shortest(((time / dt).floor() + 1.0) * dt)
+                        ),
+                    );
+                }
+                let rotation = self.orientation(&at("orientation"), &key.orientation)?;
+                let position = self.vector(&at("position"), &key.position)?;
+                let pose = Pose::from_parts(Translation3::from(position + rotation * centers[i]), rotation);
+                let turn = previous.rotation.angle_to(&pose.rotation);
+                if turn > std::f64::consts::PI - KEYFRAME_TURN_MARGIN {
+                    return self.invalid(
+                        at("orientation"),
+                        format!("the turn from the previous keyframe is {turn:.6} rad: a segment turns the short way, less than half a turn, which this is not clearly: add a keyframe between"),
+                    );
+                }
+                keys.push((step as u64, pose));
+            }
+            let first = super::KeyframePath { keys };
+            // At time 0 the body moves as the first segment.
+            let start = first.motion(0, dt);
+            (body.velocity, body.angular_velocity) = (start.velocity, start.angular_velocity);
+            body.path = Some(Arc::new(first));
         }
         Ok(())
     }
@@ -266,6 +377,30 @@ impl Builder<'_> {
             }
         };
 
+        let (shape, center) = match &settings.pivot {
+            None => (shape, center),
+            Some(pivot) => {
+                // The mesh about its pivot: the file's mesh (scaled), not the
+                // recentred one; an asset of its own.
+                let (original, _) = self.shared_mesh(i, settings, scale, base, assets)?;
+                let pivot = Point::from(self.vector(&field("pivot"), pivot)? * scale);
+                let pivoted = format!("{key}|pivot {:?}", pivot.coords.as_slice());
+                let shape = match assets.meshes.get(&pivoted) {
+                    Some(shape) => shape.clone(),
+                    None => {
+                        let moved = original.pivoted(&pivot).or_else(|e| {
+                            self.invalid(
+                                field("pivot"),
+                                format!("the mesh about this pivot is unusable: {e}"),
+                            )
+                        })?;
+                        self.check_mesh_range(&field("pivot"), &moved)?;
+                        assets.meshes.entry(pivoted).or_insert(Arc::new(moved)).clone()
+                    }
+                };
+                (shape, pivot.coords)
+            }
+        };
         let pose = Pose::from_parts(Translation3::from(position + rotation * center), rotation);
         let body = Body {
             name: settings.name.clone(),
@@ -278,6 +413,7 @@ impl Builder<'_> {
             motion: BodyMotion::Free,
             kinematic: settings.kinematic,
             material: None,
+            path: None,
         };
         Ok((body, center))
     }

@@ -88,6 +88,35 @@ pub struct BodySettings {
     /// triangle mesh otherwise).
     #[serde(default)]
     pub collider: ColliderSettings,
+    /// The point the body turns about, in the mesh's coordinates (scaled
+    /// with it): a link's joint. Its `velocity` is then that point's.
+    /// Default: the centre of mass (with `density`), else the mesh's
+    /// origin. Only for bodies that move at constant velocities (kinematic,
+    /// or nothing acts on them): a body under forces turns about its centre
+    /// of mass.
+    #[serde(default)]
+    pub pivot: Option<Triple>,
+    /// Keyframes of a kinematic body after its start pose (`position`,
+    /// `orientation` at time 0): between two keyframes it turns about its
+    /// `pivot` at a constant angular velocity (the short way) while the
+    /// pivot moves at a constant velocity, so it is at each keyframe's pose
+    /// at its time; after the last it stays. Default: none.
+    #[serde(default)]
+    pub path: Vec<KeyframeSettings>,
+}
+
+/// A keyframe of a kinematic body's `path`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KeyframeSettings {
+    /// Its time: after the previous keyframe's, on a step (a whole number
+    /// of `dt`).
+    pub time: f64,
+    /// Where the mesh's origin is then.
+    pub position: Triple,
+    /// The mesh's orientation then. Default: none.
+    #[serde(default)]
+    pub orientation: OrientationSettings,
 }
 
 /// The collider shape rapier is given for a body (`on_contact: Simulate`).

@@ -42,7 +42,7 @@ use std::path::Path;
 
 pub use crate::input::{read_text, ReadError, MAX_DATA_BYTES, MAX_SCENE_BYTES};
 pub use build::{MAX_MAGNITUDE, MAX_NAME_BYTES, MAX_SOLVER_ITERATIONS, MIN_MAGNITUDE};
-pub use build_body::MAX_TORUS_SEGMENTS;
+pub use build_body::{KEYFRAME_TIME_TOLERANCE, KEYFRAME_TURN_MARGIN, MAX_TORUS_SEGMENTS};
 pub use error::SceneError;
 pub use file::{OnContact, PlotSettings, DEFAULT_FRICTION, DEFAULT_SOLVER_ITERATIONS};
 pub use overlap::{initial_overlaps, InitialOverlap};
@@ -53,8 +53,8 @@ use crate::math::Real;
 use crate::mesh::{DistanceKernel, TriMesh};
 use crate::motion::Integrator;
 pub use model::{
-    Axis, Body, BodyMotion, Expectation, InitialOverlapPolicy, Material, Model, NearMissSpec, PlotSpec,
-    PosesSpec, RunSpec, Scene, TraceSpec,
+    Axis, Body, BodyMotion, Expectation, InitialOverlapPolicy, KeyframePath, Material, Model, NearMissSpec,
+    PlotSpec, PosesSpec, RunSpec, Scene, TraceSpec,
 };
 
 /// The `source` of a scene read by [`Scene::from_ron_str`] (no file).

@@ -6,7 +6,7 @@ use super::parameters::StepParameters;
 use crate::ccd::CcdOptions;
 use crate::math::{Pose, Real, Vector};
 use crate::mesh::{DistanceKernel, TriMesh};
-use crate::motion::{Dynamics, Gyroscopic, Integrator};
+use crate::motion::{Dynamics, Gyroscopic, Integrator, StepMotion};
 use nalgebra::Matrix3;
 use std::sync::Arc;
 
@@ -96,6 +96,37 @@ pub struct Body {
     /// Its contact material under `on_contact: Simulate` (the scene's,
     /// or the body's own); `None` under the other responses.
     pub material: Option<Material>,
+    /// The keyframes a kinematic body follows (`path`), if any.
+    pub path: Option<Arc<KeyframePath>>,
+}
+
+/// The keyframes of a kinematic body: its pose at steps of the run (the
+/// first at step 0, its start). Between two keyframes it moves with the
+/// constant velocity of its centre (the pivot) and the constant angular
+/// velocity (the short way) that take one pose to the next; after the
+/// last it stays there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KeyframePath {
+    /// `(step, pose)` (the pose's translation the body's centre), steps
+    /// increasing, the first 0.
+    pub keys: Vec<(u64, Pose)>,
+}
+
+impl KeyframePath {
+    /// The body's motion over step `step` (of length `dt`): the segment's
+    /// [`StepMotion::between`] from its first keyframe, referred to it (so
+    /// each segment is one straight line and one exponential, with no
+    /// rounding carried from step to step); at rest after the last.
+    pub fn motion(&self, step: u64, dt: Real) -> StepMotion {
+        let k = self.keys.partition_point(|&(s, _)| s <= step) - 1;
+        let (start, pose) = self.keys[k];
+        let Some(&(end, next)) = self.keys.get(k + 1) else {
+            return StepMotion::fixed(pose);
+        };
+        let mut motion = StepMotion::between(&pose, &next, (end - start) as Real * dt);
+        motion.elapsed = (step - start) as Real * dt;
+        motion
+    }
 }
 
 /// A body's contact material (`on_contact: Simulate`).

@@ -61,7 +61,10 @@ impl Stepper {
                     // Kinematic with a state (the response can stop it): from
                     // where the last step left it.
                     Some(state) => StepMotion::new(state.pose(), state.velocity, state.angular_velocity),
-                    None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
+                    None => match &body.path {
+                        Some(path) => path.motion(step, model.dt),
+                        None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
+                    },
                 },
                 BodyMotion::Integrated(dynamics) => {
                     let (Some(state), Some((next, converged))) = (world.states[i], advanced[i]) else {

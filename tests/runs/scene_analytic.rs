@@ -274,3 +274,79 @@ fn bodies_from_stl_and_ply_files_hit_at_the_analytic_time() {
         assert_contact(&run(&scene), ("a", "b"), expected, 3.0);
     }
 }
+
+/// The root of the increasing `f` on `[low, high]` by bisection (to the
+/// last bit).
+fn root(f: impl Fn(f64) -> f64, (mut low, mut high): (f64, f64)) -> f64 {
+    for _ in 0..200 {
+        let mid = 0.5 * (low + high);
+        if f(mid) < 0.0 {
+            low = mid;
+        } else {
+            high = mid;
+        }
+    }
+    low
+}
+
+/// A rod 2 × 0.1 × 0.1 hinged at its end (`pivot`), its joint at the
+/// origin, turning about z at 1 rad/s: its far corner (2, 0.05) reaches a
+/// slab whose face is the plane y = 1 when `2 sin θ + 0.05 cos θ = 1`.
+/// Turned about its centre instead, it would reach the slab only at
+/// `sin θ + 0.05 cos θ = 1` (about 1.52 rad).
+#[test]
+fn a_rod_hinged_at_its_end_swings_into_a_slab() {
+    let result = run_ron(
+        r#"Scene(name: "hinge", dt: 0.01, duration: 1.0, ccd: (distance_tolerance: 1e-9),
+        bodies: [
+            (name: "slab", mesh: Box(half_extents: (2.0, 0.5, 1.0)), position: (1.5, 1.5, 0.0), fixed: true),
+            (name: "rod", mesh: Box(half_extents: (1.0, 0.05, 0.05)), position: (1.0, 0.0, 0.0),
+             pivot: (-1.0, 0.0, 0.0), angular_velocity: (0.0, 0.0, 1.0), kinematic: true),
+        ])"#,
+    );
+    let theta = root(|t| 2.0 * t.sin() + 0.05 * t.cos() - 1.0, (0.0, 1.0));
+    // The corner's speed across the slab's face: 2.0006 cos(θ + φ) ≥ 1.7.
+    let contact = assert_contact(&result, ("slab", "rod"), theta, 1.7);
+    assert!((contact.closest.point_a.y - 1.0).abs() < 1e-9);
+}
+
+/// A unit cube with a path: along +x to (2, 0, 0) over [0, 1], then to
+/// (2, 2, 0) over [1, 2] turning a quarter about z. A wall across x = 3.5
+/// (where it would go on along x) is never met; one across y = 1.5 is met
+/// in the second segment, when `2 (t − 1) + (cos φ + sin φ) / 2 = 1.5`,
+/// `φ = π/2 (t − 1)`.
+#[test]
+fn a_kinematic_body_follows_its_keyframes() {
+    let result = run_ron(
+        r#"Scene(name: "path", dt: 0.01, duration: 3.0, ccd: (distance_tolerance: 1e-9),
+        bodies: [
+            (name: "ahead", mesh: Box(half_extents: (0.5, 3.0, 1.0)), position: (4.0, 0.0, 0.0), fixed: true),
+            (name: "above", mesh: Box(half_extents: (1.0, 0.5, 1.0)), position: (2.0, 2.0, 0.0), fixed: true),
+            (name: "cube", mesh: Box(half_extents: (0.5, 0.5, 0.5)), kinematic: true, path: [
+                (time: 1.0, position: (2.0, 0.0, 0.0)),
+                (time: 2.0, position: (2.0, 2.0, 0.0), orientation: AxisAngle(axis: (0.0, 0.0, 1.0), degrees: 90.0)),
+            ]),
+        ])"#,
+    );
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let reach = |t: f64| 2.0 * (t - 1.0) + 0.5 * ((quarter * (t - 1.0)).cos() + (quarter * (t - 1.0)).sin());
+    let time = root(|t| reach(t) - 1.5, (1.0, 2.0));
+    // The lowest face of "above" closes at 2 m/s plus the corner's turn.
+    assert_contact(&result, ("above", "cube"), time, 2.0);
+}
+
+/// Before its first keyframe's time the body moves on the first segment,
+/// and after the last it stays: a cube that reaches (1, 0, 0) at t = 0.5
+/// and rests there never meets a wall whose face is at x = 1.6.
+#[test]
+fn a_path_body_rests_after_its_last_keyframe() {
+    let result = run_ron(
+        r#"Scene(name: "rest", dt: 0.01, duration: 2.0,
+        bodies: [
+            (name: "wall", mesh: Box(half_extents: (0.5, 2.0, 2.0)), position: (2.1, 0.0, 0.0), fixed: true),
+            (name: "cube", mesh: Box(half_extents: (0.5, 0.5, 0.5)), kinematic: true,
+             path: [(time: 0.5, position: (1.0, 0.0, 0.0))]),
+        ])"#,
+    );
+    assert!(result.first_contact.is_none());
+}

@@ -456,3 +456,69 @@ fn an_axis_angle_takes_radians_or_degrees_not_both_nor_neither() {
         &["`bodies[0].orientation.radians`"],
     );
 }
+
+#[test]
+fn pivots_and_paths_are_refused_where_they_cannot_hold() {
+    // Issue 46 §3: a pivot and a keyframed path are for bodies moving at
+    // constant velocities; each refusal names the field and the way out.
+    let kinematic = |extra: &str| {
+        scene(&format!(
+            r#"bodies: [
+    (name: "a", mesh: Box(half_extents: (0.5, 0.5, 0.5)), fixed: true),
+    (name: "b", mesh: Box(half_extents: (0.5, 0.5, 0.5)), position: (3.0, 0.0, 0.0), {extra}),
+]"#
+        ))
+    };
+    assert_rejected(
+        "path-dynamic",
+        &kinematic("path: [(time: 0.5, position: (2.0, 0.0, 0.0))]"),
+        &["`bodies[1].path`", "add `kinematic: true`"],
+    );
+    assert_rejected(
+        "path-velocity",
+        &kinematic(
+            "kinematic: true, velocity: (1.0, 0.0, 0.0), path: [(time: 0.5, position: (2.0, 0.0, 0.0))]",
+        ),
+        &["`bodies[1].path`", "remove `velocity`"],
+    );
+    assert_rejected(
+        "path-off-step",
+        &kinematic("kinematic: true, path: [(time: 0.505, position: (2.0, 0.0, 0.0))]"),
+        &["`bodies[1].path[0].time`", "not on a step", "0.5 and 0.51"],
+    );
+    assert_rejected(
+        "path-order",
+        &kinematic(
+            "kinematic: true, path: [(time: 0.5, position: (2.0, 0.0, 0.0)), (time: 0.5, position: (1.0, 0.0, 0.0))]",
+        ),
+        &["`bodies[1].path[1].time`", "not after the previous keyframe"],
+    );
+    assert_rejected(
+        "path-half-turn",
+        &kinematic(
+            "kinematic: true, path: [(time: 0.5, position: (3.0, 0.0, 0.0), orientation: AxisAngle(axis: (0.0, 0.0, 1.0), degrees: 180.0))]",
+        ),
+        &["`bodies[1].path[0].orientation`", "add a keyframe between"],
+    );
+    let bounce = kinematic("kinematic: true, path: [(time: 0.5, position: (2.0, 0.0, 0.0))]").replacen(
+        "duration: 1.0,",
+        "duration: 1.0, on_contact: Bounce(restitution: 1.0),",
+        1,
+    );
+    assert_rejected("path-bounce", &bounce, &["`bodies[1].path`", "`Stop` or `Record`"]);
+    let pulled = kinematic("pivot: (0.5, 0.0, 0.0), angular_velocity: (0.0, 0.0, 1.0)").replacen(
+        "duration: 1.0,",
+        "duration: 1.0, gravity: (0.0, 0.0, -9.81),",
+        1,
+    );
+    assert_rejected(
+        "pivot-forces",
+        &pulled.replacen("position: (3.0, 0.0, 0.0),", "position: (3.0, 0.0, 0.0), density: 1.0,", 1),
+        &["`bodies[1].pivot`", "make it `kinematic`"],
+    );
+    assert_rejected(
+        "pivot-fixed",
+        &scene(&GOOD_BODIES.replacen("fixed: true", "fixed: true, pivot: (1.0, 0.0, 0.0)", 1)),
+        &["`bodies[0].pivot`", "never turns"],
+    );
+}
