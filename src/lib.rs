@@ -71,6 +71,7 @@
 
 pub mod broad_phase;
 pub mod ccd;
+pub mod collection;
 #[cfg(test)]
 mod documented_defaults;
 pub mod exact;

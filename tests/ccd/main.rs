@@ -4,6 +4,7 @@
 
 mod ccd_analytic;
 mod closest_approach;
+mod collection;
 mod contact_contract;
 mod large_floor_contact_time;
 mod mesh_ccd_scan;
