@@ -5,7 +5,7 @@ use std::borrow::Cow;
 use std::sync::Arc;
 
 use crate::mesh::Mesh;
-use nearmiss::ccd::{CcdOptions, CcdStatus};
+use nearmiss::ccd::{ApproachStatus, CcdOptions, CcdStatus};
 use nearmiss::kernels::{Feature, PointEdgeFormula};
 use nearmiss::math::{Point, Pose, Triangle, Vector};
 use nearmiss::mesh::{DistanceKernel, MeshDistance, TriMesh};
@@ -359,6 +359,48 @@ pub(crate) fn options(
         options.max_iterations = iterations;
     }
     Ok(options)
+}
+
+/// The CCD's options with a minimum separation (at least 0).
+pub(crate) fn contact_options(
+    distance_tolerance: Option<f64>,
+    minimum_separation: f64,
+    max_iterations: Option<usize>,
+) -> PyResult<CcdOptions> {
+    let mut options = options(distance_tolerance, max_iterations)?;
+    if !(minimum_separation.is_finite() && minimum_separation >= 0.0) {
+        return Err(PyValueError::new_err(format!(
+            "minimum_separation: {minimum_separation} is not a number at least 0"
+        )));
+    }
+    options.minimum_separation = minimum_separation;
+    Ok(options)
+}
+
+/// A closest approach's `within` (positive, infinite for every approach)
+/// and bracket width (positive), checked; the CCD options of its runs.
+pub(crate) fn approach_options(
+    within: f64,
+    tolerance: Option<f64>,
+    max_iterations: Option<usize>,
+) -> PyResult<CcdOptions> {
+    if within.is_nan() || within <= 0.0 {
+        return Err(PyValueError::new_err(format!("within: {within} is not a positive distance")));
+    }
+    if let Some(t) = tolerance.filter(|t| !(t.is_finite() && *t > 0.0)) {
+        return Err(PyValueError::new_err(format!("tolerance: {t} is not a positive number")));
+    }
+    options(None, max_iterations)
+}
+
+pub(crate) fn approach_status_name(status: ApproachStatus) -> &'static str {
+    match status {
+        ApproachStatus::Bracketed => "bracketed",
+        ApproachStatus::Contact => "contact",
+        ApproachStatus::Beyond => "beyond",
+        ApproachStatus::OutOfIterations => "out_of_iterations",
+        _ => "undecided",
+    }
 }
 
 pub(crate) fn positive_duration(duration: f64) -> PyResult<f64> {

@@ -8,6 +8,7 @@
 //! that may take long run without the GIL; batches run on all cores.
 
 mod args;
+mod collection;
 mod kernels;
 mod mesh;
 mod queries;
@@ -30,6 +31,7 @@ fn _nearmiss(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<mesh::Mesh>()?;
+    m.add_class::<collection::Collection>()?;
     m.add_function(wrap_pyfunction!(kernels::triangle_distance, m)?)?;
     m.add_function(wrap_pyfunction!(kernels::triangle_distances, m)?)?;
     m.add_function(wrap_pyfunction!(kernels::triangle_closest_points, m)?)?;

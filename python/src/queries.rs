@@ -4,8 +4,7 @@
 use crate::args::*;
 use crate::mesh::Mesh;
 use nearmiss::ccd::{
-    closest_approach, ApproachStatus, ClosestApproachQuery, ContactRule, MeshCcdQuery, MeshCcdScratch,
-    MovingMesh, WarmStart,
+    closest_approach, ClosestApproachQuery, ContactRule, MeshCcdQuery, MeshCcdScratch, MovingMesh, WarmStart,
 };
 use nearmiss::kernels::{self};
 use nearmiss::math::Point;
@@ -15,7 +14,6 @@ use nearmiss::mesh::{
 };
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArrayDyn};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 /// The distance between two posed meshes (exact), without the GIL.
@@ -53,13 +51,7 @@ pub(crate) fn mesh_time_of_impact<'py>(
 ) -> PyResult<(Option<f64>, &'static str, f64, f64, Option<MeshDistanceTuple<'py>>, usize)> {
     let (distance_tolerance, minimum_separation, max_iterations, kernel) = options;
     let pair = MovingPair::of(a, b, duration)?;
-    let mut options = self::options(distance_tolerance, max_iterations)?;
-    if !(minimum_separation.is_finite() && minimum_separation >= 0.0) {
-        return Err(PyValueError::new_err(format!(
-            "minimum_separation: {minimum_separation} is not a number at least 0"
-        )));
-    }
-    options.minimum_separation = minimum_separation;
+    let options = contact_options(distance_tolerance, minimum_separation, max_iterations)?;
     let kernel = self::kernel(&kernel)?;
     let result = py.detach(|| {
         let query = MeshCcdQuery {
@@ -131,13 +123,7 @@ pub(crate) fn closest_approach_between<'py>(
 ) -> PyResult<(&'static str, f64, f64, f64, Option<MeshDistanceTuple<'py>>, usize)> {
     let (within, tolerance, max_iterations) = options;
     let pair = MovingPair::of(a, b, duration)?;
-    if within.is_nan() || within <= 0.0 {
-        return Err(PyValueError::new_err(format!("within: {within} is not a positive distance")));
-    }
-    if let Some(t) = tolerance.filter(|t| !(t.is_finite() && *t > 0.0)) {
-        return Err(PyValueError::new_err(format!("tolerance: {t} is not a positive number")));
-    }
-    let options = self::options(None, max_iterations)?;
+    let options = approach_options(within, tolerance, max_iterations)?;
     let found = py.detach(|| {
         let mut query = ClosestApproachQuery::new(
             MovingMesh { mesh: &pair.a.0, motion: &pair.a.1 },
@@ -147,15 +133,8 @@ pub(crate) fn closest_approach_between<'py>(
         (query.within, query.tolerance, query.options) = (within, tolerance, options);
         closest_approach(&query, &mut MeshCcdScratch::default())
     });
-    let status = match found.status {
-        ApproachStatus::Bracketed => "bracketed",
-        ApproachStatus::Contact => "contact",
-        ApproachStatus::Beyond => "beyond",
-        ApproachStatus::OutOfIterations => "out_of_iterations",
-        _ => "undecided",
-    };
     Ok((
-        status,
+        approach_status_name(found.status),
         found.lower,
         found.upper,
         found.time,

@@ -86,3 +86,53 @@ def test_the_same_answers_as_trimesh_and_python_fcl():
                 assert (distance, name) == (pytest.approx(peer_distance, rel=1e-6, abs=1e-9), peer_name)
             else:
                 assert distance == 0.0
+
+
+def test_the_first_contact_of_a_sliding_cube_is_the_earliest(row):
+    # A unit cube from x = -3 at speed 1 along +x meets a (face at -0.5) at
+    # t = 2; over 1.5 it meets nothing; a wall beside its path never.
+    row.add_object("beside", box((0.5, 0.5, 0.5)), at(-1.0, 3.0))
+    cube = box((0.5, 0.5, 0.5))
+    found = row.time_of_impact_single(cube, at(-3.0), ([1.0, 0.0, 0.0], [0.0, 0.0, 0.0]), 10.0)
+    assert found.status == "contact" and found.name == "a"
+    assert 2.0 - found.contact_distance <= found.time <= 2.0
+    assert found.closest.point_a[0] == pytest.approx(-0.5)
+    clear = row.time_of_impact_single(cube, at(-3.0), ([1.0, 0.0, 0.0], [0.0, 0.0, 0.0]), 1.5)
+    assert (clear.status, clear.time, clear.name) == ("clear", 1.5, None)
+
+
+def test_the_clearance_of_a_pass_is_bracketed(row):
+    # A unit cube along y = 1.25 passes every cube of the row 0.25 apart;
+    # within 0.1 nothing is near (certified).
+    cube = box((0.5, 0.5, 0.5))
+    motion = ([1.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+    found = row.closest_approach_single(cube, at(-3.0, 1.25), motion, 12.0, tolerance=1e-9)
+    assert found.status == "bracketed" and found.name in ("a", "b", "c")
+    assert found.lower <= 0.25 <= found.upper and found.upper - found.lower <= 1e-9
+    beyond = row.closest_approach_single(cube, at(-3.0, 1.25), motion, 12.0, within=0.1)
+    assert (beyond.status, beyond.lower, beyond.name) == ("beyond", 0.1, None)
+
+
+def test_a_link_swinging_about_its_joint_against_the_manager():
+    # A rod 2 x 0.1 x 0.1 hinged at its end (the origin) swings a quarter
+    # turn about z over 1. A slab whose face is the plane y = 1 stops it
+    # where its far corner (2, 0.05) turned by theta reaches y = 1; a cube
+    # behind the joint, at (-3, 0), is never reached.
+    manager = nearmiss.CollisionManager()
+    manager.add_object("slab", box((2.0, 0.5, 1.0)), at(1.5, 1.5))
+    manager.add_object("behind", box((0.5, 0.5, 0.5)), at(-3.0))
+    rod = box((1.0, 0.05, 0.05))
+    turned = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    pose0 = ([1.0, 0.0, 0.0], np.eye(3))
+    pose1 = ([0.0, 1.0, 0.0], turned)
+    motion = nearmiss.motion_between(pose0, pose1, 1.0, about=[-1.0, 0.0, 0.0])
+    found = manager.time_of_impact_single(rod, None, motion, 1.0)
+    # 2 sin(theta) + 0.05 cos(theta) = 1, by bisection.
+    low, high = 0.0, np.pi / 2
+    for _ in range(200):
+        mid = (low + high) / 2
+        low, high = (mid, high) if 2 * np.sin(mid) + 0.05 * np.cos(mid) < 1 else (low, mid)
+    exact = low / (np.pi / 2)
+    assert found.status == "contact" and found.name == "slab"
+    # The corner moves at 2 * (pi / 2) per unit time at least.
+    assert exact - found.contact_distance / np.pi <= found.time <= exact

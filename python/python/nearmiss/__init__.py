@@ -45,8 +45,10 @@ __version__: str = _nearmiss.__version__
 __all__ = [
     "FEATURES",
     "FORMULAS",
+    "Clearance",
     "ClosestApproach",
     "CollisionManager",
+    "FirstContact",
     "Mesh",
     "MeshDistance",
     "MotionBetween",
@@ -337,16 +339,17 @@ def _mesh(name: str, mesh: Any) -> Mesh:
 _pivoted: "dict[Tuple[int, bytes], Tuple[Mesh, Mesh]]" = {}
 
 
-def _body(side: str, mesh: Any, pose: Pose, motion: Any) -> tuple:
-    """One moving body's arguments: ``(mesh, pose arrays, motion arrays)``;
-    a :class:`MotionBetween` brings its pivot frame's pose and the mesh in
+def _body(suffix: str, mesh: Any, pose: Pose, motion: Any) -> tuple:
+    """One moving body's arguments (named ``mesh{suffix}``, ``pose{suffix}``,
+    ``motion{suffix}`` in errors): ``(mesh, pose arrays, motion arrays)``; a
+    :class:`MotionBetween` brings its pivot frame's pose and the mesh in
     that frame."""
-    mesh = _mesh(f"mesh_{side}", mesh)
+    mesh = _mesh(f"mesh{suffix}", mesh)
     if not isinstance(motion, MotionBetween):
-        return mesh, _pose(f"pose_{side}", pose), _motion(f"motion_{side}", motion)
+        return mesh, _pose(f"pose{suffix}", pose), _motion(f"motion{suffix}", motion)
     if pose is not None:
         raise TypeError(
-            f"pose_{side}: a motion from motion_between holds its start pose: pass None as the pose"
+            f"pose{suffix}: a motion from motion_between holds its start pose: pass None as the pose"
         )
     key = (id(mesh), motion.about.tobytes())
     kept = _pivoted.get(key)
@@ -354,13 +357,13 @@ def _body(side: str, mesh: Any, pose: Pose, motion: Any) -> tuple:
         if len(_pivoted) >= 64:
             del _pivoted[next(iter(_pivoted))]
         kept = _pivoted[key] = (mesh, mesh.pivoted(motion.about))
-    return kept[1], _pose(f"pose_{side}", motion.pose), (motion.velocity, motion.angular_velocity)
+    return kept[1], _pose(f"pose{suffix}", motion.pose), (motion.velocity, motion.angular_velocity)
 
 
 def _moving(mesh_a, pose_a, motion_a, mesh_b, pose_b, motion_b, duration) -> tuple:
     """A moving pair's arguments, converted and checked: each body as
     ``(mesh, pose arrays, motion arrays)``, then the duration."""
-    return _body("a", mesh_a, pose_a, motion_a), _body("b", mesh_b, pose_b, motion_b), float(duration)
+    return _body("_a", mesh_a, pose_a, motion_a), _body("_b", mesh_b, pose_b, motion_b), float(duration)
 
 
 def motion_between(pose0: Pose, pose1: Pose, duration: float = 1.0, about: ArrayLike = (0.0, 0.0, 0.0)) -> MotionBetween:
@@ -599,4 +602,4 @@ def run_scene(path: Union[str, os.PathLike], *, trace: bool = False) -> Any:
 
 
 # One mesh against many (imports the queries above).
-from .collision import CollisionManager  # noqa: E402
+from .collision import Clearance, CollisionManager, FirstContact  # noqa: E402

@@ -1,15 +1,15 @@
 """One mesh against many: a collection of named, posed meshes with a broad
-phase inside, under the names and return shapes of trimesh's
-``trimesh.collision.CollisionManager``, so that it drops in where trimesh
-users have one.
+phase inside (the library's ``nearmiss::collection``), under the names and
+return shapes of trimesh's ``trimesh.collision.CollisionManager``, so that
+it drops in where trimesh users have one, and with what no peer manager
+has: the first contact (never late) and the certified clearance of a mesh
+*moving* against every object (:meth:`CollisionManager.time_of_impact_single`,
+:meth:`CollisionManager.closest_approach_single`).
 
-Each object keeps its mesh's box in its own frame; a pose gives the
-world box of that box's eight corners, which holds the mesh. Candidate
-pairs are those whose world boxes touch (for collisions) or whose boxes'
-gap is below the nearest distance found so far (for distances, taken in
-the order of that gap): the answers are the exact ones of
-:func:`nearmiss.mesh_distance` over every pair, with the pairs that cannot
-matter never measured.
+Each object keeps its world box; only the objects whose boxes can matter
+are measured (those touching the query's box for collisions, the rest in
+the order of their box's gap until it passes the best distance found).
+Distances are the exact ones of :func:`nearmiss.mesh_distance`.
 
 Surfaces, as in FCL and trimesh: two meshes are in collision when their
 surfaces touch or cross (a mesh wholly inside another is not), and the
@@ -18,11 +18,11 @@ distance of meshes in collision is 0.
 
 from __future__ import annotations
 
-from typing import Any, Dict, List, Optional, Set, Tuple
+from typing import Any, List, NamedTuple, Optional, Set, Tuple
 
 import numpy as np
 
-from . import _mesh, _pose, mesh_distance
+from . import MeshDistance, Motion, Pose, _body, _mesh, _mesh_distance, _nearmiss, _pose
 
 #: The name trimesh gives the query mesh of the ``*_single`` calls in the
 #: names of their data.
@@ -73,49 +73,55 @@ class DistanceData:
         return self._points[name]
 
 
-def _matrix(name: str, transform: Any) -> np.ndarray:
-    """A pose as a 4 x 4 transform (checked as every query checks poses)."""
-    position, rotation = _pose(name, transform)
-    rotation = np.asarray(rotation, dtype=float)
-    matrix = np.eye(4)
-    if rotation.shape == (3, 3):
-        matrix[:3, :3] = rotation
-    else:  # a quaternion [w, x, y, z]
-        w, x, y, z = rotation / np.linalg.norm(rotation)
-        matrix[:3, :3] = [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    matrix[:3, 3] = position
-    return matrix
+class FirstContact(NamedTuple):
+    """The answer of :meth:`CollisionManager.time_of_impact_single`."""
+
+    #: ``"clear"`` (no object is touched over the interval, certified),
+    #: ``"contact"`` or ``"undecided"`` (a pair's CCD ran out of iterations
+    #: at ``time``: nothing is touched before it, nothing known after).
+    status: str
+    #: The time of first contact (never later than the true one), where the
+    #: query could not decide, or the duration when clear.
+    time: float
+    #: The object touched (or whose pair was undecided).
+    name: Optional[str]
+    #: At contact: a triangle pair within the contact distance there
+    #: (``point_a`` on the object, ``point_b`` on the moving mesh).
+    closest: Optional[MeshDistance]
+    #: The pair's contact distance: no contact is reported farther apart.
+    contact_distance: Optional[float]
+    #: Objects whose boxes let them near the mesh's swept box.
+    candidates: int
 
 
-def _local_box(mesh: Any) -> np.ndarray:
-    vertices = mesh.vertices
-    return np.array([vertices.min(axis=0), vertices.max(axis=0)])
+class Clearance(NamedTuple):
+    """The answer of :meth:`CollisionManager.closest_approach_single`:
+    the smallest distance ``d*`` to any object over the interval satisfies
+    ``lower <= d* <= upper``."""
 
-
-def _world_box(local: np.ndarray, matrix: np.ndarray) -> np.ndarray:
-    """The world box of a local box's eight corners under ``matrix``,
-    widened by a few ulps of its reach for the rounding of the transform."""
-    corners = np.array([[local[i][0], local[j][1], local[k][2]] for i in (0, 1) for j in (0, 1) for k in (0, 1)])
-    world = corners @ matrix[:3, :3].T + matrix[:3, 3]
-    low, high = world.min(axis=0), world.max(axis=0)
-    slack = 8 * np.finfo(float).eps * (np.abs(world).max() + 1e-300)
-    return np.array([low - slack, high + slack])
-
-
-def _gap(a: np.ndarray, b: np.ndarray) -> float:
-    """The distance between two boxes (0 where they touch): a lower bound
-    on the distance of anything inside them."""
-    separation = np.maximum(0.0, np.maximum(a[0] - b[1], b[0] - a[1]))
-    return float(np.sqrt(separation @ separation))
+    #: ``"bracketed"``, ``"contact"`` (it touches an object; ``time`` is a
+    #: time of first contact), ``"beyond"`` (nothing within ``within``),
+    #: ``"out_of_iterations"`` or ``"undecided"``.
+    status: str
+    #: Certified: the mesh is never closer than this to any object.
+    lower: float
+    #: Reached: at ``time`` the mesh is this far from ``name`` (inf when beyond).
+    upper: float
+    time: float
+    #: The nearest object at ``time``.
+    name: Optional[str]
+    #: The closest points there (``point_a`` on the object).
+    closest: Optional[MeshDistance]
+    #: CCD runs taken.
+    runs: int
+    #: Objects bracketed (those whose boxes let them within reach).
+    candidates: int
 
 
 class CollisionManager:
     """Named meshes with poses; collisions and distances of one mesh
-    against them all (``*_single``) or among them (``*_internal``).
+    against them all (``*_single``) or among them (``*_internal``), and the
+    first contact and clearance of a moving mesh against them all.
 
     Meshes are ``nearmiss.Mesh`` objects or anything with ``vertices`` and
     ``faces`` (a ``trimesh.Trimesh``); transforms are 4 x 4 homogeneous
@@ -123,122 +129,113 @@ class CollisionManager:
     """
 
     def __init__(self) -> None:
-        self._objects: Dict[str, Tuple[Any, np.ndarray, np.ndarray, np.ndarray]] = {}
+        self._collection = _nearmiss.Collection()
 
     def add_object(self, name: str, mesh: Any, transform: Any = None) -> None:
         """Adds (or replaces) the object ``name``."""
-        converted = _mesh(f"mesh of {name!r}", mesh)
-        matrix = _matrix(f"transform of {name!r}", transform)
-        local = _local_box(converted)
-        self._objects[name] = (converted, matrix, local, _world_box(local, matrix))
+        self._collection.insert(name, _mesh(f"mesh of {name!r}", mesh), _pose(f"transform of {name!r}", transform))
 
     def remove_object(self, name: str) -> None:
-        if name not in self._objects:
+        if name not in self._collection:
             raise ValueError(f"{name} not in collision manager!")
-        del self._objects[name]
+        self._collection.remove(name)
 
     def set_transform(self, name: str, transform: Any) -> None:
-        if name not in self._objects:
+        if name not in self._collection:
             raise ValueError(f"{name} not in collision manager!")
-        mesh, _, local, _ = self._objects[name]
-        matrix = _matrix(f"transform of {name!r}", transform)
-        self._objects[name] = (mesh, matrix, local, _world_box(local, matrix))
-
-    def _query(self, mesh: Any, transform: Any) -> Tuple[Any, np.ndarray, np.ndarray]:
-        converted = _mesh("mesh", mesh)
-        matrix = _matrix("transform", transform)
-        return converted, matrix, _world_box(_local_box(converted), matrix)
+        self._collection.set_pose(name, _pose(f"transform of {name!r}", transform))
 
     def in_collision_single(self, mesh: Any, transform: Any = None, return_names: bool = False, return_data: bool = False):
         """Whether ``mesh`` at ``transform`` touches any object: a bool, then
         (as asked) the set of names it touches and a list of
         :class:`ContactData`."""
-        query, matrix, box = self._query(mesh, transform)
-        names: Set[str] = set()
-        data: List[ContactData] = []
-        for name, (other, other_matrix, _, other_box) in self._objects.items():
-            if _gap(box, other_box) > 0.0:
-                continue
-            found = mesh_distance(other, other_matrix, query, matrix)
-            if found.distance == 0.0:
-                names.add(name)
-                data.append(ContactData((name, EXTERNAL), found.point_a))
+        found = self._collection.in_collision(_mesh("mesh", mesh), _pose("transform", transform))
+        names: Set[str] = {name for name, _, _ in found}
+        data = [ContactData((name, EXTERNAL), distance[1]) for name, _, distance in found]
         return _shaped(bool(names), names, data, return_names, return_data)
 
     def in_collision_internal(self, return_names: bool = False, return_data: bool = False):
         """Whether any two objects touch: a bool, then (as asked) the set of
         touching pairs as sorted name tuples and a list of
         :class:`ContactData`."""
-        pairs: Set[Tuple[str, str]] = set()
-        data: List[ContactData] = []
-        for a, b in self._touching_boxes():
-            mesh_a, matrix_a, _, _ = self._objects[a]
-            mesh_b, matrix_b, _, _ = self._objects[b]
-            found = mesh_distance(mesh_a, matrix_a, mesh_b, matrix_b)
-            if found.distance == 0.0:
-                pairs.add(tuple(sorted((a, b))))
-                data.append(ContactData((a, b), found.point_a))
+        found = self._collection.in_collision_internal()
+        pairs: Set[Tuple[str, str]] = {tuple(sorted((a, b))) for a, b, _ in found}
+        data = [ContactData((a, b), distance[1]) for a, b, distance in found]
         return _shaped(bool(pairs), pairs, data, return_names, return_data)
-
-    def _touching_boxes(self) -> List[Tuple[str, str]]:
-        """The pairs of objects whose world boxes touch (a sweep along x)."""
-        names = list(self._objects)
-        if len(names) < 2:
-            return []
-        boxes = np.array([self._objects[n][3] for n in names])
-        order = np.argsort(boxes[:, 0, 0], kind="stable")
-        pairs = []
-        for k, i in enumerate(order):
-            for j in order[k + 1 :]:
-                if boxes[j, 0, 0] > boxes[i, 1, 0]:
-                    break
-                if np.all(boxes[i, 0] <= boxes[j, 1]) and np.all(boxes[j, 0] <= boxes[i, 1]):
-                    pairs.append((names[i], names[j]))
-        return pairs
 
     def min_distance_single(self, mesh: Any, transform: Any = None, return_name: bool = False, return_data: bool = False):
         """The least distance from ``mesh`` at ``transform`` to any object
         (0 where it touches one; ``inf`` with no objects), then (as asked) the
         nearest object's name and a :class:`DistanceData`."""
-        query, matrix, box = self._query(mesh, transform)
-        candidates = sorted((_gap(box, entry[3]), name) for name, entry in self._objects.items())
-        best, best_name, best_points = float("inf"), None, None
-        for gap, name in candidates:
-            if gap >= best:
-                break
-            other, other_matrix, _, _ = self._objects[name]
-            found = mesh_distance(other, other_matrix, query, matrix)
-            if found.distance < best:
-                best, best_name, best_points = found.distance, name, (found.point_a, found.point_b)
-        data = None if best_name is None else DistanceData((best_name, EXTERNAL), best, best_points)
-        return _shaped(best, best_name, data, return_name, return_data)
+        found = self._collection.min_distance(_mesh("mesh", mesh), _pose("transform", transform))
+        if found is None:
+            return _shaped(float("inf"), None, None, return_name, return_data)
+        name, _, distance = found
+        data = DistanceData((name, EXTERNAL), distance[0], (distance[1], distance[2]))
+        return _shaped(distance[0], name, data, return_name, return_data)
 
     def min_distance_internal(self, name: Optional[str] = None, return_names: bool = False, return_data: bool = False):
         """The least distance between two objects (of ``name`` to the others
         where given; ``inf`` with fewer than two), then (as asked) their
         names as a sorted tuple and a :class:`DistanceData`."""
-        if name is not None and name not in self._objects:
+        if name is not None and name not in self._collection:
             raise ValueError(f"{name} not in collision manager!")
-        names = list(self._objects)
-        pairs = [
-            (_gap(self._objects[a][3], self._objects[b][3]), a, b)
-            for i, a in enumerate(names)
-            for b in names[i + 1 :]
-            if name is None or name in (a, b)
-        ]
-        pairs.sort(key=lambda p: p[0])
-        best, best_pair, best_points = float("inf"), None, None
-        for gap, a, b in pairs:
-            if gap >= best:
-                break
-            mesh_a, matrix_a, _, _ = self._objects[a]
-            mesh_b, matrix_b, _, _ = self._objects[b]
-            found = mesh_distance(mesh_a, matrix_a, mesh_b, matrix_b)
-            if found.distance < best:
-                best, best_pair, best_points = found.distance, (a, b), (found.point_a, found.point_b)
-        data = None if best_pair is None else DistanceData(best_pair, best, best_points)
-        sorted_names = None if best_pair is None else tuple(sorted(best_pair))
-        return _shaped(best, sorted_names, data, return_names, return_data)
+        found = self._collection.min_distance_internal(name)
+        if found is None:
+            return _shaped(float("inf"), None, None, return_names, return_data)
+        a, b, distance = found
+        data = DistanceData((a, b), distance[0], (distance[1], distance[2]))
+        return _shaped(distance[0], tuple(sorted((a, b))), data, return_names, return_data)
+
+    def time_of_impact_single(
+        self,
+        mesh: Any,
+        transform: Pose = None,
+        motion: Motion = None,
+        duration: float = 1.0,
+        *,
+        distance_tolerance: Optional[float] = None,
+        minimum_separation: float = 0.0,
+        max_iterations: Optional[int] = None,
+    ) -> FirstContact:
+        """The first contact of ``mesh``, starting at ``transform`` and moving
+        by ``motion`` over ``[0, duration]``, with any object (which stay
+        put): never later than the true time, never missed, each pair's
+        contact distance as in :func:`nearmiss.mesh_time_of_impact`.
+        ``motion``: ``(velocity, angular_velocity)`` or a
+        :func:`nearmiss.motion_between` (with ``None`` as the transform)."""
+        raw = self._collection.first_contact(
+            _body("", mesh, transform, motion),
+            float(duration),
+            (None if distance_tolerance is None else float(distance_tolerance), float(minimum_separation), max_iterations),
+        )
+        status, time, name, closest, contact_distance, candidates = raw
+        return FirstContact(status, time, name, _mesh_distance(closest), contact_distance, candidates)
+
+    def closest_approach_single(
+        self,
+        mesh: Any,
+        transform: Pose = None,
+        motion: Motion = None,
+        duration: float = 1.0,
+        *,
+        within: float = float("inf"),
+        tolerance: Optional[float] = None,
+        max_iterations: Optional[int] = None,
+    ) -> Clearance:
+        """The certified clearance of ``mesh`` moving as in
+        :meth:`time_of_impact_single` from every object: a bracket
+        ``lower <= d* <= upper`` on its smallest distance to any of them over
+        the interval (``upper - lower`` at most ``tolerance``, default 1e-6
+        of a pair's smaller radius), only approaches within ``within``
+        bracketed."""
+        raw = self._collection.clearance(
+            _body("", mesh, transform, motion),
+            float(duration),
+            (float(within), None if tolerance is None else float(tolerance), max_iterations),
+        )
+        status, lower, upper, time, name, closest, runs, candidates = raw
+        return Clearance(status, lower, upper, time, name, _mesh_distance(closest), runs, candidates)
 
 
 def _shaped(result: Any, names: Any, data: Any, return_names: bool, return_data: bool):
