@@ -7,9 +7,11 @@
 //! `n` the direction from body a's closest point towards body b's (the
 //! contact normal; where the points coincide, triangle a's normal):
 //! 1. from the side (n up), both bodies whole;
-//! 2. the same, zoomed on the closest points (a contact: the smaller
-//!    closest triangle whole, at least a tenth of the whole view and four
-//!    contact distances; a near miss: four times its distance);
+//! 2. the same, zoomed on the closest points: the smaller closest
+//!    triangle, four contact distances (a near miss: four times its gap)
+//!    and any crossing curve, with room, but between 4 and 10 times closer
+//!    than the whole view (`MIN_ZOOM`, `ZOOM`), so that it always zooms;
+//!    a near miss's two closest points are always in view;
 //! 3. looking down n onto the closest points, zoomed alike.
 //!
 //! Body a is drawn in blue, body b in orange; the two closest triangles
@@ -49,9 +51,15 @@ pub fn pictured(contacts: usize, named: &[usize]) -> Vec<usize> {
     numbers
 }
 
-/// The zoomed views magnify the whole view this many times (and show at
-/// least a few contact distances around the contact).
+/// The zoomed views magnify the whole view at most this many times: `10`
+/// (more only where a near miss's gap needs it).
 pub const ZOOM: Real = 10.0;
+
+/// The zoomed views magnify the whole view at least this many times: `4`
+/// (a coarse mesh's closest triangle may be as large as the bodies; the
+/// zoomed views then show the features around the contact, not the same
+/// picture again).
+pub const MIN_ZOOM: Real = 4.0;
 
 const BLUE_BODY: RGBColor = RGBColor(31, 119, 180);
 const ORANGE_BODY: RGBColor = RGBColor(230, 120, 20);
@@ -102,11 +110,9 @@ pub struct Encounter<'a> {
 /// What the zoomed views of an [`Encounter`] show.
 #[derive(Copy, Clone, Debug)]
 pub enum Zoom {
-    /// A contact of this contact distance: the smaller closest triangle
-    /// whole, at least a tenth of the whole view and four contact
-    /// distances.
+    /// A contact of this contact distance (see the module).
     Contact(Real),
-    /// A gap of this distance: four times it around the closest points.
+    /// A gap of this distance (see the module).
     Gap(Real),
 }
 

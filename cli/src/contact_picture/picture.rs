@@ -3,7 +3,7 @@
 //! in its panel.
 
 use super::{
-    direction_name, draw_triad, draw_wireframe, Encounter, View, Zoom, BLUE_BODY, CROSSING, NORMAL,
+    direction_name, draw_triad, draw_wireframe, Encounter, View, Zoom, BLUE_BODY, CROSSING, MIN_ZOOM, NORMAL,
     ORANGE_BODY, PANEL_ASPECT, PANEL_MARGINS, ZOOM,
 };
 use crate::plot::FAMILY;
@@ -42,8 +42,6 @@ struct Framing {
     depth: Vector,
     whole: Real,
     whole_offset: (Real, Real),
-    /// The bodies' largest extent along `right` or the normal.
-    spread: Real,
     /// The smaller contact triangle's reach from the centre, with room.
     small_triangle: Real,
 }
@@ -89,16 +87,7 @@ impl Framing {
         let triangle_b = mesh_b.triangle(closest.triangle_b).map(|p| pose_b * p);
         let reach = |t: &[Point; 3]| t.iter().map(|p| (p - center).norm()).fold(0.0, Real::max);
         let small_triangle = reach(&triangle_a).min(reach(&triangle_b)) * 1.25;
-        Framing {
-            center,
-            normal,
-            right,
-            depth,
-            whole,
-            whole_offset,
-            spread: spread(&right).max(spread(&normal)),
-            small_triangle,
-        }
+        Framing { center, normal, right, depth, whole, whole_offset, small_triangle }
     }
 }
 
@@ -111,7 +100,7 @@ impl<'e> Picture<'e> {
         let (mesh_a, mesh_b) = meshes;
         let closest = encounter.closest;
         let (pose_a, pose_b) = encounter.poses;
-        let Framing { center, normal, right, depth, whole, whole_offset, spread, small_triangle } =
+        let Framing { center, normal, right, depth, whole, whole_offset, small_triangle } =
             Framing::of(encounter, meshes);
         // Where the surfaces cross (bodies that overlap), drawn over both; the
         // zoomed views then hold the whole curve.
@@ -129,20 +118,15 @@ impl<'e> Picture<'e> {
         let curve_center = (!curve.is_empty()).then(|| {
             Point::from(curve.iter().flatten().map(|p| p.coords).sum::<Vector>() / (2 * curve.len()) as Real)
         });
-        let zoom_center = curve_center.unwrap_or(center);
-        let curve_reach = curve.iter().flatten().map(|p| (p - zoom_center).norm()).fold(0.0, Real::max) * 1.1;
+        let curve_reach =
+            |middle: &Point| curve.iter().flatten().map(|p| (p - middle).norm()).fold(0.0, Real::max);
         let overlap_depth = (!curve.is_empty())
             .then(|| {
                 signed_distance(mesh_a, &pose_a, mesh_b, &pose_b, &mut SignedDistanceScratch::default()).value
             })
             .filter(|v| *v < 0.0);
-        let zoom = curve_reach.min(whole).max(match encounter.zoom {
-            // On the gap: both closest points, the gap a quarter of the view.
-            Zoom::Gap(distance) => (4.0 * distance).min(whole),
-            Zoom::Contact(contact_distance) => {
-                (spread / ZOOM).max(small_triangle).min(whole).max(4.0 * contact_distance)
-            }
-        });
+        let (zoom, zoom_center) =
+            zoom_framing(encounter.zoom, whole, small_triangle, (center, curve_center), curve_reach);
         let views = [
             View {
                 title: "side view (normal up)".into(),
@@ -286,5 +270,63 @@ impl<'e> Picture<'e> {
             .map_err(|e| error(&e))?;
         draw_triad(&mut chart, view, (cx + 0.72 * w, cy + h - 0.28 * w), 0.2 * w).map_err(|e| error(&e))?;
         Ok(())
+    }
+}
+
+/// The zoomed views' half width and middle (see the module): what they
+/// should hold (the smaller closest triangle, four contact distances or
+/// four times the gap, the whole crossing curve, with room) brought
+/// between [`ZOOM`] and [`MIN_ZOOM`] times closer than the whole view's
+/// `whole`, so that they always zoom and never zoom past the features;
+/// a gap's two closest points are held whatever its size. Centred on the
+/// crossing curve where it fits, else on the closest points (`center`).
+/// `curve_reach`: the curve's largest distance from a point.
+fn zoom_framing(
+    zoom: Zoom,
+    whole: Real,
+    small_triangle: Real,
+    (center, curve_center): (Point, Option<Point>),
+    curve_reach: impl Fn(&Point) -> Real,
+) -> (Real, Point) {
+    let curve = curve_center.map(|middle| (middle, curve_reach(&middle) * 1.1));
+    let wanted = match zoom {
+        Zoom::Contact(distance) | Zoom::Gap(distance) => small_triangle.max(4.0 * distance),
+    }
+    .max(curve.map_or(0.0, |(_, reach)| reach));
+    let half_width = match zoom {
+        Zoom::Gap(distance) => wanted.clamp(whole / ZOOM, whole / MIN_ZOOM).max(0.75 * distance),
+        Zoom::Contact(_) => wanted.clamp(whole / ZOOM, whole / MIN_ZOOM),
+    };
+    match curve {
+        Some((middle, reach)) if reach <= half_width => (half_width, middle),
+        _ => (half_width, center),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_zoomed_views_always_zoom_and_hold_what_matters() {
+        let center = Point::origin();
+        let none = |_: &Point| 0.0;
+        // Two triangles whose closest triangle is as large as the whole
+        // view: still MIN_ZOOM closer.
+        let (w, middle) = zoom_framing(Zoom::Contact(1e-9), 0.54, 0.6, (center, None), none);
+        assert_eq!((w, middle), (0.54 / MIN_ZOOM, center));
+        // A fine mesh: its small triangle, up to ZOOM closer.
+        assert_eq!(zoom_framing(Zoom::Contact(1e-9), 2.0, 0.15, (center, None), none).0, 0.2);
+        assert_eq!(zoom_framing(Zoom::Contact(1e-9), 2.0, 0.3, (center, None), none).0, 0.3);
+        // A near miss whose gap is large: both closest points in view.
+        let (w, _) = zoom_framing(Zoom::Gap(1.0), 2.0, 0.1, (center, None), none);
+        assert!((0.6..=2.0).contains(&w), "{w}");
+        // A crossing curve that fits: centred on it; one that does not:
+        // on the closest points.
+        let curve_middle = Point::new(0.05, 0.0, 0.0);
+        let (w, middle) = zoom_framing(Zoom::Contact(1e-9), 2.0, 0.1, (center, Some(curve_middle)), |_| 0.2);
+        assert_eq!((w, middle), (0.2 * 1.1, curve_middle));
+        let (w, middle) = zoom_framing(Zoom::Contact(1e-9), 2.0, 0.1, (center, Some(curve_middle)), |_| 1.5);
+        assert_eq!((w, middle), (2.0 / MIN_ZOOM, center));
     }
 }
