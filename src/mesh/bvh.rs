@@ -12,10 +12,12 @@
 //! over; see BENCHMARKS.md). Boxes along the mesh's axes are kept where
 //! they are as tight, so an axis-aligned part keeps exact box faces.
 //!
-//! Built top-down: each node's triangles are split at the median centroid
+//! Split top-down: each node's triangles are split at the median centroid
 //! along the longest axis of the centroids' box, down to leaves of at most
 //! [`BVH_LEAF_SIZE`] triangles (a 4 × 4 leaf pair fills two 8-lane batches
-//! of the triangle kernel).
+//! of the triangle kernel). Boxed bottom-up: a node's aligned box, mean and
+//! scatter are merged from its children's, so only its principal-axes
+//! projections and its radius take a pass over its corners.
 
 use nalgebra::{Matrix3, SymmetricEigen};
 
@@ -61,7 +63,7 @@ impl MeshBvh {
     /// Builds the tree over `triangles` (at least one) and returns it with
     /// the triangles reordered so that each leaf holds a contiguous range.
     ///
-    /// Subtrees of [`PARALLEL_BUILD_TRIANGLES`] or more are built on
+    /// Subtrees of `PARALLEL_BUILD_TRIANGLES` (16,384) or more are built on
     /// rayon's threads, each into the slots the one-thread build would give
     /// it (a subtree's node count follows from its triangle count alone), so
     /// the tree is the same whatever the thread count.
@@ -154,6 +156,14 @@ impl Builder<'_> {
     /// `offset` of the final order), and `descendants` (its subtree's other
     /// nodes, the first at index `base` of the tree) with its subtree:
     /// children first, then the first child's subtree, then the second's.
+    /// Returns the moments of the node's corners.
+    ///
+    /// The tree is split top-down and boxed bottom-up: a node's aligned
+    /// box, mean and scatter are merged from its children's (exactly for
+    /// the box; Chan et al.'s pairwise update for the scatter, as stable
+    /// as summing about the mean), so only the principal axes' projections
+    /// and the radius take a pass over the node's corners (two passes, not
+    /// four: the build is bound by those reads).
     fn build(
         &self,
         node: &mut BvhNode,
@@ -161,15 +171,13 @@ impl Builder<'_> {
         base: usize,
         order: &mut [usize],
         offset: usize,
-    ) {
-        let corners =
-            || order.iter().flat_map(|&t| self.triangles[t].iter().map(|&v| self.vertices[v as usize]));
-        let (center, axes, half_extents) = fitted_box(corners, 3 * order.len());
-        let radius = corners().map(|p| (p - center).norm()).fold(0.0, Real::max);
-        *node = BvhNode { center, axes, half_extents, radius, first: offset as u32, count: 0 };
+    ) -> Moments {
         if order.len() <= BVH_LEAF_SIZE {
+            let corners = || self.corners(order);
+            let moments = Moments::of(corners);
+            *node = fitted_node(corners, &moments, offset as u32);
             node.count = order.len() as u32;
-            return;
+            return moments;
         }
         let (centroid_low, centroid_high) = bounds(order.iter().map(|&t| self.centroids[t]));
         let axis = (centroid_high - centroid_low).imax();
@@ -177,7 +185,6 @@ impl Builder<'_> {
         order.select_nth_unstable_by(middle, |&i, &j| {
             self.centroids[i][axis].total_cmp(&self.centroids[j][axis]).then(i.cmp(&j))
         });
-        node.first = base as u32;
         let (children, rest) = descendants.split_at_mut(2);
         let (left_node, right_node) = children.split_at_mut(1);
         let left_size = node_count(middle) - 1;
@@ -187,36 +194,80 @@ impl Builder<'_> {
         let mut build_left = || self.build(&mut left_node[0], left_rest, base + 2, left, offset);
         let mut build_right =
             || self.build(&mut right_node[0], right_rest, base + 2 + left_size, right, offset + middle);
-        if parallel {
-            rayon::join(build_left, build_right);
-        } else {
-            build_left();
-            build_right();
+        let (left_moments, right_moments) =
+            if parallel { rayon::join(build_left, build_right) } else { (build_left(), build_right()) };
+        let moments = Moments::merged(&left_moments, &right_moments);
+        *node = fitted_node(|| self.corners(order), &moments, base as u32);
+        moments
+    }
+
+    /// The corners of the triangles `order`.
+    fn corners<'s>(&'s self, order: &'s [usize]) -> impl Iterator<Item = Point> + 's {
+        order.iter().flat_map(|&t| self.triangles[t].iter().map(|&v| self.vertices[v as usize]))
+    }
+}
+
+/// What a node's box is fitted from: its points' count, aligned bounds,
+/// mean and scatter `Σ (p − mean)(p − mean)ᵀ`.
+#[derive(Copy, Clone, Debug)]
+struct Moments {
+    count: Real,
+    low: Point,
+    high: Point,
+    mean: Vector,
+    scatter: Matrix3<Real>,
+}
+
+impl Moments {
+    /// Of a few points (a leaf's corners): two passes, about the mean.
+    fn of<I: Iterator<Item = Point>>(points: impl Fn() -> I) -> Moments {
+        let start =
+            (Point::from([Real::INFINITY; 3]), Point::from([Real::NEG_INFINITY; 3]), Vector::zeros(), 0.0);
+        let (low, high, sum, count) = points()
+            .fold(start, |(low, high, sum, n), p| (low.inf(&p), high.sup(&p), sum + p.coords, n + 1.0));
+        let mean = sum / count;
+        let scatter = points().fold(Matrix3::zeros(), |sum, p| {
+            let d = p.coords - mean;
+            sum + d * d.transpose()
+        });
+        Moments { count, low, high, mean, scatter }
+    }
+
+    /// Of the union of two point sets.
+    fn merged(a: &Moments, b: &Moments) -> Moments {
+        let count = a.count + b.count;
+        let delta = b.mean - a.mean;
+        Moments {
+            count,
+            low: a.low.inf(&b.low),
+            high: a.high.sup(&b.high),
+            mean: a.mean + delta * (b.count / count),
+            scatter: a.scatter + b.scatter + delta * delta.transpose() * (a.count * b.count / count),
         }
     }
 }
 
-/// A box that holds `points`: its centre, axes and half extents. The box
-/// along the principal axes of the points where its volume is below
-/// [`PRINCIPAL_BOX_GAIN`] of the box along the mesh's axes, that box
-/// otherwise. Half extents are widened by a few ulps of the box's reach,
-/// so that the rounding of the projections never leaves a point outside.
-/// `count` is the number of points.
+/// A node over `points` with these moments (its box by [`fitted_box`],
+/// its sphere about the box's centre), `first` its first triangle or child.
+fn fitted_node<I: Iterator<Item = Point>>(points: impl Fn() -> I, moments: &Moments, first: u32) -> BvhNode {
+    let (center, axes, half_extents) = fitted_box(&points, moments);
+    let radius = points().map(|p| (p - center).norm()).fold(0.0, Real::max);
+    BvhNode { center, axes, half_extents, radius, first, count: 0 }
+}
+
+/// A box that holds `points` (whose `moments` are given): its centre,
+/// axes and half extents. The box along the principal axes of the points
+/// where its volume is below [`PRINCIPAL_BOX_GAIN`] of the box along the
+/// mesh's axes, that box otherwise. Half extents are widened by a few ulps
+/// of the box's reach, so that the rounding of the projections never
+/// leaves a point outside.
 fn fitted_box<I: Iterator<Item = Point>>(
-    points: impl Fn() -> I,
-    count: usize,
+    points: &impl Fn() -> I,
+    moments: &Moments,
 ) -> (Point, Matrix3<Real>, Vector) {
-    // The box along the mesh's axes and the points' sum in one pass.
-    let start = (Point::from([Real::INFINITY; 3]), Point::from([Real::NEG_INFINITY; 3]), Vector::zeros());
-    let (low, high, sum) =
-        points().fold(start, |(low, high, sum), p| (low.inf(&p), high.sup(&p), sum + p.coords));
+    let (low, high) = (moments.low, moments.high);
     let aligned = (Point::from((low.coords + high.coords) / 2.0), Matrix3::identity(), (high - low) / 2.0);
-    let mean = sum / count as Real;
-    let covariance = points().fold(Matrix3::zeros(), |sum, p| {
-        let d = p.coords - mean;
-        sum + d * d.transpose()
-    });
-    let axes = SymmetricEigen::new(covariance).eigenvectors;
+    let axes = SymmetricEigen::new(moments.scatter).eigenvectors;
     // Only a proper orthonormal frame (the solver's columns are unit and
     // orthogonal to rounding; anything else keeps the mesh's axes).
     let off = (axes.transpose() * axes - Matrix3::identity()).amax();
