@@ -55,7 +55,10 @@
 //!
 //! The queries underneath are called directly too:
 //! [`kernels::triangle_distance`] (two triangles),
-//! [`ccd::mesh_time_of_impact`] (two moving meshes), and with the `rapier`
+//! [`ccd::mesh_time_of_impact`] (two moving meshes),
+//! [`collection::Collection`] (one mesh, at rest or moving, against many
+//! named ones: contacts, distances, first contact, certified clearance),
+//! and with the `rapier`
 //! feature `guard::Guard` keeps a rapier world from tunnelling.
 //!
 //! This crate computes and never draws: the `nearmiss` binary (the
