@@ -108,6 +108,211 @@ pub fn brute_force_pairs(boxes: &[SweptBox]) -> Vec<(usize, usize)> {
     pairs
 }
 
+/// [`GridBroadPhase`]'s cell is at least this many times the largest
+/// extent of the boxes it holds (`1 + 1e-9`), so that the rounding of a
+/// corner's cell never puts two overlapping boxes two cells apart.
+const CELL_SLACK: Real = 1.0 + 1e-9;
+
+/// [`GridBroadPhase`]: a box is "large" (tested against every other box
+/// instead of through the grid) when its extent is over this many times
+/// the median extent: `4`.
+pub const LARGE_BOX_FACTOR: Real = 4.0;
+
+/// [`GridBroadPhase`]: the grid has at most this many cells a box: `8`
+/// (its cell grows where the boxes are sparse, so its memory and the
+/// per-step clearing stay proportional to the boxes).
+pub const GRID_CELLS_PER_BOX: usize = 8;
+
+/// The overlapping pairs of many boxes through a uniform grid, rebuilt
+/// each step by a counting sort (`O(n)`): each box goes into the cell of
+/// its smallest corner; the cell is at least as large as every box in the
+/// grid, so two overlapping boxes are in the same or adjacent cells, and
+/// each pair is found once by looking from each cell into itself and its
+/// 13 neighbours ahead of it. The few boxes much larger than the median
+/// ([`LARGE_BOX_FACTOR`]: a floor, the walls of a room) stay out of the
+/// grid and are tested against every box. The pairs are those of
+/// [`brute_force_pairs`], sorted.
+#[derive(Debug, Default)]
+pub struct GridBroadPhase {
+    /// Each box's cell (`u32::MAX`: large).
+    cell_of: Vec<u32>,
+    /// Each cell's first entry (a counting sort's starts).
+    starts: Vec<u32>,
+    /// The grid's boxes by cell: their indices, and the boxes themselves
+    /// (so that a cell's neighbours are read in order).
+    entries: Vec<u32>,
+    sorted: Vec<SweptBox>,
+    /// The large boxes.
+    large: Vec<u32>,
+    /// A sample of the boxes' extents (for the median).
+    extents: Vec<Real>,
+}
+
+/// [`GridBroadPhase`] takes the median extent over every this many boxes:
+/// `8` (the cell's size needs no more; it is the largest extent in the
+/// grid whatever the sample).
+const EXTENT_SAMPLE_STRIDE: usize = 8;
+
+impl GridBroadPhase {
+    /// The overlapping pairs `(i, j)`, `i < j`, sorted, into `pairs`
+    /// (cleared first); its buffers are kept, so that a step allocates
+    /// nothing once they have grown.
+    pub fn pairs_into(&mut self, boxes: &[SweptBox], pairs: &mut Vec<(usize, usize)>) {
+        pairs.clear();
+        let n = boxes.len();
+        if n < 2 {
+            return;
+        }
+        let extent = |b: &SweptBox| (b.1 - b.0).max();
+        self.extents.clear();
+        self.extents.extend(boxes.iter().step_by(EXTENT_SAMPLE_STRIDE).map(extent));
+        let middle = self.extents.len() / 2;
+        let median = *self.extents.select_nth_unstable_by(middle, |a, b| a.total_cmp(b)).1;
+        let limit = LARGE_BOX_FACTOR * median;
+        // The grid's boxes: their cell is at least the largest of them (at
+        // least a sliver of their spread, for boxes that are points), over
+        // the span of their smallest corners.
+        self.large.clear();
+        let (mut low, mut high) = (Point::from([Real::INFINITY; 3]), Point::from([Real::NEG_INFINITY; 3]));
+        let mut largest: Real = 0.0;
+        for (i, b) in boxes.iter().enumerate() {
+            let e = extent(b);
+            if e <= limit {
+                largest = largest.max(e);
+                (low, high) = (low.inf(&b.0), high.sup(&b.0));
+            } else {
+                self.large.push(i as u32);
+            }
+        }
+        let grid = self.large.len() < n;
+        let span = if grid { (high - low).max() } else { 0.0 };
+        let mut cell = (largest * CELL_SLACK).max(span * 1e-12).max(Real::MIN_POSITIVE * 1e20);
+        // One empty cell of padding on every side: every neighbour exists.
+        let dims = |cell: Real| (high - low).map(|d| if grid { (d / cell).floor() as usize + 3 } else { 3 });
+        let mut shape = dims(cell);
+        while shape.iter().map(|&d| d as Real).product::<Real>() > (GRID_CELLS_PER_BOX * n + 27) as Real {
+            cell *= 2.0;
+            shape = dims(cell);
+        }
+        let cells = shape.iter().product::<usize>();
+        let inverse = 1.0 / cell;
+        let index = |p: &Point| {
+            let c = (p - low).map(|d| ((d * inverse).floor().max(0.0) as usize).saturating_add(1));
+            (c.z.min(shape.z - 2) * shape.y + c.y.min(shape.y - 2)) * shape.x + c.x.min(shape.x - 2)
+        };
+        // A counting sort of the grid's boxes by cell.
+        self.cell_of.clear();
+        self.starts.clear();
+        self.starts.resize(cells + 1, 0);
+        let mut next_large = self.large.iter().peekable();
+        for (i, b) in boxes.iter().enumerate() {
+            if next_large.next_if(|&&l| l as usize == i).is_some() {
+                self.cell_of.push(u32::MAX);
+            } else {
+                let c = index(&b.0);
+                self.cell_of.push(c as u32);
+                self.starts[c + 1] += 1;
+            }
+        }
+        for c in 0..cells {
+            self.starts[c + 1] += self.starts[c];
+        }
+        let in_grid = n - self.large.len();
+        self.entries.clear();
+        self.entries.resize(in_grid, 0);
+        self.sorted.clear();
+        self.sorted.resize(in_grid, (Point::origin(), Point::origin()));
+        // Each start is its cell's cursor while filling (the boxes keep
+        // their order within a cell), then the starts move back one cell.
+        for (i, &c) in self.cell_of.iter().enumerate() {
+            if c != u32::MAX {
+                let at = self.starts[c as usize] as usize;
+                (self.entries[at], self.sorted[at]) = (i as u32, boxes[i]);
+                self.starts[c as usize] += 1;
+            }
+        }
+        self.starts.copy_within(0..cells, 1);
+        self.starts[0] = 0;
+        // Each cell against itself and its 13 neighbours ahead (greater
+        // linear index); the padding keeps every neighbour in the grid.
+        let (sx, sxy) = (shape.x as isize, (shape.x * shape.y) as isize);
+        let ahead = FORWARD_NEIGHBOURS.map(|(dx, dy, dz)| dx + dy * sx + dz * sxy);
+        let (starts, entries, sorted) = (&self.starts, &self.entries, &self.sorted);
+        for c in 0..cells {
+            let (from, to) = (starts[c] as usize, starts[c + 1] as usize);
+            for a in from..to {
+                let (i, box_i) = (entries[a] as usize, &sorted[a]);
+                for b in a + 1..to {
+                    if boxes_overlap(box_i, &sorted[b]) {
+                        let j = entries[b] as usize;
+                        pairs.push((i.min(j), i.max(j)));
+                    }
+                }
+                for offset in ahead {
+                    let other = (c as isize + offset) as usize;
+                    for b in starts[other] as usize..starts[other + 1] as usize {
+                        if boxes_overlap(box_i, &sorted[b]) {
+                            let j = entries[b] as usize;
+                            pairs.push((i.min(j), i.max(j)));
+                        }
+                    }
+                }
+            }
+        }
+        // The large boxes against the grid's boxes in the cells they reach
+        // (a box overlapping one has its smallest corner at most a cell
+        // below it), and against each other (each pair once).
+        let cell_at =
+            |p: &Point| (p - low).map(|d| ((d * inverse).floor().max(0.0) as usize).saturating_add(1));
+        for (k, &l) in self.large.iter().enumerate() {
+            let (l, large_box) = (l as usize, &boxes[l as usize]);
+            if grid {
+                let from = cell_at(&(large_box.0 - Vector::repeat(cell))).map(|c| c.clamp(1, usize::MAX));
+                let to = cell_at(&large_box.1);
+                for z in from.z..=to.z.min(shape.z - 2) {
+                    for y in from.y..=to.y.min(shape.y - 2) {
+                        let row = (z * shape.y + y) * shape.x;
+                        let (first, last) = (row + from.x, row + to.x.min(shape.x - 2));
+                        if first > last {
+                            continue;
+                        }
+                        for b in starts[first] as usize..starts[last + 1] as usize {
+                            if boxes_overlap(large_box, &sorted[b]) {
+                                let j = entries[b] as usize;
+                                pairs.push((l.min(j), l.max(j)));
+                            }
+                        }
+                    }
+                }
+            }
+            for &other in &self.large[k + 1..] {
+                if boxes_overlap(large_box, &boxes[other as usize]) {
+                    pairs.push((l.min(other as usize), l.max(other as usize)));
+                }
+            }
+        }
+        pairs.sort_unstable();
+    }
+}
+
+/// The 13 cells ahead of a cell (greater linear index, x fastest) among
+/// its 26 neighbours: one of each pair of opposite offsets.
+const FORWARD_NEIGHBOURS: [(isize, isize, isize); 13] = [
+    (1, 0, 0),
+    (-1, 1, 0),
+    (0, 1, 0),
+    (1, 1, 0),
+    (-1, -1, 1),
+    (0, -1, 1),
+    (1, -1, 1),
+    (-1, 0, 1),
+    (0, 0, 1),
+    (1, 0, 1),
+    (-1, 1, 1),
+    (0, 1, 1),
+    (1, 1, 1),
+];
+
 /// The broad phase's reusable state.
 #[derive(Default)]
 pub struct BroadPhase {
@@ -195,6 +400,9 @@ mod tests {
                 .collect();
             assert_eq!(broad.pairs(&boxes), brute_force_pairs(&boxes), "{n} boxes");
             assert_eq!(sweep_pairs(&boxes, 0.0), brute_force_pairs(&boxes), "{n} boxes");
+            let mut grid = Vec::new();
+            GridBroadPhase::default().pairs_into(&boxes, &mut grid);
+            assert_eq!(grid, brute_force_pairs(&boxes), "{n} boxes");
             // Widened by `within`: every pair whose boxes' gap is that small
             // or smaller, and only pairs near along every axis.
             let within = 1.5;
@@ -211,6 +419,39 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    #[test]
+    fn grid_pairs_equal_brute_force_pairs_whatever_the_sizes() {
+        let mut rng = Rng::new(29);
+        let mut grid = GridBroadPhase::default();
+        let mut pairs = Vec::new();
+        let box_at = |c: Point, h: Vector| (c - h, c + h);
+        for case in 0..6 {
+            let n = [2, 50, 400, 1000, 300, 64][case];
+            let boxes: Vec<SweptBox> = (0..n)
+                .map(|k| {
+                    let c = Point::from(rng.in_unit_ball() * 15.0);
+                    match (case, k % 7) {
+                        // Points (zero extent), and boxes touching exactly.
+                        (1, _) => box_at(Point::new((k / 2) as Real, 0.0, 0.0), Vector::zeros()),
+                        // Walls and floors among small bodies.
+                        (2 | 3, 0) => box_at(c, Vector::new(20.0, 20.0, rng.range(0.1, 1.0))),
+                        // Far outliers: a grid that would be too fine.
+                        (4, 0) => box_at(Point::from(rng.in_unit_ball() * 1e7), Vector::repeat(0.5)),
+                        // All the same box.
+                        (5, _) => box_at(Point::new(1.0, 2.0, 3.0), Vector::repeat(0.5)),
+                        _ => box_at(
+                            c,
+                            Vector::new(rng.range(0.05, 1.0), rng.range(0.05, 1.0), rng.range(0.05, 1.0)),
+                        ),
+                    }
+                })
+                .collect();
+            grid.pairs_into(&boxes, &mut pairs);
+            assert_eq!(pairs, brute_force_pairs(&boxes), "case {case}");
+            assert!(case == 0 || !pairs.is_empty(), "case {case} finds pairs");
         }
     }
 
