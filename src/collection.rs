@@ -20,7 +20,7 @@
 //!
 //! ## The broad phase
 //! Each object keeps its world box (the box of its mesh's own box turned
-//! by its pose, widened by `BOX_ROUNDING_ULPS` of its reach), refreshed
+//! by its pose, widened by [`BOX_ROUNDING_ULPS`] of its reach), refreshed
 //! when its pose is set. One mesh against the collection looks at each
 //! box once (a few comparisons an object) and measures only the objects
 //! that can matter: those whose box touches the query's (collisions), or
@@ -43,12 +43,15 @@ use crate::math::{Pose, Real};
 use crate::mesh::{mesh_distance, DistanceSearch, MeshDistance, MeshDistanceScratch, TriMesh};
 use crate::motion::StepMotion;
 
-/// An object's world box is widened by this many ulps of its reach (the
-/// largest coordinate it spans): `16`. The box is computed from the pose's
-/// matrix, the distances from the relative pose of the pair; the widening
-/// covers the difference of their roundings, so that no touching pair is
+/// An object's world box (and a query's) is widened by this many ulps of
+/// its reach (the largest coordinate it spans): `1e3`, as the stepper's
+/// swept boxes (`StepParameters::broad_phase_rounding_ulps`). The box is
+/// computed from the pose's matrix, the distances from the relative pose
+/// of the pair; the widening covers the difference of their roundings and
+/// the CCD's rounding floor (`ccd::ROUNDING_FLOOR_ULPS` of the largest
+/// coordinate), so that no pair the CCD would count as touching is
 /// dropped.
-pub const BOX_ROUNDING_ULPS: Real = 16.0;
+pub const BOX_ROUNDING_ULPS: Real = 1e3;
 
 /// A named mesh at a pose.
 #[derive(Clone, Debug)]
@@ -409,7 +412,8 @@ impl Collection {
 
     /// The certified clearance of `mesh` moving by `motion` over `[0,
     /// duration]` from the collection: only approaches within `within`
-    /// are bracketed (`Real::INFINITY`: the nearest object, however far),
+    /// are bracketed (`Real::INFINITY`: the nearest object, however far;
+    /// a negative or NaN `within` is 0),
     /// each pair to the bracket width `tolerance` (`None`: the closest
     /// approach's default, relative to the pair's smaller radius) with
     /// `options`' iteration budget. The objects are taken in the order of
@@ -424,6 +428,8 @@ impl Collection {
         tolerance: Option<Real>,
         options: &CcdOptions,
     ) -> Clearance<'_> {
+        // A distance, at least 0 (a NaN asks for nothing but touching).
+        let within = if within.is_nan() { 0.0 } else { within.max(0.0) };
         let swept = widened_box(mesh, motion, duration, 0.0);
         let mut answer = Clearance {
             approach: ClosestApproach {

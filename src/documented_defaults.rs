@@ -66,10 +66,11 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(crate::motion::TURN_ROUNDING_ULPS, 4.0);
     // scene/build_body.rs: a keyframe's time on a step within `1e-9` of
     // itself; keyframes' turns under half a turn by `1e-9` rad.
-    // collection.rs: world boxes widened by `16` ulps of their reach.
+    // collection.rs: world boxes widened by `1e3` ulps of their reach, as
+    // the stepper's (`broad_phase_rounding_ulps` below).
     assert_eq!(crate::scene::KEYFRAME_TIME_TOLERANCE, 1e-9);
     assert_eq!(crate::scene::KEYFRAME_TURN_MARGIN, 1e-9);
-    assert_eq!(crate::collection::BOX_ROUNDING_ULPS, 16.0);
+    assert_eq!(crate::collection::BOX_ROUNDING_ULPS, 1e3);
     // broad_phase.rs: the tree re-optimised at every second refit.
     assert_eq!(crate::broad_phase::OPTIMIZE_EVERY_REFITS, 2);
     let parameters = crate::scene::StepParameters::default();
