@@ -57,7 +57,7 @@ fn moved(boxes: &[SweptBox], rng: &mut Rng) -> Vec<SweptBox> {
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("broad_phase");
     group.sample_size(10);
-    for n in [10_000, 100_000] {
+    for n in [1_000, 10_000, 100_000] {
         let mut rng = Rng::new(7);
         let start = boxes(n, &mut rng);
         let steps: Vec<Vec<SweptBox>> = (0..8).map(|_| moved(&start, &mut rng)).collect();
