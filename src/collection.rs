@@ -317,7 +317,6 @@ impl Collection {
         };
         let boxes: Vec<SweptBox> = self.objects.iter().map(|o| o.world_box).collect();
         let pair_gap = |&(i, j): &(usize, usize)| box_gap(&boxes[i], &boxes[j]);
-        let wanted = |&(i, j): &(usize, usize)| only.is_none_or(|k| i == k || j == k);
         let search = DistanceSearch::default();
         let mut scratch = MeshDistanceScratch::default();
         let measure = |(i, j): (usize, usize), scratch: &mut MeshDistanceScratch| {
@@ -335,9 +334,14 @@ impl Collection {
         };
         let Some(first) = first else { return Ok(None) };
         let bound = measure(first, &mut scratch).distance;
-        // Every pair whose boxes are nearer than the bound, nearest first.
+        // Every pair whose boxes are nearer than the bound, nearest first
+        // (one object's: its pairs directly, not a sweep of all).
+        let near = match only {
+            Some(k) => (0..self.objects.len()).filter(|&i| i != k).map(|i| (i.min(k), i.max(k))).collect(),
+            None => sweep_pairs(&boxes, bound),
+        };
         let mut pairs: Vec<(Real, (usize, usize))> =
-            sweep_pairs(&boxes, bound).into_iter().filter(wanted).map(|p| (pair_gap(&p), p)).collect();
+            near.into_iter().map(|p| (pair_gap(&p), p)).filter(|&(gap, _)| gap <= bound).collect();
         pairs.push((pair_gap(&first), first));
         pairs.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
         pairs.dedup_by_key(|p| p.1);
