@@ -113,6 +113,15 @@ pub fn brute_force_pairs(boxes: &[SweptBox]) -> Vec<(usize, usize)> {
 /// corner's cell never puts two overlapping boxes two cells apart.
 const CELL_SLACK: Real = 1.0 + 1e-9;
 
+/// [`GridBroadPhase`]'s cell is at least this fraction of the span of the
+/// boxes' corners: `1e-12` (boxes that are points, or all alike, have no
+/// extent to size it by).
+const GRID_MIN_CELL_OF_SPAN: Real = 1e-12;
+
+/// [`GridBroadPhase`]'s cell is at least this size, whatever the boxes:
+/// `MIN_POSITIVE × 1e20` (its inverse stays finite).
+const GRID_MIN_CELL: Real = Real::MIN_POSITIVE * 1e20;
+
 /// [`GridBroadPhase`]: a box is "large" (tested against every other box
 /// instead of through the grid) when its extent is over this many times
 /// the median extent: `4`.
@@ -186,7 +195,7 @@ impl GridBroadPhase {
         }
         let grid = self.large.len() < n;
         let span = if grid { (high - low).max() } else { 0.0 };
-        let mut cell = (largest * CELL_SLACK).max(span * 1e-12).max(Real::MIN_POSITIVE * 1e20);
+        let mut cell = (largest * CELL_SLACK).max(span * GRID_MIN_CELL_OF_SPAN).max(GRID_MIN_CELL);
         // One empty cell of padding on every side: every neighbour exists.
         let dims = |cell: Real| (high - low).map(|d| if grid { (d / cell).floor() as usize + 3 } else { 3 });
         let mut shape = dims(cell);

@@ -113,7 +113,7 @@ impl Collection {
     fn first_contact<'py>(
         &self,
         py: Python<'py>,
-        body: (PyRef<'py, Mesh>, Arrays<'py>, Arrays<'py>),
+        body: Body<'py>,
         duration: f64,
         options: (Option<f64>, f64, Option<usize>),
     ) -> PyResult<(&'static str, f64, Option<String>, Option<MeshDistanceTuple<'py>>, Option<f64>, usize)>
@@ -147,7 +147,7 @@ impl Collection {
     fn clearance<'py>(
         &self,
         py: Python<'py>,
-        body: (PyRef<'py, Mesh>, Arrays<'py>, Arrays<'py>),
+        body: Body<'py>,
         duration: f64,
         options: (f64, Option<f64>, Option<usize>),
     ) -> PyResult<(&'static str, f64, f64, f64, Option<String>, Option<MeshDistanceTuple<'py>>, usize, usize)>

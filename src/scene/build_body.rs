@@ -322,7 +322,8 @@ impl Builder<'_> {
         let angular_velocity = self.vector(&field("angular_velocity"), &settings.angular_velocity)?;
         let rotation = self.orientation(&field("orientation"), &settings.orientation)?;
 
-        let (shape, key) = self.shared_mesh(i, settings, scale, base, assets)?;
+        let (original, key) = self.shared_mesh(i, settings, scale, base, assets)?;
+        let shape = Arc::clone(&original);
 
         let (mut mass, mut inertia, mut center) = (None, None, Vector::zeros());
         if let Some(m) = settings.mass {
@@ -382,7 +383,6 @@ impl Builder<'_> {
             Some(pivot) => {
                 // The mesh about its pivot: the file's mesh (scaled), not the
                 // recentred one; an asset of its own.
-                let (original, _) = self.shared_mesh(i, settings, scale, base, assets)?;
                 let pivot = Point::from(self.vector(&field("pivot"), pivot)? * scale);
                 let pivoted = format!("{key}|pivot {:?}", pivot.coords.as_slice());
                 let shape = match assets.meshes.get(&pivoted) {

@@ -294,6 +294,8 @@ fn zoom_framing(
     }
     .max(curve.map_or(0.0, |(_, reach)| reach));
     let half_width = match zoom {
+        // The closest points are half the gap either side of the middle:
+        // half width 0.75 of the gap holds both with room.
         Zoom::Gap(distance) => wanted.clamp(whole / ZOOM, whole / MIN_ZOOM).max(0.75 * distance),
         Zoom::Contact(_) => wanted.clamp(whole / ZOOM, whole / MIN_ZOOM),
     };
