@@ -6,12 +6,13 @@
 //! refuse to start so (`initial_overlap: Refuse`). Pairs of bodies that
 //! never move (walls meeting at a corner) are not overlaps of interest and
 //! are left out. Candidates are the pairs whose world boxes overlap (a
-//! sweep along x); each gets [`mesh_intersection`] and, when both meshes
+//! uniform grid, `GridBroadPhase`); each gets [`mesh_intersection`] and, when both meshes
 //! are convex, [`convex_penetration`] (so a convex mesh wholly inside
 //! another, surfaces apart, overlaps it too). A non-convex mesh wholly
 //! inside another is not detected (its surfaces do not cross).
 
 use super::{Body, BodyMotion};
+use crate::broad_phase::{GridBroadPhase, SweptBox};
 use crate::math::{Point, Real};
 use crate::mesh::{
     convex_penetration, local_depths, mesh_intersection, MeshIntersection, MeshIntersectionScratch,
@@ -75,25 +76,11 @@ impl InitialOverlap {
 /// Every pair of bodies overlapping at time 0 (at least one of the two
 /// moves), in order of `(body_a, body_b)`.
 pub fn initial_overlaps(bodies: &[Body]) -> Vec<InitialOverlap> {
-    let boxes: Vec<(Point, Point)> = bodies.iter().map(world_box).collect();
-    let mut order: Vec<usize> = (0..bodies.len()).collect();
-    order.sort_by(|&i, &j| boxes[i].0.x.total_cmp(&boxes[j].0.x));
+    let boxes: Vec<SweptBox> = bodies.iter().map(world_box).collect();
     let mut candidates = Vec::new();
-    for (k, &i) in order.iter().enumerate() {
-        for &j in &order[k + 1..] {
-            if boxes[j].0.x > boxes[i].1.x {
-                break;
-            }
-            let apart =
-                (0..3).any(|axis| boxes[i].1[axis] < boxes[j].0[axis] || boxes[j].1[axis] < boxes[i].0[axis]);
-            let both_fixed = matches!(bodies[i].motion, BodyMotion::Fixed)
-                && matches!(bodies[j].motion, BodyMotion::Fixed);
-            if !apart && !both_fixed {
-                candidates.push((i.min(j), i.max(j)));
-            }
-        }
-    }
-    candidates.sort_unstable();
+    GridBroadPhase::default().pairs_into(&boxes, &mut candidates);
+    let fixed = |i: usize| matches!(bodies[i].motion, BodyMotion::Fixed);
+    candidates.retain(|&(i, j)| !(fixed(i) && fixed(j)));
     let mut scratch = MeshIntersectionScratch::default();
     candidates
         .into_iter()
