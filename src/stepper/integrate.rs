@@ -13,8 +13,19 @@ use crate::math::Real;
 use crate::motion::{integrate, Dynamics, Integrator, RigidState, StepMotion, MAX_TURN_PER_STEP};
 use crate::scene::{Body, BodyMotion};
 
-/// The integrated states of a step and whether their solve converged.
-pub(crate) type Advanced = Vec<Option<(RigidState, bool)>>;
+/// A body's integrator step, made on rayon's threads when there are many
+/// bodies: its next state, the motion between the two, whether the solve
+/// converged and (when checked) its energy.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Advance {
+    next: RigidState,
+    motion: StepMotion,
+    converged: bool,
+    energy: Real,
+}
+
+/// The integrated bodies' steps (`None` for the others).
+pub(crate) type Advanced = Vec<Option<Advance>>;
 
 impl Stepper {
     /// Moves every body's motion to the step starting at `t0` (step number
@@ -40,11 +51,17 @@ impl Stepper {
         // Bounces move energy between bodies: the check is per body, so a
         // response that exchanges momentum turns it off.
         let check_energy = !self.response.exchanges_momentum();
-        // The integrations are independent: on the threads when there are many
-        // (each body's step is the same whatever the threads).
+        // The integrations (and the motions between the states) are
+        // independent: on the threads when there are many (each body's step
+        // is the same whatever the threads). The checks below go through the
+        // bodies in order, so the first to diverge is the one reported.
         let advance = |(body, state): (&Body, &Option<RigidState>)| match (&body.motion, state) {
             (BodyMotion::Integrated(dynamics), Some(state)) => {
-                Some(integrate(state, dynamics, model.integrator, model.gyroscopic, model.dt))
+                let (next, converged) =
+                    integrate(state, dynamics, model.integrator, model.gyroscopic, model.dt);
+                let motion = StepMotion::between(&state.pose(), &next.pose(), model.dt);
+                let energy = if check_energy { dynamics.energy(&next) } else { 0.0 };
+                Some(Advance { next, motion, converged, energy })
             }
             _ => None,
         };
@@ -67,7 +84,7 @@ impl Stepper {
                     },
                 },
                 BodyMotion::Integrated(dynamics) => {
-                    let (Some(state), Some((next, converged))) = (world.states[i], advanced[i]) else {
+                    let Some(Advance { next, motion, converged, energy }) = advanced[i] else {
                         continue;
                     };
                     counters.work.gyroscopic_unconverged += usize::from(!converged);
@@ -75,14 +92,12 @@ impl Stepper {
                     if !next.is_finite() {
                         return Err(diverged(format!("the state of `{}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator", body.name)));
                     }
-                    let motion = StepMotion::between(&state.pose(), &next.pose(), model.dt);
                     let turn = motion.angular_velocity.norm() * model.dt;
                     if turn >= MAX_TURN_PER_STEP {
                         return Err(diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", body.name)));
                     }
                     if check_energy {
                         let (initial, scale) = world.energies[i];
-                        let energy = dynamics.energy(&next);
                         counters.work.max_energy_drift =
                             counters.work.max_energy_drift.max((energy - initial).abs() / scale);
                         if energy - initial > parameters.divergence_energy_growth * scale {
