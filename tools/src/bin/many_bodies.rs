@@ -139,18 +139,33 @@ fn main() {
         return simulate_beside_rapier(&args, setup);
     }
     let counts = body_counts(&args);
-    println!("| bodies | steps | ms per step | steps per s | integrate ms | broad phase ms | CCD ms | respond ms | re-arm ms | trace ms | near misses ms | candidate pairs/step | contacts | near misses |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| bodies | steps | ms per step | steps per s | set-up s | integrate ms | broad phase ms | CCD ms | respond ms | re-arm ms | trace ms | near misses ms | candidate pairs/step | contacts | near misses |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
         let scene = box_scene(n, 1, setup);
-        let result = run_with(&scene, RunOptions::default(), &mut |_| {});
+        // The steps are timed from the end of the first to the end of the
+        // last: the run's set-up (the initial overlaps, the first tree) is
+        // its own column.
+        let start = std::time::Instant::now();
+        let (mut first, mut last) = (None, start);
+        let result = run_with(&scene, RunOptions::default(), &mut |_| {
+            last = std::time::Instant::now();
+            first.get_or_insert(last);
+        });
         let steps = result.steps as f64;
         let c = &result.counters;
         let per_step = |seconds: f64| seconds * 1e3 / steps;
+        let first = first.unwrap_or(start);
+        let stepping = if result.steps > 1 {
+            (last - first).as_secs_f64() / (steps - 1.0)
+        } else {
+            result.wall_time_s / steps
+        };
+        let set_up = ((first - start).as_secs_f64() - stepping).max(0.0);
         println!(
-            "| {n} | {steps} | {:.3} | {:.0} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.0} | {} | {} |",
-            per_step(result.wall_time_s),
-            steps / result.wall_time_s,
+            "| {n} | {steps} | {:.3} | {:.0} | {set_up:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.0} | {} | {} |",
+            stepping * 1e3,
+            1.0 / stepping,
             per_step(c.seconds.integrate),
             per_step(c.seconds.broad_phase),
             per_step(c.seconds.ccd),
@@ -190,7 +205,48 @@ fn main() {
             .map(|b| b.mesh.heap_bytes())
             .sum();
         eprintln!("{n} bodies: mesh assets (vertices, triangles, BVHs, tables) {mesh_bytes} bytes");
+        eprintln!("{n} bodies: digest of the final states and contacts {:016x}", digest(&result));
     }
+    if let Some(peak) = peak_rss_bytes() {
+        eprintln!("peak resident memory of the process: {:.1} MB", peak as f64 / 1e6);
+    }
+}
+
+/// A hash (FNV-1a) of the bits of every body's final state and of every
+/// contact's time and bodies: two builds that agree on it ran the same.
+fn digest(result: &nearmiss::run::RunResult) -> u64 {
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |word: u64| {
+        for byte in word.to_le_bytes() {
+            hash = (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    for state in &result.final_states {
+        let q = state.orientation.coords;
+        for x in state
+            .position
+            .iter()
+            .chain(state.velocity.iter())
+            .chain(state.angular_velocity.iter())
+            .chain(q.iter())
+        {
+            eat(x.to_bits());
+        }
+    }
+    for contact in &result.contacts {
+        eat(contact.time.to_bits());
+        eat(contact.body_a as u64);
+        eat(contact.body_b as u64);
+    }
+    hash
+}
+
+/// The process's peak resident memory (`VmHWM`, Linux).
+fn peak_rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
 }
 
 /// `--simulate`: nearmiss's Simulate (rapier + guard) beside rapier alone.
