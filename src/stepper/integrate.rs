@@ -65,16 +65,52 @@ impl Stepper {
             }
             _ => None,
         };
-        if self.options.parallel && model.bodies.len() >= self.options.parallel_integration_bodies {
+        let parallel =
+            self.options.parallel && model.bodies.len() >= self.options.parallel_integration_bodies;
+        if parallel {
             model.bodies.par_iter().zip(&world.states).map(advance).collect_into_vec(advanced);
         } else {
             advanced.clear();
             advanced.extend(model.bodies.iter().zip(&world.states).map(advance));
         }
-        for (i, body) in model.bodies.iter().enumerate() {
-            world.motions[i] = match &body.motion {
-                BodyMotion::Fixed => StepMotion::fixed(body.pose),
-                BodyMotion::Free => match &world.states[i] {
+        // The checks, body by body in order: a step in which a body diverges
+        // moves no body (the run ends at that step's start).
+        for (i, step_of) in advanced.iter().enumerate() {
+            let Some(Advance { next, motion, converged, energy }) = step_of else { continue };
+            counters.work.gyroscopic_unconverged += usize::from(!converged);
+            let name = || &model.bodies[i].name;
+            let diverged = |reason: String| Termination::Diverged { body: i, step, reason };
+            if !next.is_finite() {
+                return Err(diverged(format!("the state of `{}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator", name())));
+            }
+            let turn = motion.angular_velocity.norm() * model.dt;
+            if turn >= MAX_TURN_PER_STEP {
+                return Err(diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", name())));
+            }
+            if check_energy {
+                let (initial, scale) = world.energies[i];
+                counters.work.max_energy_drift =
+                    counters.work.max_energy_drift.max((energy - initial).abs() / scale);
+                if energy - initial > parameters.divergence_energy_growth * scale {
+                    let BodyMotion::Integrated(dynamics) = &model.bodies[i].motion else { continue };
+                    let time = (step + 1) as Real * model.dt;
+                    let advice = stability_advice(dynamics, model.integrator, model.dt);
+                    return Err(diverged(format!(
+                        "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time:?}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
+                        name()
+                    )));
+                }
+            }
+        }
+        // Every body's motion over the step (and an integrated body's state
+        // at its end), each its own: on the threads with the integrations.
+        let commit = |(((body, motion), state), step_of): (
+            ((&Body, &mut StepMotion), &mut Option<RigidState>),
+            &Option<Advance>,
+        )| {
+            *motion = match (&body.motion, step_of) {
+                (BodyMotion::Fixed, _) => StepMotion::fixed(body.pose),
+                (BodyMotion::Free, _) => match state {
                     // Kinematic with a state (the response can stop it): from
                     // where the last step left it.
                     Some(state) => StepMotion::new(state.pose(), state.velocity, state.angular_velocity),
@@ -83,36 +119,20 @@ impl Stepper {
                         None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
                     },
                 },
-                BodyMotion::Integrated(dynamics) => {
-                    let Some(Advance { next, motion, converged, energy }) = advanced[i] else {
-                        continue;
-                    };
-                    counters.work.gyroscopic_unconverged += usize::from(!converged);
-                    let diverged = |reason: String| Termination::Diverged { body: i, step, reason };
-                    if !next.is_finite() {
-                        return Err(diverged(format!("the state of `{}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator", body.name)));
-                    }
-                    let turn = motion.angular_velocity.norm() * model.dt;
-                    if turn >= MAX_TURN_PER_STEP {
-                        return Err(diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", body.name)));
-                    }
-                    if check_energy {
-                        let (initial, scale) = world.energies[i];
-                        counters.work.max_energy_drift =
-                            counters.work.max_energy_drift.max((energy - initial).abs() / scale);
-                        if energy - initial > parameters.divergence_energy_growth * scale {
-                            let time = (step + 1) as Real * model.dt;
-                            let advice = stability_advice(dynamics, model.integrator, model.dt);
-                            return Err(diverged(format!(
-                                "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time:?}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
-                                body.name
-                            )));
-                        }
-                    }
-                    world.states[i] = Some(next);
-                    motion
+                (BodyMotion::Integrated(_), Some(step_of)) => {
+                    *state = Some(step_of.next);
+                    step_of.motion
                 }
+                (BodyMotion::Integrated(_), None) => return,
             };
+        };
+        if parallel {
+            let bodies =
+                model.bodies.par_iter().zip(world.motions.par_iter_mut()).zip(world.states.par_iter_mut());
+            bodies.zip(advanced.par_iter()).for_each(commit);
+        } else {
+            let bodies = model.bodies.iter().zip(world.motions.iter_mut()).zip(world.states.iter_mut());
+            bodies.zip(advanced.iter()).for_each(commit);
         }
         Ok(())
     }

@@ -350,3 +350,33 @@ fn a_path_body_rests_after_its_last_keyframe() {
     );
     assert!(result.first_contact.is_none());
 }
+
+/// A step in which one body diverges moves no body: the run ends at that
+/// step's start, every body where the step found it (a drifting body
+/// listed before the diverging one included: it is at `x0 + v t` of the
+/// failing step's start, not a step further).
+#[test]
+fn a_diverging_step_moves_no_body() {
+    // Explicit Euler on an undamped spring (ω dt = 1) doubles the energy
+    // every step.
+    let result = run_ron(
+        r#"Scene(name: "t", dt: 0.01, duration: 1.0, integrator: ExplicitEuler,
+            springs: [(body: "bob", anchor: (0.0, 0.0, 0.0), stiffness: 1e4)],
+            bodies: [
+                (name: "drifter", mesh: Box(half_extents: (0.1, 0.1, 0.1)), position: (0.0, 50.0, 0.0),
+                 velocity: (1.0, 0.0, 0.0), mass: 1.0),
+                (name: "bob", mesh: Box(half_extents: (0.05, 0.05, 0.05)), position: (1.0, 0.0, 0.0), mass: 1.0),
+            ])"#,
+    );
+    let nearmiss::run::Termination::Diverged { body, step, .. } = result.termination else {
+        panic!("the spring should diverge: {:?}", result.termination)
+    };
+    assert_eq!((body, result.steps), (1, step + 1));
+    assert!(step >= 1, "it should diverge after a step or more, not at once");
+    let start = step as f64 * 0.01;
+    let drifter = result.final_states[0].position;
+    assert!(
+        (drifter.x - start).abs() <= 1e-12 && drifter.y == 50.0,
+        "{drifter} at the failing step's start {start}"
+    );
+}
