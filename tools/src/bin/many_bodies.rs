@@ -143,6 +143,9 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
         let scene = box_scene(n, 1, setup);
+        // The run's own peak: the scene's text and parse are behind it.
+        reset_peak_rss();
+        let resident_before = resident_bytes("VmRSS:");
         // The steps are timed from the end of the first to the end of the
         // last: the run's set-up (the initial overlaps, the first tree) is
         // its own column.
@@ -206,10 +209,21 @@ fn main() {
             .sum();
         eprintln!("{n} bodies: mesh assets (vertices, triangles, BVHs, tables) {mesh_bytes} bytes");
         eprintln!("{n} bodies: digest of the final states and contacts {:016x}", digest(&result));
+        if let (Some(before), Some(peak)) = (resident_before, resident_bytes("VmHWM:")) {
+            eprintln!(
+                "{n} bodies: resident memory {:.1} MB with the scene loaded, {:.1} MB at the run's peak: {:.0} bytes a body beyond the mesh assets",
+                before as f64 / 1e6,
+                peak as f64 / 1e6,
+                (peak as f64 - mesh_bytes as f64) / n as f64
+            );
+        }
     }
-    if let Some(peak) = peak_rss_bytes() {
-        eprintln!("peak resident memory of the process: {:.1} MB", peak as f64 / 1e6);
-    }
+}
+
+/// Resets the process's peak resident memory to its current one (Linux:
+/// `5` into `/proc/self/clear_refs`).
+fn reset_peak_rss() {
+    let _ = std::fs::write("/proc/self/clear_refs", "5");
 }
 
 /// A hash (FNV-1a) of the bits of every body's final state and of every
@@ -241,10 +255,11 @@ fn digest(result: &nearmiss::run::RunResult) -> u64 {
     hash
 }
 
-/// The process's peak resident memory (`VmHWM`, Linux).
-fn peak_rss_bytes() -> Option<u64> {
+/// The process's resident memory (`VmRSS:`) or its peak (`VmHWM:`) since
+/// the last reset, from `/proc/self/status` (Linux).
+fn resident_bytes(field: &str) -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let line = status.lines().find(|l| l.starts_with(field))?;
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kb * 1024)
 }
