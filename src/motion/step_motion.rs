@@ -67,15 +67,22 @@ impl StepMotion {
     /// The motion that takes `pose_t0` to `pose_t1` in time `dt` with constant
     /// velocities (the rotation taken the short way: less than π).
     pub fn between(pose_t0: &Pose, pose_t1: &Pose, dt: Real) -> StepMotion {
-        let velocity = (pose_t1.translation.vector - pose_t0.translation.vector) / dt;
+        let angular_velocity = StepMotion::turn_between(pose_t0, pose_t1, dt);
+        StepMotion::between_turning(pose_t0, pose_t1, dt, angular_velocity)
+    }
+
+    /// The angular velocity of [`StepMotion::between`] the two poses.
+    pub fn turn_between(pose_t0: &Pose, pose_t1: &Pose, dt: Real) -> Vector {
         let turn = pose_t1.rotation * pose_t0.rotation.inverse();
-        StepMotion {
-            reference: *pose_t0,
-            elapsed: 0.0,
-            velocity,
-            angular_velocity: turn.scaled_axis() / dt,
-            integrated: true,
-        }
+        turn.scaled_axis() / dt
+    }
+
+    /// [`StepMotion::between`] the two poses, given its angular velocity
+    /// ([`StepMotion::turn_between`] them): for a caller that keeps the
+    /// angular velocity rather than the whole motion.
+    pub fn between_turning(pose_t0: &Pose, pose_t1: &Pose, dt: Real, angular_velocity: Vector) -> StepMotion {
+        let velocity = (pose_t1.translation.vector - pose_t0.translation.vector) / dt;
+        StepMotion { reference: *pose_t0, elapsed: 0.0, velocity, angular_velocity, integrated: true }
     }
 
     /// The motion that takes a body from `pose_t0` to `pose_t1` in time `dt`

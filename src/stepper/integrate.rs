@@ -9,17 +9,18 @@ use std::time::Instant;
 use super::result::Termination;
 use super::world::World;
 use super::Stepper;
-use crate::math::Real;
+use crate::math::{Real, Vector};
 use crate::motion::{integrate, Dynamics, Integrator, RigidState, StepMotion, MAX_TURN_PER_STEP};
 use crate::scene::{Body, BodyMotion};
 
 /// A body's integrator step, made on rayon's threads when there are many
-/// bodies: its next state, the motion between the two, whether the solve
+/// bodies: its next state, the angular velocity of the motion between the
+/// two (the rest of the motion is a subtraction away), whether the solve
 /// converged and (when checked) its energy.
 #[derive(Copy, Clone, Debug)]
 pub(crate) struct Advance {
     next: RigidState,
-    motion: StepMotion,
+    turn: Vector,
     converged: bool,
     energy: Real,
 }
@@ -59,9 +60,9 @@ impl Stepper {
             (BodyMotion::Integrated(dynamics), Some(state)) => {
                 let (next, converged) =
                     integrate(state, dynamics, model.integrator, model.gyroscopic, model.dt);
-                let motion = StepMotion::between(&state.pose(), &next.pose(), model.dt);
+                let turn = StepMotion::turn_between(&state.pose(), &next.pose(), model.dt);
                 let energy = if check_energy { dynamics.energy(&next) } else { 0.0 };
-                Some(Advance { next, motion, converged, energy })
+                Some(Advance { next, turn, converged, energy })
             }
             _ => None,
         };
@@ -76,14 +77,14 @@ impl Stepper {
         // The checks, body by body in order: a step in which a body diverges
         // moves no body (the run ends at that step's start).
         for (i, step_of) in advanced.iter().enumerate() {
-            let Some(Advance { next, motion, converged, energy }) = step_of else { continue };
+            let Some(Advance { next, turn, converged, energy }) = step_of else { continue };
             counters.work.gyroscopic_unconverged += usize::from(!converged);
             let name = || &model.bodies[i].name;
             let diverged = |reason: String| Termination::Diverged { body: i, step, reason };
             if !next.is_finite() {
                 return Err(diverged(format!("the state of `{}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator", name())));
             }
-            let turn = motion.angular_velocity.norm() * model.dt;
+            let turn = turn.norm() * model.dt;
             if turn >= MAX_TURN_PER_STEP {
                 return Err(diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", name())));
             }
@@ -104,28 +105,9 @@ impl Stepper {
         }
         // Every body's motion over the step (and an integrated body's state
         // at its end), each its own: on the threads with the integrations.
-        let commit = |(((body, motion), state), step_of): (
-            ((&Body, &mut StepMotion), &mut Option<RigidState>),
-            &Option<Advance>,
-        )| {
-            *motion = match (&body.motion, step_of) {
-                (BodyMotion::Fixed, _) => StepMotion::fixed(body.pose),
-                (BodyMotion::Free, _) => match state {
-                    // Kinematic with a state (the response can stop it): from
-                    // where the last step left it.
-                    Some(state) => StepMotion::new(state.pose(), state.velocity, state.angular_velocity),
-                    None => match &body.path {
-                        Some(path) => path.motion(step, model.dt),
-                        None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
-                    },
-                },
-                (BodyMotion::Integrated(_), Some(step_of)) => {
-                    *state = Some(step_of.next);
-                    step_of.motion
-                }
-                (BodyMotion::Integrated(_), None) => return,
-            };
-        };
+        let dt = model.dt;
+        let commit =
+            |(((body, motion), state), step_of)| commit_step(body, motion, state, step_of, step, t0, dt);
         if parallel {
             let bodies =
                 model.bodies.par_iter().zip(world.motions.par_iter_mut()).zip(world.states.par_iter_mut());
@@ -136,6 +118,37 @@ impl Stepper {
         }
         Ok(())
     }
+}
+
+/// Body `body`'s motion over step `step` (starting at `t0`), and an
+/// integrated body's state at its end (`step_of`).
+fn commit_step(
+    body: &Body,
+    motion: &mut StepMotion,
+    state: &mut Option<RigidState>,
+    step_of: &Option<Advance>,
+    step: u64,
+    t0: Real,
+    dt: Real,
+) {
+    *motion = match (&body.motion, step_of) {
+        (BodyMotion::Fixed, _) => StepMotion::fixed(body.pose),
+        (BodyMotion::Free, _) => match state {
+            // Kinematic with a state (the response can stop it): from where
+            // the last step left it.
+            Some(state) => StepMotion::new(state.pose(), state.velocity, state.angular_velocity),
+            None => match &body.path {
+                Some(path) => path.motion(step, dt),
+                None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
+            },
+        },
+        (BodyMotion::Integrated(_), Some(Advance { next, turn, .. })) => {
+            // (An integrated body with a step had a state.)
+            let before = state.replace(*next).map_or(body.pose, |s| s.pose());
+            StepMotion::between_turning(&before, &next.pose(), dt, *turn)
+        }
+        (BodyMotion::Integrated(_), None) => return,
+    };
 }
 
 /// What to do about a diverging body: the largest stable step of its springs.
