@@ -367,6 +367,8 @@ impl Stepper {
             (Termination::FirstContact, Some(contact)) => contact.time,
             // Nothing after an undecided query is known.
             (Termination::Undecided { time, .. }, _) => *time,
+            // A diverging step moved no body: the run ends at its start.
+            (Termination::Diverged { step, .. }, _) => *step as Real * model.dt,
             _ => steps as Real * model.dt,
         };
         world.contacts.retain(|c| c.time <= end_time);
@@ -392,8 +394,13 @@ impl Stepper {
             }
             None => Vec::new(),
         };
-        let final_states =
-            (0..model.bodies.len()).map(|i| world.state_at(i, end_time - last_step_start)).collect();
+        // The motions are those of the last step taken (after a divergence,
+        // the step before the one that failed: the bodies are at its end).
+        let at = match termination {
+            Termination::Diverged { .. } => model.dt,
+            _ => end_time - last_step_start,
+        };
+        let final_states = (0..model.bodies.len()).map(|i| world.state_at(i, at)).collect();
         let near_misses = match self.near_misses.take() {
             Some(observer) => {
                 // The steps still held are bracketed now.

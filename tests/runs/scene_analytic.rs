@@ -374,6 +374,7 @@ fn a_diverging_step_moves_no_body() {
     assert_eq!((body, result.steps), (1, step + 1));
     assert!(step >= 1, "it should diverge after a step or more, not at once");
     let start = step as f64 * 0.01;
+    assert_eq!(result.end_time, start, "the run ends at the failing step's start");
     let drifter = result.final_states[0].position;
     assert!(
         (drifter.x - start).abs() <= 1e-12 && drifter.y == 50.0,
