@@ -18,7 +18,8 @@
 //! With `--simulate --no-peers`: Simulate only (for profiling the guard).
 //! With `--rapier` (Bounce): rapier alone on the same bodies in the same
 //! run (restitution 1, no friction, its CCD on, convex hulls), its steps
-//! per second and nearmiss's rate over it.
+//! per second and nearmiss's rate over it; built with the tools'
+//! `rapier-parallel` feature, rapier on its own threads.
 //! With `--bunnies`: every fifth body (those that were icospheres of 320
 //! triangles) is the Stanford bunny (3,674 triangles, scaled to radius
 //! 0.29; `scripts/fetch-bunny.sh` fetches it).
@@ -189,7 +190,8 @@ fn main() {
             let convex = nearmiss::guard::run_rapier_alone(&same, false).expect("rapier runs");
             let rate = convex.steps as f64 / convex.wall_time_s;
             let ours = steps / result.wall_time_s;
-            println!("rapier alone (convex, CCD on) on the same bodies: {rate:.0} steps/s; nearmiss Bounce / rapier = {:.2}", ours / rate);
+            let threads = if cfg!(feature = "rapier-parallel") { "on" } else { "off" };
+            println!("rapier alone (convex, CCD on, its `parallel` feature {threads}) on the same bodies: {rate:.0} steps/s; nearmiss Bounce / rapier = {:.2}", ours / rate);
         }
         // The mesh assets (shared between bodies) with their BVHs and
         // tables, in bytes.
