@@ -351,6 +351,14 @@ impl BroadPhase {
     /// [`BroadPhase::pairs`] into `pairs` (cleared first): a buffer kept
     /// between steps, so that a step allocates nothing once it has grown.
     pub fn pairs_into(&mut self, boxes: &[SweptBox], pairs: &mut Vec<(usize, usize)>) {
+        self.pairs_into_on(boxes, pairs, false);
+    }
+
+    /// [`BroadPhase::pairs_into`], the tree refitted and traversed on
+    /// rayon's threads when `threads` (parry's parallel refit and
+    /// traversal: the same tree and the same pairs; the traversal's list
+    /// is allocated by parry at each call).
+    pub fn pairs_into_on(&mut self, boxes: &[SweptBox], pairs: &mut Vec<(usize, usize)>, threads: bool) {
         pairs.clear();
         self.leaves.clear();
         let corner = |p: &Point| parry3d_f64::math::Vector::new(p.x, p.y, p.z);
@@ -363,7 +371,11 @@ impl BroadPhase {
                     for (i, leaf) in self.leaves.iter().enumerate() {
                         tree.insert_or_update_partially(*leaf, i as u32, 0.0);
                     }
-                    tree.refit(&mut self.workspace);
+                    if threads {
+                        tree.refit_parallel(&mut self.workspace);
+                    } else {
+                        tree.refit(&mut self.workspace);
+                    }
                     // Bodies that mix (a gas in a box) leave the first
                     // tree's grouping behind: refitted alone, its boxes
                     // grow until a traversal meets most of the tree.
@@ -380,10 +392,17 @@ impl BroadPhase {
                     self.tree.insert(Bvh::from_leaves(BvhBuildStrategy::Binned, &self.leaves))
                 }
             };
-            bvh.traverse_bvtt_single_tree::<false>(&mut self.workspace, &mut |i, j| {
+            let mut push = |i: u32, j: u32| {
                 let (i, j) = (i as usize, j as usize);
                 pairs.push((i.min(j), i.max(j)));
-            });
+            };
+            if threads {
+                for (i, j) in bvh.traverse_bvtt_single_tree_parallel::<false>() {
+                    push(i, j);
+                }
+            } else {
+                bvh.traverse_bvtt_single_tree::<false>(&mut self.workspace, &mut push);
+            }
         }
         pairs.sort_unstable();
         pairs.dedup();
@@ -483,6 +502,34 @@ mod tests {
                 })
                 .collect();
             assert_eq!(broad.pairs(&boxes), brute_force_pairs(&boxes), "call {call}");
+        }
+    }
+
+    #[test]
+    fn tree_on_threads_gives_the_pairs_of_one_thread() {
+        // Enough boxes for parry to split its refit and traversal into
+        // tasks (its thresholds are 2,048 and 512 leaves), moving over five
+        // calls, some far: the same pairs as brute force.
+        let mut rng = Rng::new(53);
+        let (mut threaded, mut single) = (BroadPhase::default(), BroadPhase::default());
+        let (mut on_threads, mut on_one) = (Vec::new(), Vec::new());
+        let mut centers: Vec<Point> = (0..6000).map(|_| Point::from(rng.in_unit_ball() * 30.0)).collect();
+        for call in 0..5 {
+            for (k, c) in centers.iter_mut().enumerate() {
+                *c += rng.in_unit_ball() * if k % 97 == call { 10.0 } else { 0.3 };
+            }
+            let boxes: Vec<SweptBox> = centers
+                .iter()
+                .map(|c| {
+                    let half = Vector::repeat(rng.range(0.2, 1.2));
+                    (c - half, c + half)
+                })
+                .collect();
+            threaded.pairs_into_on(&boxes, &mut on_threads, true);
+            single.pairs_into_on(&boxes, &mut on_one, false);
+            assert!(on_threads.len() > 1000, "call {call}: {} pairs", on_threads.len());
+            assert_eq!(on_threads, on_one, "call {call}");
+            assert_eq!(on_threads, brute_force_pairs(&boxes), "call {call}");
         }
     }
 

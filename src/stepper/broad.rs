@@ -17,9 +17,10 @@ use crate::ccd::box_margin;
 use crate::math::Real;
 use crate::scene::BodyMotion;
 
-/// The swept boxes are computed on rayon's threads from this many bodies
-/// (when the run is parallel): `4096` (a box takes tens of nanoseconds,
-/// fewer are not worth handing out).
+/// The swept boxes are computed, and parry's tree of them refitted and
+/// traversed, on rayon's threads from this many bodies (when the run is
+/// parallel): `4096` (a box takes tens of nanoseconds, fewer are not worth
+/// handing out).
 pub(crate) const PARALLEL_BOX_BODIES: usize = 4096;
 
 impl Stepper {
@@ -41,8 +42,10 @@ impl Stepper {
                     + model.parameters.broad_phase_rounding_ulps * Real::EPSILON * reach;
                 swept_box(&body.mesh, motion, model.dt, margin)
             };
-            // Each body's box is its own: on the threads when there are many.
-            if self.options.parallel && model.bodies.len() >= PARALLEL_BOX_BODIES {
+            // Each body's box is its own: on the threads when there are many
+            // (and the tree's refit and traversal with them).
+            let threads = self.options.parallel && model.bodies.len() >= PARALLEL_BOX_BODIES;
+            if threads {
                 use rayon::prelude::*;
                 model.bodies.par_iter().zip(&world.motions).map(swept).collect_into_vec(boxes);
             } else {
@@ -50,7 +53,7 @@ impl Stepper {
                 boxes.extend(model.bodies.iter().zip(&world.motions).map(swept));
             }
             let candidates = &mut self.scratch.candidates;
-            broad.pairs_into(boxes, candidates);
+            broad.pairs_into_on(boxes, candidates, threads);
             let fixed = |i: usize| model.bodies[i].motion == BodyMotion::Fixed;
             // The new pairs go into the previous step's spare buffer.
             let mut old = std::mem::replace(&mut world.pairs, std::mem::take(&mut self.scratch.spare_pairs));
