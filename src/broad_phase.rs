@@ -483,6 +483,28 @@ mod tests {
         }
     }
 
+    /// Moves each centre by up to `near` (the one in every `every` whose
+    /// index is `call` modulo it by up to `far`), then boxes each in a cube
+    /// of half side drawn from `half`.
+    fn moved_boxes(
+        rng: &mut Rng,
+        centers: &mut [Point],
+        (call, every): (usize, usize),
+        (far, near): (Real, Real),
+        half: (Real, Real),
+    ) -> Vec<SweptBox> {
+        for (k, c) in centers.iter_mut().enumerate() {
+            *c += rng.in_unit_ball() * if k % every == call { far } else { near };
+        }
+        centers
+            .iter()
+            .map(|c| {
+                let h = Vector::repeat(rng.range(half.0, half.1));
+                (c - h, c + h)
+            })
+            .collect()
+    }
+
     #[test]
     fn refitted_tree_pairs_equal_brute_force_pairs() {
         // The same 300 boxes moving over 20 calls: the refitted tree's pairs
@@ -491,16 +513,7 @@ mod tests {
         let mut broad = BroadPhase::default();
         let mut centers: Vec<Point> = (0..300).map(|_| Point::from(rng.in_unit_ball() * 15.0)).collect();
         for call in 0..20 {
-            for (k, c) in centers.iter_mut().enumerate() {
-                *c += rng.in_unit_ball() * if k % 50 == call { 20.0 } else { 0.5 };
-            }
-            let boxes: Vec<SweptBox> = centers
-                .iter()
-                .map(|c| {
-                    let half = Vector::repeat(rng.range(0.2, 1.5));
-                    (c - half, c + half)
-                })
-                .collect();
+            let boxes = moved_boxes(&mut rng, &mut centers, (call, 50), (20.0, 0.5), (0.2, 1.5));
             assert_eq!(broad.pairs(&boxes), brute_force_pairs(&boxes), "call {call}");
         }
     }
@@ -515,16 +528,7 @@ mod tests {
         let (mut on_threads, mut on_one) = (Vec::new(), Vec::new());
         let mut centers: Vec<Point> = (0..6000).map(|_| Point::from(rng.in_unit_ball() * 30.0)).collect();
         for call in 0..5 {
-            for (k, c) in centers.iter_mut().enumerate() {
-                *c += rng.in_unit_ball() * if k % 97 == call { 10.0 } else { 0.3 };
-            }
-            let boxes: Vec<SweptBox> = centers
-                .iter()
-                .map(|c| {
-                    let half = Vector::repeat(rng.range(0.2, 1.2));
-                    (c - half, c + half)
-                })
-                .collect();
+            let boxes = moved_boxes(&mut rng, &mut centers, (call, 97), (10.0, 0.3), (0.2, 1.2));
             threaded.pairs_into_on(&boxes, &mut on_threads, true);
             single.pairs_into_on(&boxes, &mut on_one, false);
             assert!(on_threads.len() > 1000, "call {call}: {} pairs", on_threads.len());

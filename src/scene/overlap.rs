@@ -5,11 +5,12 @@
 //! (distance 0) and says nothing of how deep; this says it, and a scene can
 //! refuse to start so (`initial_overlap: Refuse`). Pairs of bodies that
 //! never move (walls meeting at a corner) are not overlaps of interest and
-//! are left out. Candidates are the pairs whose world boxes overlap (a
-//! uniform grid, `GridBroadPhase`); each gets [`mesh_intersection`] and, when both meshes
-//! are convex, [`convex_penetration`] (so a convex mesh wholly inside
-//! another, surfaces apart, overlaps it too). A non-convex mesh wholly
-//! inside another is not detected (its surfaces do not cross).
+//! are left out. Candidates are the pairs whose world boxes overlap
+//! (through a uniform grid, `GridBroadPhase`); each gets
+//! [`mesh_intersection`] and, when both meshes are convex,
+//! [`convex_penetration`] (so a convex mesh wholly inside another,
+//! surfaces apart, overlaps it too). A non-convex mesh wholly inside
+//! another is not detected (its surfaces do not cross).
 
 use super::{Body, BodyMotion};
 use crate::broad_phase::{GridBroadPhase, SweptBox};
