@@ -15,8 +15,8 @@ fn documented_defaults_are_the_real_ones() {
     // mesh/penetration.rs: "Default `1e-10`" and "Default `1e-12`".
     assert_eq!(crate::mesh::PARALLEL_EDGE_SINE, 1e-10);
     assert_eq!(crate::mesh::FLAT_EDGE_TOLERANCE, 1e-12);
-    // ccd/closest_approach.rs: "`100`" (BUDGET_GROWTH); mesh/bvh.rs: "`0.9`".
-    assert_eq!(crate::ccd::BUDGET_GROWTH, 100);
+    // ccd/closest_approach.rs: "`10`" (BUDGET_GROWTH); mesh/bvh.rs: "`0.9`".
+    assert_eq!(crate::ccd::BUDGET_GROWTH, 10);
     assert_eq!(crate::mesh::PRINCIPAL_BOX_GAIN, 0.9);
 }
 

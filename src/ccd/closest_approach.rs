@@ -32,6 +32,7 @@ use super::convex_measure::measure;
 use super::descent::descend;
 use super::mesh_pair::mesh_time_of_impact_with;
 use super::options::{CcdOptions, CcdStatus};
+use super::pair_motion::PairMotion;
 use super::query::{MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, Touching, WarmStart};
 use crate::math::Real;
 use crate::mesh::{DistanceKernel, MeshDistance};
@@ -53,12 +54,12 @@ pub(crate) const MAX_APPROACH_RUNS: usize = 64;
 /// the target.
 pub(crate) const RUN_TOLERANCE_FRACTION: Real = 0.25;
 
-/// A run that runs out of iterations is run again with ten times the
-/// budget, up to this many times the options' `max_iterations`: `100`
-/// (`10⁶` advancement steps with the default budget). Only a run that
-/// still cannot decide then makes the answer
-/// [`ApproachStatus::Undecided`].
-pub(crate) const BUDGET_GROWTH: usize = 100;
+/// A run that runs out of iterations is run again with this many times
+/// the budget: `10`. The budget grows until it reaches the number of
+/// advancement steps that decides any run ([`Runs::decided_within`]), so a
+/// run of a closest approach is never left undecided by its budget: a
+/// grazing pass that needs many small steps gets them.
+pub(crate) const BUDGET_GROWTH: usize = 10;
 
 /// After a closer point is found, the next run asks whether anything comes
 /// closer than it less this fraction of the width: `0.75`. If nothing
@@ -96,8 +97,9 @@ pub struct ClosestApproachQuery<'a> {
     /// The bracket's largest width, an absolute distance. `None`:
     /// [`DEFAULT_APPROACH_TOLERANCE`] × the smaller mesh's radius.
     pub tolerance: Option<Real>,
-    /// The iteration limit of each CCD run (the options' other fields are
-    /// set by the bisection).
+    /// The first iteration budget of each CCD run: a run that runs out of
+    /// it is run again with ten times as many, until it decides (the
+    /// options' other fields are set by the bisection).
     pub options: CcdOptions,
     /// The kernel of the CCD runs; the upper bound is always measured with
     /// the exact kernel.
@@ -159,8 +161,10 @@ pub enum ApproachStatus {
     /// `MAX_APPROACH_RUNS` runs did not close the bracket: `lower` and
     /// `upper` still hold, only wider than the tolerance.
     OutOfIterations,
-    /// A CCD run could not decide within its iterations: `upper` holds (it
-    /// was measured), `lower` is the last certified one.
+    /// A CCD run could not decide: `upper` holds (it was measured), `lower`
+    /// is the last certified one. A run's budget grows tenfold until it
+    /// reaches the steps that decide it, so this is left for a run whose
+    /// step bound is beyond counting (not a number).
     Undecided,
 }
 
@@ -320,6 +324,9 @@ struct Runs {
     /// Each run's contract tolerance τ (absolute).
     tau: Real,
     options: CcdOptions,
+    /// The most any point of one mesh can close on the other over the
+    /// interval: the duration times the head-on bound of the closing speed.
+    closing: Real,
 }
 
 impl Runs {
@@ -329,7 +336,25 @@ impl Runs {
         let tau = RUN_TOLERANCE_FRACTION * width;
         let options =
             CcdOptions { distance_tolerance: tau / radius, minimum_separation: 0.0, ..query.options };
-        Runs { width, tau, options }
+        let closing = query.duration * PairMotion::of(&query.a, &query.b, query.duration).speed;
+        Runs { width, tau, options, closing }
+    }
+
+    /// The advancement steps that decide any run of `result`'s contract:
+    /// every step of the BVH search is at least the contact distance less
+    /// the target over the closing speed (see `mesh_search.rs`), so the
+    /// interval is crossed in at most `closing / (contact − target)` steps
+    /// (one more for the last, partial one, and one for rounding).
+    fn decided_within(&self, result: &MeshCcdResult) -> usize {
+        let least_gain = result.contact_distance - result.guaranteed_distance;
+        // A bound beyond `usize` saturates; one that is not a number (a
+        // motion that is not) grows nothing, and the run stays undecided.
+        let steps = (self.closing / least_gain).ceil();
+        if steps.is_nan() {
+            0
+        } else {
+            (steps as usize).saturating_add(2)
+        }
     }
 
     /// One CCD run: does anything come closer than `target`?
@@ -351,14 +376,13 @@ impl Runs {
             kernel: query.kernel,
         };
         let mut result = mesh_time_of_impact_with(&ccd, warm, scratch, Touching::Named);
-        // Out of iterations: the run again with ten times the budget, up to
-        // `BUDGET_GROWTH` times the options' (a grazing pass can need many
-        // small advancement steps; a larger budget decides it).
-        let mut budget = self.options.max_iterations;
-        while result.status == CcdStatus::OutOfIterations
-            && budget < self.options.max_iterations.saturating_mul(BUDGET_GROWTH)
-        {
-            budget = budget.saturating_mul(10);
+        // Out of iterations: the run again with `BUDGET_GROWTH` times the
+        // budget, up to the steps that decide it (a grazing pass can need
+        // many small advancement steps).
+        let mut budget = self.options.max_iterations.max(1);
+        let decided_within = self.decided_within(&result);
+        while result.status == CcdStatus::OutOfIterations && budget < decided_within {
+            budget = budget.saturating_mul(BUDGET_GROWTH).min(decided_within);
             let ccd = MeshCcdQuery { options: CcdOptions { max_iterations: budget, ..self.options }, ..ccd };
             result = mesh_time_of_impact_with(&ccd, warm, scratch, Touching::Named);
         }

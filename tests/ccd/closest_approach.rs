@@ -8,7 +8,10 @@ use nearmiss::ccd::{
     closest_approach, ApproachStatus, CcdOptions, ClosestApproachQuery, MeshCcdScratch, MovingMesh,
 };
 use nearmiss::math::{Pose, Real, Vector};
-use nearmiss::mesh::{box_mesh, icosphere, mesh_distance_brute_force, TriMesh};
+use nearmiss::mesh::{
+    box_mesh, icosphere, mesh_distance, mesh_distance_brute_force, DistanceKernel, DistanceSearch,
+    MeshDistanceScratch, TriMesh,
+};
 use nearmiss::motion::StepMotion;
 use nearmiss::samples::Rng;
 
@@ -216,14 +219,14 @@ fn a_fast_spin_that_never_reaches_a_wall_is_decided() {
     assert!(contact.time <= analytic && analytic - contact.time < 1e-9, "{} vs {analytic}", contact.time);
 }
 
-/// Issue 45 §3, open: a ball flying through a turning ring's hole (inside
-/// its hull, so the BVH search advances step by step), 0.246 from the ring
-/// at the closest. The closest approach ends `Undecided` on its third run
-/// within 0.3 s with the default budget: the run stops short of its
-/// iterations (no budget growth helps: it ends the same with `BUDGET_GROWTH`
-/// at 1 and at 100). Kept as the reproduction of what is left to mend.
+/// Issue 45 §3: a ball flying through a turning ring's hole (inside its
+/// hull, so the BVH search advances step by step), 0.246 from the ring at
+/// the closest. The proof run grazes the ring's 48 facets at the bracket's
+/// width and takes about 2,500 advancement steps: with a budget of 20 a
+/// run, it used to end `Undecided` (the budget grew only a hundredfold).
+/// Now every run's budget grows until it reaches the steps that decide it,
+/// and both budgets give the same bracket.
 #[test]
-#[ignore = "issue 45 open: the proof run of this pass is undecided whatever the budget"]
 fn a_ball_through_a_turning_ring_is_bracketed() {
     let ring = nearmiss::mesh::torus(1.0, 0.25, 48, 16).unwrap();
     let block = icosphere(0.2, 2).unwrap();
@@ -244,4 +247,27 @@ fn a_ball_through_a_turning_ring_is_bracketed() {
     assert_eq!(full.status, ApproachStatus::Bracketed, "{full:?}");
     assert_eq!(short.status, ApproachStatus::Bracketed, "{short:?}");
     assert!(short.lower <= full.upper && full.lower <= short.upper, "{short:?} vs {full:?}");
+    // Against the exact distance sampled at 4,001 times (the static BVH
+    // search, not the CCD's): no sample below `lower`, and `upper` (the
+    // distance at `time`, checked by brute force) within the width of the
+    // lowest sample or below it.
+    let mut scratch = MeshDistanceScratch::default();
+    let search = DistanceSearch::new(DistanceKernel::Exact, None);
+    let distance_at = |s: Real, scratch: &mut MeshDistanceScratch| {
+        mesh_distance(&ring, &tumbling.pose_at(s), &block, &fixed.pose_at(s), &search, scratch).distance
+    };
+    let lowest =
+        (0..=4000).map(|k| distance_at(k as Real / 4000.0, &mut scratch)).fold(Real::INFINITY, Real::min);
+    let (rounding, width) = (1e-12, 1e-6 * block.radius());
+    for approach in [full, short] {
+        assert!(lowest >= approach.lower - rounding, "a sample at {lowest} below {approach:?}");
+        assert!(approach.upper <= lowest + width, "the scan found {lowest} < {approach:?}");
+        let there = mesh_distance_brute_force(
+            &ring,
+            &tumbling.pose_at(approach.time),
+            &block,
+            &fixed.pose_at(approach.time),
+        );
+        assert!((there - approach.upper).abs() <= rounding, "{there} at the time vs {approach:?}");
+    }
 }
