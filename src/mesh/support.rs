@@ -25,9 +25,11 @@
 //! move a comparison, so a vertex left out is smaller along `d` also in
 //! floating point: the kept list, scanned in index order for the first
 //! largest, gives exactly the vertex a whole scan gives, ties included.
-//! Cells are filled from coarser cells' lists (a fine cell's directions
-//! lie in its coarse cell, so its candidates are among the coarse cell's),
-//! so a table costs a few passes over the vertices at load.
+//! Cells are filled from coarser cells' lists, level by level, each twice
+//! as fine as the one before (a fine cell's directions lie in its coarse
+//! cell, so its candidates are among the coarse cell's): a table costs a
+//! few passes over the vertices, built once at the first query that needs
+//! it.
 
 use crate::math::{Point, Real, Vector};
 
@@ -44,6 +46,11 @@ const CELL_WIDENING: Real = 1e-9;
 /// Meshes with fewer vertices than this are scanned whole: a table would
 /// not shorten the scan enough to pay for its memory.
 pub(crate) const SUPPORT_TABLE_MIN_VERTICES: usize = 32;
+
+/// Meshes with at least this many vertices have their table's cells
+/// filled on rayon's threads: `4096` (a few milliseconds of work; below,
+/// the hand-over would cost more than it gives).
+pub(crate) const PARALLEL_SUPPORT_VERTICES: usize = 4096;
 
 /// The table of one mesh (see the module).
 #[derive(Clone, Debug)]
@@ -71,6 +78,11 @@ impl SupportTable {
     /// scan whole ([`SUPPORT_TABLE_MIN_VERTICES`]). The cells grow finer
     /// with the vertex count (16 × 16 a face from 800 vertices).
     pub(crate) fn build(vertices: &[Point]) -> Option<SupportTable> {
+        Self::build_on(vertices, vertices.len() >= PARALLEL_SUPPORT_VERTICES)
+    }
+
+    /// [`SupportTable::build`], its cells on rayon's threads or not.
+    fn build_on(vertices: &[Point], parallel: bool) -> Option<SupportTable> {
         let count = vertices.len();
         if count < SUPPORT_TABLE_MIN_VERTICES {
             return None;
@@ -84,20 +96,28 @@ impl SupportTable {
         };
         let radius = vertices.iter().map(|v| v.coords.norm()).fold(0.0, Real::max);
         let margin = SUPPORT_TABLE_MARGIN * radius;
+        // Levels of cells, each twice as fine as the one before: a cube
+        // face a cell first, filtered from every vertex; then each cell
+        // from its parent's candidates (the cones narrow, and so do the
+        // pools).
         let everything: Vec<u32> = (0..count as u32).collect();
-        // Coarse cells a quarter as fine, each filtered from every vertex.
-        let coarse_side = side / 4;
-        let coarse: Vec<Vec<u32>> = (0..6 * coarse_side * coarse_side)
-            .map(|k| keep(vertices, &cone(Self::cell_at(k, coarse_side), coarse_side), &everything, margin))
-            .collect();
-        let mut start = Vec::with_capacity(6 * side * side + 1);
-        let mut candidates = Vec::new();
+        let mut level = 1;
+        let mut pools =
+            cells(6, parallel, |k| keep(vertices, &cone(Self::cell_at(k, 1), 1), &everything, margin));
+        while level < side {
+            let finer = 2 * level;
+            pools = cells(6 * finer * finer, parallel, |k| {
+                let cell = Self::cell_at(k, finer);
+                let parent = Cell { face: cell.face, i: cell.i / 2, j: cell.j / 2 };
+                keep(vertices, &cone(cell, finer), &pools[Self::index(parent, level)], margin)
+            });
+            level = finer;
+        }
+        let mut start = Vec::with_capacity(pools.len() + 1);
+        let mut candidates = Vec::with_capacity(pools.iter().map(Vec::len).sum());
         start.push(0);
-        for k in 0..6 * side * side {
-            let cell = Self::cell_at(k, side);
-            let parent = Cell { face: cell.face, i: cell.i / 4, j: cell.j / 4 };
-            let pool = &coarse[Self::index(parent, coarse_side)];
-            candidates.extend(keep(vertices, &cone(cell, side), pool, margin));
+        for pool in &pools {
+            candidates.extend_from_slice(pool);
             start.push(candidates.len() as u32);
         }
         Some(SupportTable { side, start, candidates })
@@ -165,6 +185,17 @@ fn cone(cell: Cell, side: usize) -> (Vector, Real) {
         .map(|&(u, w)| (direction(u, w) - centre).norm())
         .fold(0.0, Real::max);
     (centre, chord * (1.0 + CELL_WIDENING) + CELL_WIDENING)
+}
+
+/// The candidates of `count` cells, `keep` of each in order (on rayon's
+/// threads when `parallel`).
+fn cells(count: usize, parallel: bool, keep: impl Fn(usize) -> Vec<u32> + Sync + Send) -> Vec<Vec<u32>> {
+    use rayon::prelude::*;
+    if parallel {
+        (0..count).into_par_iter().map(keep).collect()
+    } else {
+        (0..count).map(keep).collect()
+    }
 }
 
 /// The vertices of `pool` (in its order) that may be farthest along some
@@ -321,6 +352,23 @@ mod tests {
             })
             .collect();
         check("dented ellipsoid", &dented, false);
+    }
+
+    /// A mesh large enough for the threads: the table is the one-thread
+    /// table, cell for cell, and gives the scan's vertex.
+    #[test]
+    fn the_table_built_on_threads_is_the_one_thread_table() {
+        let sphere = crate::mesh::icosphere(1.0, 5).expect("an icosphere");
+        let mut rng = Rng::new(3);
+        // Jittered inward, so that not every vertex is on the hull.
+        let vertices: Vec<Point> =
+            sphere.vertices().iter().map(|p| p * (1.0 - 0.01 * rng.range(0.0, 1.0))).collect();
+        assert!(vertices.len() >= PARALLEL_SUPPORT_VERTICES);
+        let (threads, one) =
+            (SupportTable::build_on(&vertices, true), SupportTable::build_on(&vertices, false));
+        let (threads, one) = (threads.expect("a table"), one.expect("a table"));
+        assert_eq!((threads.start, threads.candidates), (one.start, one.candidates));
+        check("jittered icosphere", &vertices, true);
     }
 
     #[test]
