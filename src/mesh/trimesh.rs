@@ -449,8 +449,6 @@ impl TriMesh {
     }
 }
 
-/// Whether a triangle has exactly zero area: all three coordinate-plane
-/// projections are degenerate (exact orientation predicates).
 /// Every coordinate finite and within [`MAX_COORDINATE`].
 fn check_coordinates(vertices: &[Point]) -> Result<(), MeshError> {
     if let Some(vertex) = vertices.iter().position(|v| !v.coords.iter().all(|c| c.is_finite())) {
@@ -462,6 +460,8 @@ fn check_coordinates(vertices: &[Point]) -> Result<(), MeshError> {
     Ok(())
 }
 
+/// Whether a triangle has exactly zero area: all three coordinate-plane
+/// projections are degenerate (exact orientation predicates).
 fn has_zero_area(a: &Point, b: &Point, c: &Point) -> bool {
     let orient = |i: usize, j: usize| {
         let p = |q: &Point| robust::Coord { x: q[i], y: q[j] };
