@@ -187,14 +187,14 @@ fn cone(cell: Cell, side: usize) -> (Vector, Real) {
     (centre, chord * (1.0 + CELL_WIDENING) + CELL_WIDENING)
 }
 
-/// The candidates of `count` cells, `keep` of each in order (on rayon's
-/// threads when `parallel`).
-fn cells(count: usize, parallel: bool, keep: impl Fn(usize) -> Vec<u32> + Sync + Send) -> Vec<Vec<u32>> {
+/// The candidates of `count` cells, `fill(k)` for cell `k`, in order (on
+/// rayon's threads when `parallel`).
+fn cells(count: usize, parallel: bool, fill: impl Fn(usize) -> Vec<u32> + Sync + Send) -> Vec<Vec<u32>> {
     use rayon::prelude::*;
     if parallel {
-        (0..count).into_par_iter().map(keep).collect()
+        (0..count).into_par_iter().map(fill).collect()
     } else {
-        (0..count).map(keep).collect()
+        (0..count).map(fill).collect()
     }
 }
 

@@ -343,7 +343,7 @@ impl TriMesh {
         // the vertex it runs from, the triangle), packed in two words and
         // sorted: the uses of one edge are adjacent, those running from
         // the lower vertex first, each by triangle number. One sort and
-        // one pass (a 57,640-face gear ring in about 5 ms).
+        // one pass (a 57,640-face gear ring in about 6 ms).
         let mut edges: Vec<(u64, u64)> = Vec::with_capacity(3 * self.triangles.len());
         for (t, tri) in self.triangles.iter().enumerate() {
             for k in 0..3 {
