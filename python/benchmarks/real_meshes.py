@@ -138,18 +138,6 @@ def fcl_distance(a: Loaded, pose_a, b: Loaded, pose_b) -> float:
     return max(fcl.distance(oa, ob, fcl.DistanceRequest(), fcl.DistanceResult()), 0.0)
 
 
-def timed(call, repeats: int):
-    """The least time of ``repeats`` calls (fewer when one is slow) and the answer."""
-    best, answer = math.inf, None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        answer = call()
-        best = min(best, time.perf_counter() - start)
-        if best > 0.05:
-            break
-    return best, answer
-
-
 def once(call):
     """One call's time and answer."""
     start = time.perf_counter()
@@ -157,12 +145,15 @@ def once(call):
     return time.perf_counter() - start, answer
 
 
-def least_of(call, repeats: int):
-    """The least time of ``repeats`` calls, however long each takes, and the answer."""
+def timed(call, repeats: int, enough: float = 0.05):
+    """The least time of ``repeats`` calls, stopping early once one takes
+    more than ``enough`` seconds, and the answer."""
     best, answer = math.inf, None
     for _ in range(repeats):
         spent, answer = once(call)
         best = min(best, spent)
+        if best > enough:
+            break
     return best, answer
 
 
@@ -314,8 +305,8 @@ def motions(meshes, count, rng):
         # them, once for the mesh's life.
         first_toi, _ = once(lambda: nearmiss.mesh_time_of_impact(a.mesh, pose_a, None, b.mesh, pose_b, motion_b))
         first_ca, _ = once(lambda: nearmiss.closest_approach(a.mesh, pose_a, None, b.mesh, pose_b, motion_b))
-        t_toi, toi = least_of(lambda: nearmiss.mesh_time_of_impact(a.mesh, pose_a, None, b.mesh, pose_b, motion_b), 2)
-        t_ca, ca = least_of(lambda: nearmiss.closest_approach(a.mesh, pose_a, None, b.mesh, pose_b, motion_b), 2)
+        t_toi, toi = timed(lambda: nearmiss.mesh_time_of_impact(a.mesh, pose_a, None, b.mesh, pose_b, motion_b), 2, math.inf)
+        t_ca, ca = timed(lambda: nearmiss.closest_approach(a.mesh, pose_a, None, b.mesh, pose_b, motion_b), 2, math.inf)
         # coal: 200 samples of the distance along the same motion.
         def sampled():
             least = math.inf
@@ -357,7 +348,7 @@ def report_motions(rows) -> None:
           f"worst {max(r['t_ca'] for r in rows) * 1e3:.1f} ms; ÷ the same pair's time of impact: median "
           f"{statistics.median(x for x, _ in ratios):.1f}, worst {ratios[0][0]:.1f}")
     for ratio, r in ratios[:4]:
-        print(f"  {r['a'].name} / {r['b'].name}: closest approach {r['ca'].status}, {r['ca'].runs} runs, {r['t_ca'] * 1e3:.2f} ms, "
+        print(f"  {r['a'].name} / {r['b'].name}: closest approach {r['ca'].status}, {r['ca'].runs} run{'' if r['ca'].runs == 1 else 's'}, {r['t_ca'] * 1e3:.2f} ms, "
               f"lower {r['ca'].lower:.6g}; time of impact {r['toi'].status} {r['t_toi'] * 1e3:.2f} ms ({ratio:.0f}×)")
     firsts = sorted(rows, key=lambda r: -r["first_ca"])
     print(f"first calls (each mesh's one-time set-up, the first query that needs it, included): time of impact median "

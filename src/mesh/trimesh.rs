@@ -352,21 +352,21 @@ impl TriMesh {
             }
         }
         edges.sort_unstable();
-        let vertex = |word: u64, high: bool| (if high { word >> 32 } else { word & 0xffff_ffff }) as u32;
-        let from_of = |edge: &(u64, u64)| vertex(edge.1, true);
+        let (high, low) = (|word: u64| (word >> 32) as u32, |word: u64| word as u32);
+        let from_of = |edge: &(u64, u64)| high(edge.1);
         let triangles = |uses: &[(u64, u64)]| {
-            uses.iter().map(|e| (vertex(e.1, false) + 1).to_string()).collect::<Vec<_>>().join(", ")
+            uses.iter().map(|e| (low(e.1) + 1).to_string()).collect::<Vec<_>>().join(", ")
         };
         // The edges in order of their vertex numbers, each way along one
         // in order of the vertex it runs from: the first problem is the
         // one with the lowest numbers, the same every run.
         for uses in edges.chunk_by(|x, y| x.0 == y.0) {
-            let (low, high) = (vertex(uses[0].0, true), vertex(uses[0].0, false));
-            let split = uses.partition_point(|e| from_of(e) == low);
+            let (first, second) = (high(uses[0].0), low(uses[0].0));
+            let split = uses.partition_point(|e| from_of(e) == first);
             let (up, down) = uses.split_at(split);
-            for (along, back, (from, to)) in [(up, down, (low, high)), (down, up, (high, low))] {
-                // A collapsed edge (low = high) runs both ways at once.
-                let back = if low == high { along } else { back };
+            for (along, back, (from, to)) in [(up, down, (first, second)), (down, up, (second, first))] {
+                // A collapsed edge (first = second) runs both ways at once.
+                let back = if first == second { along } else { back };
                 let (a, b) = (from + 1, to + 1);
                 let message = if along.len() > 1 {
                     format!(

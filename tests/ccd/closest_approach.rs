@@ -6,6 +6,7 @@
 
 use nearmiss::ccd::{
     closest_approach, ApproachStatus, CcdOptions, ClosestApproachQuery, MeshCcdScratch, MovingMesh,
+    DEFAULT_APPROACH_TOLERANCE,
 };
 use nearmiss::math::{Pose, Real, Vector};
 use nearmiss::mesh::{
@@ -258,7 +259,7 @@ fn a_ball_through_a_turning_ring_is_bracketed() {
     };
     let lowest =
         (0..=4000).map(|k| distance_at(k as Real / 4000.0, &mut scratch)).fold(Real::INFINITY, Real::min);
-    let (rounding, width) = (1e-12, 1e-6 * block.radius());
+    let (rounding, width) = (1e-12, DEFAULT_APPROACH_TOLERANCE * block.radius());
     for approach in [full, short] {
         assert!(lowest >= approach.lower - rounding, "a sample at {lowest} below {approach:?}");
         assert!(approach.upper <= lowest + width, "the scan found {lowest} < {approach:?}");
