@@ -20,6 +20,8 @@
 //! run (restitution 1, no friction, its CCD on, convex hulls), its steps
 //! per second and nearmiss's rate over it; built with the tools'
 //! `rapier-parallel` feature, rapier on its own threads.
+//! With `--final-states PREFIX`: every body's final state and every
+//! contact written to `PREFIX<N>.txt` (to compare two builds).
 //! With `--bunnies`: every fifth body (those that were icospheres of 320
 //! triangles) is the Stanford bunny (3,674 triangles, scaled to radius
 //! 0.29; `scripts/fetch-bunny.sh` fetches it).
@@ -211,6 +213,11 @@ fn main() {
             .sum();
         eprintln!("{n} bodies: mesh assets (vertices, triangles, BVHs, tables) {mesh_bytes} bytes");
         eprintln!("{n} bodies: digest of the final states and contacts {:016x}", digest(&result));
+        if let Some(prefix) = args.iter().position(|a| a == "--final-states").and_then(|k| args.get(k + 1)) {
+            let path = format!("{prefix}{n}.txt");
+            std::fs::write(&path, final_states(&result)).expect("a writable --final-states path");
+            eprintln!("{n} bodies: final states and contacts written to {path}");
+        }
         if let (Some(before), Some(peak)) = (resident_before, resident_bytes("VmHWM:")) {
             eprintln!(
                 "{n} bodies: resident memory {:.1} MB with the scene loaded, {:.1} MB at the run's peak: {:.0} bytes a body beyond the mesh assets",
@@ -226,6 +233,28 @@ fn main() {
 /// `5` into `/proc/self/clear_refs`).
 fn reset_peak_rss() {
     let _ = std::fs::write("/proc/self/clear_refs", "5");
+}
+
+/// Every body's final state (position, velocity, angular velocity,
+/// orientation's coordinates) and every contact (time, bodies), one a line,
+/// to compare two builds whose digests differ.
+fn final_states(result: &nearmiss::run::RunResult) -> String {
+    let mut text = String::new();
+    for state in &result.final_states {
+        let q = state.orientation.coords;
+        let numbers = state
+            .position
+            .iter()
+            .chain(state.velocity.iter())
+            .chain(state.angular_velocity.iter())
+            .chain(q.iter());
+        text += &numbers.map(|x| format!("{x:?}")).collect::<Vec<_>>().join(" ");
+        text.push('\n');
+    }
+    for contact in &result.contacts {
+        text += &format!("contact {:?} {} {}\n", contact.time, contact.body_a, contact.body_b);
+    }
+    text
 }
 
 /// A hash (FNV-1a) of the bits of every body's final state and of every
