@@ -24,7 +24,9 @@ pub use gyroscopic::{implicit_gyroscopic_step, GyroscopicSolve};
 
 #[cfg(test)]
 pub(crate) use gyroscopic::GYROSCOPIC_MAX_ITERATIONS;
-pub use integrator::{integrate, Dynamics, Gyroscopic, Integrator, RigidState, Spring};
+pub use integrator::{
+    integrate, integrate_turning, Dynamics, Gyroscopic, Integrator, IntegratorStep, RigidState, Spring,
+};
 pub use step_motion::StepMotion;
 pub(crate) use step_motion::MAX_TURN_PER_STEP;
 #[cfg(test)]

@@ -6,22 +6,22 @@ use rayon::prelude::*;
 
 use std::time::Instant;
 
-use super::result::Termination;
+use super::result::{Counters, Termination};
 use super::world::World;
 use super::Stepper;
-use crate::math::{Real, Vector};
-use crate::motion::{integrate, Dynamics, Integrator, RigidState, StepMotion, MAX_TURN_PER_STEP};
-use crate::scene::{Body, BodyMotion};
+use crate::math::Real;
+use crate::motion::{
+    integrate_turning, Dynamics, Integrator, IntegratorStep, RigidState, StepMotion, MAX_TURN_PER_STEP,
+};
+use crate::scene::{Body, BodyMotion, Model};
 
 /// A body's integrator step, made on rayon's threads when there are many
 /// bodies: its next state, the angular velocity of the motion between the
 /// two (the rest of the motion is a subtraction away), whether the solve
-/// converged and (when checked) its energy.
+/// converged, and (when checked) its energy.
 #[derive(Copy, Clone, Debug)]
 pub(crate) struct Advance {
-    next: RigidState,
-    turn: Vector,
-    converged: bool,
+    step: IntegratorStep,
     energy: Real,
 }
 
@@ -48,60 +48,62 @@ impl Stepper {
         t0: Real,
     ) -> Result<(), Termination> {
         let (model, counters) = (&*self.model, &mut self.counters);
-        let parameters = &model.parameters;
         // Bounces move energy between bodies: the check is per body, so a
         // response that exchanges momentum turns it off.
         let check_energy = !self.response.exchanges_momentum();
         // The integrations (and the motions between the states) are
         // independent: on the threads when there are many (each body's step
-        // is the same whatever the threads). The checks below go through the
-        // bodies in order, so the first to diverge is the one reported.
+        // is the same whatever the threads). The first body to fail a check
+        // is the one reported.
         let advance = |(body, state): (&Body, &Option<RigidState>)| match (&body.motion, state) {
             (BodyMotion::Integrated(dynamics), Some(state)) => {
-                let (next, converged) =
-                    integrate(state, dynamics, model.integrator, model.gyroscopic, model.dt);
-                let turn = StepMotion::turn_between(&state.pose(), &next.pose(), model.dt);
-                let energy = if check_energy { dynamics.energy(&next) } else { 0.0 };
-                Some(Advance { next, turn, converged, energy })
+                let stepped =
+                    integrate_turning(state, dynamics, model.integrator, model.gyroscopic, model.dt);
+                let energy = if check_energy { dynamics.energy(&stepped.next) } else { 0.0 };
+                Some(Advance { step: stepped, energy })
             }
             _ => None,
         };
         let parallel =
             self.options.parallel && model.bodies.len() >= self.options.parallel_integration_bodies;
-        if parallel {
-            model.bodies.par_iter().zip(&world.states).map(advance).collect_into_vec(advanced);
+        // Each body's step, and the checks of it made with it: whether it
+        // fails one (the earliest such body), how many gyroscopic solves did
+        // not converge, the largest energy drift. Combined by minimum, sum
+        // and maximum, so the same whatever the threads.
+        let (drift_limit, energies) = (model.parameters.divergence_energy_growth, &world.energies);
+        let checked = |i: usize, step_of: &Option<Advance>| {
+            let Some(Advance { step: IntegratorStep { next, turn, converged }, energy }) = step_of else {
+                return Checked::default();
+            };
+            let (initial, scale) = if check_energy { energies[i] } else { (0.0, 1.0) };
+            let fails = !next.is_finite()
+                || turn.norm() * model.dt >= MAX_TURN_PER_STEP
+                || (check_energy && energy - initial > drift_limit * scale);
+            Checked {
+                first_failure: fails.then_some(i),
+                unconverged: usize::from(!converged),
+                max_drift: if check_energy { (energy - initial).abs() / scale } else { 0.0 },
+            }
+        };
+        advanced.resize(model.bodies.len(), None);
+        let slots =
+            |(i, ((slot, body), state)): (usize, ((&mut Option<Advance>, &Body), &Option<RigidState>))| {
+                *slot = advance((body, state));
+                checked(i, slot)
+            };
+        let checks = if parallel {
+            let bodies = advanced.par_iter_mut().zip(model.bodies.par_iter()).zip(&world.states);
+            bodies.enumerate().map(slots).reduce(Checked::default, Checked::and)
         } else {
-            advanced.clear();
-            advanced.extend(model.bodies.iter().zip(&world.states).map(advance));
+            let bodies = advanced.iter_mut().zip(model.bodies.iter()).zip(&world.states);
+            bodies.enumerate().map(slots).fold(Checked::default(), Checked::and)
+        };
+        if checks.first_failure.is_some() {
+            return Err(first_divergence(model, world, advanced, counters, check_energy, step));
         }
-        // The checks, body by body in order: a step in which a body diverges
-        // moves no body (the run ends at that step's start).
-        for (i, step_of) in advanced.iter().enumerate() {
-            let Some(Advance { next, turn, converged, energy }) = step_of else { continue };
-            counters.work.gyroscopic_unconverged += usize::from(!converged);
-            let name = || &model.bodies[i].name;
-            let diverged = |reason: String| Termination::Diverged { body: i, step, reason };
-            if !next.is_finite() {
-                return Err(diverged(format!("the state of `{}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator", name())));
-            }
-            let turn = turn.norm() * model.dt;
-            if turn >= MAX_TURN_PER_STEP {
-                return Err(diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", name())));
-            }
-            if check_energy {
-                let (initial, scale) = world.energies[i];
-                counters.work.max_energy_drift =
-                    counters.work.max_energy_drift.max((energy - initial).abs() / scale);
-                if energy - initial > parameters.divergence_energy_growth * scale {
-                    let BodyMotion::Integrated(dynamics) = &model.bodies[i].motion else { continue };
-                    let time = (step + 1) as Real * model.dt;
-                    let advice = stability_advice(dynamics, model.integrator, model.dt);
-                    return Err(diverged(format!(
-                        "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time:?}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
-                        name()
-                    )));
-                }
-            }
+        counters.work.gyroscopic_unconverged += checks.unconverged;
+        if check_energy {
+            counters.work.max_energy_drift = counters.work.max_energy_drift.max(checks.max_drift);
         }
         // Every body's motion over the step (and an integrated body's state
         // at its end), each its own: on the threads with the integrations.
@@ -120,6 +122,77 @@ impl Stepper {
     }
 }
 
+/// What the checks of the bodies' steps found (see `integrate_into`).
+#[derive(Copy, Clone, Debug, Default)]
+struct Checked {
+    /// The first body whose step fails a check.
+    first_failure: Option<usize>,
+    /// The gyroscopic solves that did not converge.
+    unconverged: usize,
+    /// The largest energy drift (relative to the body's scale).
+    max_drift: Real,
+}
+
+impl Checked {
+    /// The checks of two sets of bodies together.
+    fn and(self, other: Checked) -> Checked {
+        Checked {
+            first_failure: match (self.first_failure, other.first_failure) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            },
+            unconverged: self.unconverged + other.unconverged,
+            max_drift: self.max_drift.max(other.max_drift),
+        }
+    }
+}
+
+/// The divergence of the first body whose step fails a check, told body
+/// by body in order (the counters counted up to it): a step in which a body
+/// diverges moves no body (the run ends at that step's start).
+fn first_divergence(
+    model: &Model,
+    world: &World,
+    advanced: &Advanced,
+    counters: &mut Counters,
+    check_energy: bool,
+    step: u64,
+) -> Termination {
+    let parameters = &model.parameters;
+    for (i, step_of) in advanced.iter().enumerate() {
+        let Some(Advance { step: IntegratorStep { next, turn, converged }, energy }) = step_of else {
+            continue;
+        };
+        counters.work.gyroscopic_unconverged += usize::from(!converged);
+        let name = || &model.bodies[i].name;
+        let diverged = |reason: String| Termination::Diverged { body: i, step, reason };
+        if !next.is_finite() {
+            return diverged(format!("the state of `{}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator", name()));
+        }
+        // The angle the integrator turned the body by (not folded to the
+        // short way: a turn of nearly 2π is not a small one).
+        let turn = turn.norm() * model.dt;
+        if turn >= MAX_TURN_PER_STEP {
+            return diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", name()));
+        }
+        if check_energy {
+            let (initial, scale) = world.energies[i];
+            counters.work.max_energy_drift =
+                counters.work.max_energy_drift.max((energy - initial).abs() / scale);
+            if energy - initial > parameters.divergence_energy_growth * scale {
+                let BodyMotion::Integrated(dynamics) = &model.bodies[i].motion else { continue };
+                let time = (step + 1) as Real * model.dt;
+                let advice = stability_advice(dynamics, model.integrator, model.dt);
+                return diverged(format!(
+                    "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time:?}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
+                    name()
+                ));
+            }
+        }
+    }
+    unreachable!("a body's step failed a check")
+}
+
 /// Body `body`'s motion over step `step` (starting at `t0`), and an
 /// integrated body's state at its end (`step_of`).
 fn commit_step(
@@ -132,7 +205,9 @@ fn commit_step(
     dt: Real,
 ) {
     *motion = match (&body.motion, step_of) {
-        (BodyMotion::Fixed, _) => StepMotion::fixed(body.pose),
+        // A fixed body's motion is the world's from its start (nothing
+        // stops or moves a fixed body): nothing to do.
+        (BodyMotion::Fixed, _) => return,
         (BodyMotion::Free, _) => match state {
             // Kinematic with a state (the response can stop it): from where
             // the last step left it.
@@ -142,7 +217,7 @@ fn commit_step(
                 None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
             },
         },
-        (BodyMotion::Integrated(_), Some(Advance { next, turn, .. })) => {
+        (BodyMotion::Integrated(_), Some(Advance { step: IntegratorStep { next, turn, .. }, .. })) => {
             // (An integrated body with a step had a state.)
             let before = state.replace(*next).map_or(body.pose, |s| s.pose());
             StepMotion::between_turning(&before, &next.pose(), dt, *turn)
