@@ -86,17 +86,18 @@ impl Stepper {
             }
         };
         advanced.resize(model.bodies.len(), None);
-        let slots =
-            |(i, ((slot, body), state)): (usize, ((&mut Option<Advance>, &Body), &Option<RigidState>))| {
-                *slot = advance((body, state));
-                checked(i, slot)
-            };
+        let fill = |i: usize, slot: &mut Option<Advance>, body: &Body, state: &Option<RigidState>| {
+            *slot = advance((body, state));
+            checked(i, slot)
+        };
         let checks = if parallel {
             let bodies = advanced.par_iter_mut().zip(model.bodies.par_iter()).zip(&world.states);
-            bodies.enumerate().map(slots).reduce(Checked::default, Checked::and)
+            let checks = bodies.enumerate().map(|(i, ((slot, body), state))| fill(i, slot, body, state));
+            checks.reduce(Checked::default, Checked::and)
         } else {
             let bodies = advanced.iter_mut().zip(model.bodies.iter()).zip(&world.states);
-            bodies.enumerate().map(slots).fold(Checked::default(), Checked::and)
+            let checks = bodies.enumerate().map(|(i, ((slot, body), state))| fill(i, slot, body, state));
+            checks.fold(Checked::default(), Checked::and)
         };
         if checks.first_failure.is_some() {
             return Err(first_divergence(model, world, advanced, counters, check_energy, step));
