@@ -18,7 +18,9 @@
 //! and incrementally re-optimised at every second refit
 //! (`OPTIMIZE_EVERY_REFITS`; parry rebuilds a few subtrees a call): a
 //! refitted tree alone degrades as the bodies mix, its boxes growing until
-//! a traversal meets most of the tree.
+//! a traversal meets most of the tree. From `GRID_BROAD_PHASE_BOXES` boxes
+//! on, a uniform grid rebuilt at each step ([`GridBroadPhase`]) takes the
+//! tree's place: the same pairs, sooner for many bodies.
 //! Pairs of two fixed bodies are dropped.
 
 use parry3d_f64::bounding_volume::Aabb;
@@ -157,6 +159,19 @@ pub struct GridBroadPhase {
     extents: Vec<Real>,
 }
 
+/// [`BroadPhase`] finds the pairs of this many boxes or more through a
+/// [`GridBroadPhase`] rather than parry's tree: `16384`. On the
+/// `many_bodies` box the two are even at 10,000 bodies; at 100,000 the grid
+/// takes 0.75–0.85 of the tree's time on one thread and 0.65 on two (the
+/// tree's refit and traversal degrade as the bodies mix; the grid is
+/// rebuilt each step in `O(n)`; `docs/benchmarks-history.md`, session 31).
+pub const GRID_BROAD_PHASE_BOXES: usize = 16384;
+
+/// [`GridBroadPhase::pairs_into_on`] searches its cells on rayon's threads
+/// from this many boxes in the grid: `4096` (a box's search is tens of
+/// nanoseconds; fewer are not worth handing out).
+pub const PARALLEL_GRID_BOXES: usize = 4096;
+
 /// [`GridBroadPhase`] takes the median extent over every this many boxes:
 /// `8` (the cell's size needs no more; it is the largest extent in the
 /// grid whatever the sample).
@@ -167,6 +182,12 @@ impl GridBroadPhase {
     /// (cleared first); its buffers are kept, so that a step allocates
     /// nothing once they have grown.
     pub fn pairs_into(&mut self, boxes: &[SweptBox], pairs: &mut Vec<(usize, usize)>) {
+        self.pairs_into_on(boxes, pairs, false);
+    }
+
+    /// [`GridBroadPhase::pairs_into`], its cells searched on rayon's threads
+    /// when `threads` (from [`PARALLEL_GRID_BOXES`] boxes): the same pairs.
+    pub fn pairs_into_on(&mut self, boxes: &[SweptBox], pairs: &mut Vec<(usize, usize)>, threads: bool) {
         pairs.clear();
         let n = boxes.len();
         if n < 2 {
@@ -247,26 +268,40 @@ impl GridBroadPhase {
         let (sx, sxy) = (shape.x as isize, (shape.x * shape.y) as isize);
         let ahead = FORWARD_NEIGHBOURS.map(|(dx, dy, dz)| dx + dy * sx + dz * sxy);
         let (starts, entries, sorted) = (&self.starts, &self.entries, &self.sorted);
-        for c in 0..cells {
-            let (from, to) = (starts[c] as usize, starts[c + 1] as usize);
-            for a in from..to {
-                let (i, box_i) = (entries[a] as usize, &sorted[a]);
-                for b in a + 1..to {
-                    if boxes_overlap(box_i, &sorted[b]) {
-                        let j = entries[b] as usize;
-                        pairs.push((i.min(j), i.max(j)));
-                    }
-                }
-                for offset in ahead {
-                    let other = (c as isize + offset) as usize;
-                    for b in starts[other] as usize..starts[other + 1] as usize {
+        let search = |cells: std::ops::Range<usize>, pairs: &mut Vec<(usize, usize)>| {
+            for c in cells {
+                let (from, to) = (starts[c] as usize, starts[c + 1] as usize);
+                for a in from..to {
+                    let (i, box_i) = (entries[a] as usize, &sorted[a]);
+                    let mut meet = |b: usize| {
                         if boxes_overlap(box_i, &sorted[b]) {
                             let j = entries[b] as usize;
                             pairs.push((i.min(j), i.max(j)));
                         }
+                    };
+                    (a + 1..to).for_each(&mut meet);
+                    for offset in ahead {
+                        let other = (c as isize + offset) as usize;
+                        (starts[other] as usize..starts[other + 1] as usize).for_each(&mut meet);
                     }
                 }
             }
+        };
+        if threads && in_grid >= PARALLEL_GRID_BOXES {
+            // Runs of cells on the threads, their pairs joined in order.
+            use rayon::prelude::*;
+            let run = cells.div_ceil(4 * rayon::current_num_threads()).max(1);
+            let found: Vec<Vec<(usize, usize)>> = (0..cells.div_ceil(run))
+                .into_par_iter()
+                .map(|k| {
+                    let mut found = Vec::new();
+                    search(k * run..((k + 1) * run).min(cells), &mut found);
+                    found
+                })
+                .collect();
+            found.iter().for_each(|part| pairs.extend_from_slice(part));
+        } else {
+            search(0..cells, pairs);
         }
         // The large boxes against the grid's boxes in the cells they reach
         // (a box overlapping one has its smallest corner at most a cell
@@ -322,7 +357,8 @@ const FORWARD_NEIGHBOURS: [(isize, isize, isize); 13] = [
     (1, 1, 1),
 ];
 
-/// The broad phase's reusable state.
+/// The broad phase's reusable state: parry's tree, or for many boxes the
+/// grid.
 #[derive(Default)]
 pub struct BroadPhase {
     workspace: BvhWorkspace,
@@ -332,6 +368,8 @@ pub struct BroadPhase {
     tree: Option<Bvh>,
     /// Refits since the tree was built.
     refits: u64,
+    /// The grid, for [`GRID_BROAD_PHASE_BOXES`] boxes or more.
+    grid: GridBroadPhase,
 }
 
 impl std::fmt::Debug for BroadPhase {
@@ -341,7 +379,8 @@ impl std::fmt::Debug for BroadPhase {
 }
 
 impl BroadPhase {
-    /// The overlapping pairs `(i, j)`, `i < j`, sorted, through parry's BVH.
+    /// The overlapping pairs `(i, j)`, `i < j`, sorted, through parry's BVH
+    /// (or the grid, from [`GRID_BROAD_PHASE_BOXES`] boxes).
     pub fn pairs(&mut self, boxes: &[SweptBox]) -> Vec<(usize, usize)> {
         let mut pairs = Vec::new();
         self.pairs_into(boxes, &mut pairs);
@@ -357,8 +396,13 @@ impl BroadPhase {
     /// [`BroadPhase::pairs_into`], the tree refitted and traversed on
     /// rayon's threads when `threads` (parry's parallel refit and
     /// traversal: the same tree and the same pairs; the traversal's list
-    /// is allocated by parry at each call).
+    /// is allocated by parry at each call), or the grid's cells searched on
+    /// them.
     pub fn pairs_into_on(&mut self, boxes: &[SweptBox], pairs: &mut Vec<(usize, usize)>, threads: bool) {
+        if boxes.len() >= GRID_BROAD_PHASE_BOXES {
+            self.grid.pairs_into_on(boxes, pairs, threads);
+            return;
+        }
         pairs.clear();
         self.leaves.clear();
         let corner = |p: &Point| parry3d_f64::math::Vector::new(p.x, p.y, p.z);
@@ -534,6 +578,58 @@ mod tests {
             assert!(on_threads.len() > 1000, "call {call}: {} pairs", on_threads.len());
             assert_eq!(on_threads, on_one, "call {call}");
             assert_eq!(on_threads, brute_force_pairs(&boxes), "call {call}");
+        }
+    }
+
+    /// The boxes of `n` bodies in a room: jittered on a grid of side 1.2 as
+    /// `many_bodies` places them, half sizes 0.3–0.6, and six walls.
+    fn room(rng: &mut Rng, n: usize) -> Vec<SweptBox> {
+        let side = (n as Real).cbrt().ceil() as usize;
+        let half = 0.6 * side as Real;
+        let mut boxes: Vec<SweptBox> = (0..n)
+            .map(|k| {
+                let at = |m: usize| -half + 1.2 * (m as Real + 0.5);
+                let c = Point::new(at(k % side), at((k / side) % side), at(k / (side * side)))
+                    + rng.in_unit_ball() * 0.2;
+                let h = Vector::new(rng.range(0.3, 0.6), rng.range(0.3, 0.6), rng.range(0.3, 0.6));
+                (c - h, c + h)
+            })
+            .collect();
+        for axis in 0..3 {
+            for side in [-1.0, 1.0] {
+                let mut low = Point::from([-half - 0.5; 3]);
+                let mut high = Point::from([half + 0.5; 3]);
+                (low[axis], high[axis]) = if side < 0.0 { (-half - 0.5, -half) } else { (half, half + 0.5) };
+                boxes.push((low, high));
+            }
+        }
+        boxes
+    }
+
+    #[test]
+    fn grid_on_threads_gives_the_pairs_of_one_thread() {
+        let mut rng = Rng::new(61);
+        let boxes = room(&mut rng, 6000);
+        let (mut threaded, mut single) = (GridBroadPhase::default(), GridBroadPhase::default());
+        let (mut on_threads, mut on_one) = (Vec::new(), Vec::new());
+        threaded.pairs_into_on(&boxes, &mut on_threads, true);
+        single.pairs_into_on(&boxes, &mut on_one, false);
+        assert!(on_threads.len() > 1000, "{} pairs", on_threads.len());
+        assert_eq!(on_threads, on_one);
+        assert_eq!(on_threads, brute_force_pairs(&boxes));
+    }
+
+    #[test]
+    fn many_boxes_go_through_the_grid_with_the_pairs_of_brute_force() {
+        let mut rng = Rng::new(67);
+        let boxes = room(&mut rng, GRID_BROAD_PHASE_BOXES + 100);
+        let mut broad = BroadPhase::default();
+        let mut pairs = Vec::new();
+        for threads in [false, true] {
+            broad.pairs_into_on(&boxes, &mut pairs, threads);
+            assert!(broad.tree.is_none(), "no tree is built for the grid's boxes");
+            assert!(pairs.len() > 2000, "{} pairs", pairs.len());
+            assert_eq!(pairs, brute_force_pairs(&boxes), "threads: {threads}");
         }
     }
 

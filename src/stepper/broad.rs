@@ -18,9 +18,9 @@ use crate::math::Real;
 use crate::scene::BodyMotion;
 
 /// The swept boxes are computed, and parry's tree of them refitted and
-/// traversed, on rayon's threads from this many bodies (when the run is
-/// parallel): `4096` (a box takes tens of nanoseconds, fewer are not worth
-/// handing out).
+/// traversed (or, for many bodies, the grid's cells searched), on rayon's
+/// threads from this many bodies (when the run is parallel): `4096` (a box
+/// takes tens of nanoseconds, fewer are not worth handing out).
 pub(crate) const PARALLEL_BOX_BODIES: usize = 4096;
 
 impl Stepper {
