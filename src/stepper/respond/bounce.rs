@@ -73,7 +73,7 @@ impl Response for Bounce {
         let mut stops = std::mem::take(&mut *step.stops);
         stop_in_time_order(step, found, &|pair| self.contact_rule(pair), &can_stop, &mut stops);
         self.apply_impulses(step, &stops.committed, &stops.stopped);
-        hold_stopped_bodies(step, &stops.stopped);
+        hold_stopped_bodies(step, &mut stops);
         let any = !stops.committed.is_empty();
         *step.stops = stops;
         any

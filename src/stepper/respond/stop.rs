@@ -27,6 +27,12 @@ pub(crate) struct Stops {
     pub(super) committed: Vec<usize>,
     /// When each body stopped (time into the step), if it did.
     pub(super) stopped: Vec<Option<Real>>,
+    /// The bodies that stopped (the entries of `stopped` that are set, so
+    /// that a step touches only them).
+    stopped_bodies: Vec<usize>,
+    /// The kinematic bodies with a state (found at the first step: the
+    /// bodies' kinds do not change).
+    kinematic_with_state: Option<Vec<usize>>,
     /// The candidates, earliest on top.
     candidates: BinaryHeap<Candidate>,
     /// Each candidate pair's CCD result.
@@ -78,9 +84,14 @@ pub(super) fn stop_in_time_order(
 ) {
     let model = step.model;
     let dt = model.dt;
-    let Stops { committed, stopped, candidates, results, versions, partners } = stops;
+    let Stops { committed, stopped, stopped_bodies, candidates, results, versions, partners, .. } = stops;
     committed.clear();
-    stopped.clear();
+    // Only the last step's stopped bodies are cleared: a step of many bodies
+    // and few contacts touches few.
+    for &i in stopped_bodies.iter() {
+        stopped[i] = None;
+    }
+    stopped_bodies.clear();
     stopped.resize(model.bodies.len(), None);
     candidates.clear();
     results.clear();
@@ -109,6 +120,7 @@ pub(super) fn stop_in_time_order(
                 continue;
             }
             stopped[body] = Some(time);
+            stopped_bodies.push(body);
             // Every other pair of this body: again from `time`.
             partners.clear();
             partners.extend(
@@ -160,10 +172,11 @@ pub(super) fn stop_in_time_order(
 /// Stopped bodies stay where they stopped for the rest of the step (their
 /// motion and, where the stepper keeps one, their state); kinematic bodies
 /// with a state that did not stop reach the step's end.
-pub(super) fn hold_stopped_bodies(step: &mut StepContext<'_>, stopped: &[Option<Real>]) {
+pub(super) fn hold_stopped_bodies(step: &mut StepContext<'_>, stops: &mut Stops) {
     let (model, world) = (step.model, &mut *step.world);
-    for (i, at) in stopped.iter().enumerate() {
-        let Some(at) = *at else { continue };
+    let Stops { stopped, stopped_bodies, kinematic_with_state, .. } = stops;
+    for &i in stopped_bodies.iter() {
+        let Some(at) = stopped[i] else { continue };
         let pose = world.motions[i].pose_at(at);
         if let Some(state) = world.states[i].as_mut() {
             state.position = Point::from(pose.translation.vector);
@@ -171,13 +184,17 @@ pub(super) fn hold_stopped_bodies(step: &mut StepContext<'_>, stopped: &[Option<
         }
         world.motions[i] = StepMotion::fixed(pose);
     }
-    for (i, body) in model.bodies.iter().enumerate() {
-        if body.motion == BodyMotion::Free && stopped[i].is_none() {
-            if let Some(state) = world.states[i].as_mut() {
-                let pose = world.motions[i].pose_at(model.dt);
-                state.position = Point::from(pose.translation.vector);
-                state.orientation = pose.rotation;
-            }
+    let kinematic = kinematic_with_state.get_or_insert_with(|| {
+        let with_state = |&(i, body): &(usize, &crate::scene::Body)| {
+            body.motion == BodyMotion::Free && world.states[i].is_some()
+        };
+        model.bodies.iter().enumerate().filter(with_state).map(|(i, _)| i).collect()
+    });
+    for &i in kinematic.iter().filter(|&&i| stopped[i].is_none()) {
+        if let Some(state) = world.states[i].as_mut() {
+            let pose = world.motions[i].pose_at(model.dt);
+            state.position = Point::from(pose.translation.vector);
+            state.orientation = pose.rotation;
         }
     }
 }
