@@ -282,7 +282,8 @@ pub fn integrate_turning(
                 velocity: state.velocity + acceleration * dt,
                 angular_velocity: orientation * omega_next,
             };
-            IntegratorStep { next, turn: q * omega_body, converged: true }
+            // q exp(ω_b dt) = exp(ω dt) q: the world-frame turn is the state's own ω.
+            IntegratorStep { next, turn: state.angular_velocity, converged: true }
         }
         Integrator::SymplecticEuler => {
             let (acceleration, torque) =
