@@ -70,19 +70,14 @@ impl Stepper {
         // fails one (the earliest such body), how many gyroscopic solves did
         // not converge, the largest energy drift. Combined by minimum, sum
         // and maximum, so the same whatever the threads.
-        let (drift_limit, energies) = (model.parameters.divergence_energy_growth, &world.energies);
+        let limit = model.parameters.divergence_energy_growth;
+        let energy_of = |i: usize| check_energy.then(|| (world.energies[i], limit));
         let checked = |i: usize, step_of: &Option<Advance>| {
-            let Some(Advance { step: IntegratorStep { next, turn, converged }, energy }) = step_of else {
-                return Checked::default();
-            };
-            let (initial, scale) = if check_energy { energies[i] } else { (0.0, 1.0) };
-            let fails = !next.is_finite()
-                || turn.norm() * model.dt >= MAX_TURN_PER_STEP
-                || (check_energy && energy - initial > drift_limit * scale);
+            let Some(advance) = step_of else { return Checked::default() };
             Checked {
-                first_failure: fails.then_some(i),
-                unconverged: usize::from(!converged),
-                max_drift: if check_energy { (energy - initial).abs() / scale } else { 0.0 },
+                first_failure: advance.failure(model.dt, energy_of(i)).map(|_| i),
+                unconverged: usize::from(!advance.step.converged),
+                max_drift: energy_of(i).map_or(0.0, |(start, _)| advance.drift(start)),
             }
         };
         advanced.resize(model.bodies.len(), None);
@@ -100,7 +95,7 @@ impl Stepper {
             checks.fold(Checked::default(), Checked::and)
         };
         if checks.first_failure.is_some() {
-            return Err(first_divergence(model, world, advanced, counters, check_energy, step));
+            return Err(first_divergence(model, advanced, counters, &energy_of, step));
         }
         counters.work.gyroscopic_unconverged += checks.unconverged;
         if check_energy {
@@ -148,48 +143,76 @@ impl Checked {
     }
 }
 
+/// How a body's step fails the checks.
+#[derive(Copy, Clone, Debug)]
+enum Failure {
+    /// The state is no longer finite.
+    NotFinite,
+    /// The body turned this angle (at least `MAX_TURN_PER_STEP`).
+    Turned(Real),
+    /// The mechanical energy grew beyond its limit.
+    EnergyGrew,
+}
+
+impl Advance {
+    /// The first check the step fails, in order: a finite state, a turn
+    /// under `MAX_TURN_PER_STEP` (the angle the integrator turned the body
+    /// by, not folded to the short way: a turn of nearly 2π is not a small
+    /// one), and when `energy` gives the body's initial energy and scale
+    /// and the growth limit, an energy within it.
+    fn failure(&self, dt: Real, energy: Option<((Real, Real), Real)>) -> Option<Failure> {
+        let turn = self.step.turn.norm() * dt;
+        if !self.step.next.is_finite() {
+            Some(Failure::NotFinite)
+        } else if turn >= MAX_TURN_PER_STEP {
+            Some(Failure::Turned(turn))
+        } else {
+            energy
+                .filter(|&((initial, scale), limit)| self.energy - initial > limit * scale)
+                .map(|_| Failure::EnergyGrew)
+        }
+    }
+
+    /// The energy's drift from `(initial, scale)`, relative to the scale.
+    fn drift(&self, (initial, scale): (Real, Real)) -> Real {
+        (self.energy - initial).abs() / scale
+    }
+}
+
 /// The divergence of the first body whose step fails a check, told body
-/// by body in order (the counters counted up to it): a step in which a body
-/// diverges moves no body (the run ends at that step's start).
+/// by body in order (the counters counted up to it, as far as its checks
+/// went): a step in which a body diverges moves no body (the run ends at
+/// that step's start). `energy_of`: a body's energy check, when made.
 fn first_divergence(
     model: &Model,
-    world: &World,
     advanced: &Advanced,
     counters: &mut Counters,
-    check_energy: bool,
+    energy_of: &dyn Fn(usize) -> Option<((Real, Real), Real)>,
     step: u64,
 ) -> Termination {
-    let parameters = &model.parameters;
     for (i, step_of) in advanced.iter().enumerate() {
-        let Some(Advance { step: IntegratorStep { next, turn, converged }, energy }) = step_of else {
-            continue;
-        };
-        counters.work.gyroscopic_unconverged += usize::from(!converged);
-        let name = || &model.bodies[i].name;
-        let diverged = |reason: String| Termination::Diverged { body: i, step, reason };
-        if !next.is_finite() {
-            return diverged(format!("the state of `{}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator", name()));
+        let Some(advance) = step_of else { continue };
+        counters.work.gyroscopic_unconverged += usize::from(!advance.step.converged);
+        let failure = advance.failure(model.dt, energy_of(i));
+        if let (None | Some(Failure::EnergyGrew), Some((start, _))) = (failure, energy_of(i)) {
+            counters.work.max_energy_drift = counters.work.max_energy_drift.max(advance.drift(start));
         }
-        // The angle the integrator turned the body by (not folded to the
-        // short way: a turn of nearly 2π is not a small one).
-        let turn = turn.norm() * model.dt;
-        if turn >= MAX_TURN_PER_STEP {
-            return diverged(format!("`{}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`", name()));
-        }
-        if check_energy {
-            let (initial, scale) = world.energies[i];
-            counters.work.max_energy_drift =
-                counters.work.max_energy_drift.max((energy - initial).abs() / scale);
-            if energy - initial > parameters.divergence_energy_growth * scale {
+        let name = &model.bodies[i].name;
+        let reason = match failure {
+            None => continue,
+            Some(Failure::NotFinite) => format!("the state of `{name}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator"),
+            Some(Failure::Turned(turn)) => format!("`{name}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`"),
+            Some(Failure::EnergyGrew) => {
                 let BodyMotion::Integrated(dynamics) = &model.bodies[i].motion else { continue };
-                let time = (step + 1) as Real * model.dt;
+                let ((initial, _), _) = energy_of(i).unwrap_or_default();
+                let (energy, time) = (advance.energy, (step + 1) as Real * model.dt);
                 let advice = stability_advice(dynamics, model.integrator, model.dt);
-                return diverged(format!(
-                    "the mechanical energy of `{}` grew from {initial:.3e} to {energy:.3e} by t = {time:?}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}",
-                    name()
-                ));
+                format!(
+                    "the mechanical energy of `{name}` grew from {initial:.3e} to {energy:.3e} by t = {time:?}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}"
+                )
             }
-        }
+        };
+        return Termination::Diverged { body: i, step, reason };
     }
     unreachable!("a body's step failed a check")
 }
