@@ -17,6 +17,8 @@ fn documented_defaults_are_the_real_ones() {
     assert_eq!(crate::mesh::FLAT_EDGE_TOLERANCE, 1e-12);
     // ccd/closest_approach.rs: "`10`" (BUDGET_GROWTH); mesh/bvh.rs: "`0.9`".
     assert_eq!(crate::ccd::BUDGET_GROWTH, 10);
+    // ccd/swept_plane.rs: "Default `64`".
+    assert_eq!(crate::ccd::PLANE_ROUNDING_ULPS, 64.0);
     assert_eq!(crate::mesh::PRINCIPAL_BOX_GAIN, 0.9);
 }
 

@@ -19,9 +19,12 @@
 //!
 //! Every step also has the classic bound: the distance falls no faster
 //! than the largest relative speed of any two points, so the step
-//! `(d - target) / speed` is safe whatever the axis; the longer of the two is
-//! taken. (For tiny gaps rounding tilts the closest-pair direction, and the
-//! axis step is then refused: see [`LinearPair::gap_crossing`].)
+//! `(d - target) / speed` is safe whatever the axis. (For tiny gaps rounding
+//! tilts the closest-pair direction, and the axis step is then refused: see
+//! [`LinearPair::gap_crossing`].) A third bound follows the plane spanned
+//! by the two edges or by the face as it turns (`swept_plane.rs`): a fixed
+//! axis cannot, and when the primitives turn against each other their far
+//! ends swing through it. The longest of the three steps is taken.
 //!
 //! The step aims at `G = minimum_separation + tolerance / 2` and contact is
 //! declared at distance `minimum_separation + tolerance` (the contract of
@@ -32,6 +35,7 @@
 
 use super::contact::{ContactContract, ContactRule};
 use super::options::{CcdOptions, CcdResult, CcdStatus};
+use super::swept_plane::SweptPlane;
 use crate::kernels::{largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point};
 use crate::math::{Point, Real, Vector};
 
@@ -135,8 +139,10 @@ fn bounds<'p>(points: impl Iterator<Item = &'p Point>) -> (Vector, Vector) {
 }
 
 /// Runs conservative advancement. `axes(pair)` gives fixed directions to try
-/// over the whole step first; `closest(a, b)` returns the distance and the
-/// closest points `(p on A, q on B)` of the primitives at one time.
+/// over the whole step first; `plane(pair)` the point and plane whose
+/// distance bounds the primitives' from below (`swept_plane.rs`);
+/// `closest(a, b)` returns the distance and the closest points
+/// `(p on A, q on B)` of the primitives at one time.
 ///
 /// Inputs of any scale: outside the kernels' safe range they are normalised
 /// by a power of two (exact; times of impact do not change, distances and
@@ -145,11 +151,12 @@ pub(crate) fn advance<const NA: usize, const NB: usize>(
     pair: &LinearPair<NA, NB>,
     options: &CcdOptions,
     axes: impl Fn(&LinearPair<NA, NB>) -> [Vector; 2],
+    plane: impl Fn(&LinearPair<NA, NB>) -> SweptPlane,
     closest: impl Fn(&[Point; NA], &[Point; NB]) -> (Real, Point, Point),
 ) -> CcdResult {
     let points = pair.a_t0.iter().chain(&pair.a_t1).chain(&pair.b_t0).chain(&pair.b_t1);
     let Some(exponent) = normalising_exponent(largest_magnitude(points)) else {
-        return advance_normalised(pair, options, &axes(pair), closest);
+        return advance_normalised(pair, options, &axes(pair), &plane(pair), closest);
     };
     let scale = |p: Point| scale_point(&p, -exponent);
     let scaled = LinearPair {
@@ -162,7 +169,7 @@ pub(crate) fn advance<const NA: usize, const NB: usize>(
         minimum_separation: scale_by_power_of_two(options.minimum_separation, -exponent),
         ..*options
     };
-    let mut result = advance_normalised(&scaled, &options, &axes(&scaled), closest);
+    let mut result = advance_normalised(&scaled, &options, &axes(&scaled), &plane(&scaled), closest);
     for value in [&mut result.distance, &mut result.contact_distance, &mut result.guaranteed_distance] {
         *value = scale_by_power_of_two(*value, exponent);
     }
@@ -174,6 +181,7 @@ fn advance_normalised<const NA: usize, const NB: usize>(
     pair: &LinearPair<NA, NB>,
     options: &CcdOptions,
     axes: &[Vector],
+    plane: &SweptPlane,
     closest: impl Fn(&[Point; NA], &[Point; NB]) -> (Real, Point, Point),
 ) -> CcdResult {
     let all = pair.a_t0.iter().chain(&pair.a_t1).chain(&pair.b_t0).chain(&pair.b_t1);
@@ -233,12 +241,16 @@ fn advance_normalised<const NA: usize, const NB: usize>(
                 iterations: iteration,
             };
         }
-        // Two conservative steps; the longer is taken. Along the separating
-        // axis (exact for translations), and by the worst-case closing speed
-        // (valid whatever the direction's rounding).
+        // Three conservative steps; the longest is taken. Along the
+        // separating axis (exact for translations), by the worst-case closing
+        // speed (valid whatever the direction's rounding), and by the swept
+        // plane (which turns with the primitives).
         let along_axis = pair.gap_crossing(t, &((q - p) / distance), target);
         let worst_case = if speed > 0.0 { t + (distance - target) / speed } else { Real::INFINITY };
-        let next = along_axis.max(worst_case);
+        let mut next = along_axis.max(worst_case);
+        if next <= 1.0 {
+            next = next.max(plane.crossing(t, target, largest));
+        }
         if next > 1.0 {
             let (a, b) = pair.at(1.0);
             return no_contact(CcdStatus::Separated, closest(&a, &b).0, iteration + 1);

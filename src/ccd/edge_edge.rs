@@ -3,6 +3,7 @@
 
 use super::advance::{advance, LinearPair};
 use super::options::{CcdOptions, CcdResult};
+use super::swept_plane::SweptPlane;
 use crate::kernels::segment_segment;
 use crate::math::{Point, Real};
 
@@ -46,7 +47,7 @@ pub fn edge_edge_time_of_impact_detailed(
     // Fixed axes tried over the whole step first: the edges' common normal at each end.
     let normal = |a: &[Point; 2], b: &[Point; 2]| (a[1] - a[0]).cross(&(b[1] - b[0]));
     let axes = |p: &LinearPair<2, 2>| [normal(&p.a_t0, &p.b_t0), normal(&p.a_t1, &p.b_t1)];
-    advance(&pair, options, axes, |a, b| {
+    advance(&pair, options, axes, SweptPlane::of_edges, |a, b| {
         let c = segment_segment(&a[0], &a[1], &b[0], &b[1]);
         let p = a[0] + (a[1] - a[0]) * c.s;
         let q = b[0] + (b[1] - b[0]) * c.t;

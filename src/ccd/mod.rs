@@ -10,8 +10,10 @@
 //! primitives whose vertices each move in a straight line over the
 //! normalised step `t ∈ [0, 1]` (the standard benchmark model; the triangle
 //! may deform). They run conservative advancement along separating axes
-//! (`advance.rs`): every step is proven contact-free, so `None` always means
-//! no contact and a reported time is never late.
+//! (`advance.rs`) and along the plane of the two edges or of the face,
+//! which turns with them (`swept_plane.rs`): every step is proven
+//! contact-free, so `None` always means no contact and a reported time is
+//! never late.
 //!
 //! ## Rigid mesh pairs
 //! [`mesh_time_of_impact`] takes two triangle meshes, each moving with
@@ -59,6 +61,7 @@ mod posed_pair;
 mod query;
 mod simplex;
 mod spin_sweep;
+mod swept_plane;
 mod vertex_face;
 
 pub use advance::ROUNDING_FLOOR_ULPS;
@@ -85,4 +88,6 @@ pub use options::{CcdOptions, CcdResult, CcdStatus};
 #[cfg(test)]
 pub(crate) use pair_motion::INTEGRATED_JUMP_ULPS;
 pub use query::{MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, WarmStart};
+#[cfg(test)]
+pub(crate) use swept_plane::PLANE_ROUNDING_ULPS;
 pub use vertex_face::{vertex_face_time_of_impact, vertex_face_time_of_impact_detailed};

@@ -3,6 +3,7 @@
 
 use super::advance::{advance, LinearPair};
 use super::options::{CcdOptions, CcdResult};
+use super::swept_plane::SweptPlane;
 use crate::kernels::point_triangle;
 use crate::math::{Point, Real, Triangle};
 
@@ -47,7 +48,7 @@ pub fn vertex_face_time_of_impact_detailed(
     // Fixed axes tried over the whole step first: the face normal at each end.
     let normal = |f: &Triangle| (f[1] - f[0]).cross(&(f[2] - f[0]));
     let axes = |p: &LinearPair<3, 1>| [normal(&p.a_t0), normal(&p.a_t1)];
-    advance(&pair, options, axes, |face, vertex| {
+    advance(&pair, options, axes, SweptPlane::of_vertex_face, |face, vertex| {
         let closest = point_triangle(&vertex[0], face);
         (closest.distance, closest.point, vertex[0])
     })

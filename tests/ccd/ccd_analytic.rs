@@ -181,3 +181,81 @@ fn a_tiny_query_far_from_the_origin_stays_conservative() {
     let exact = (top - o) / (top - bottom);
     assert_time(r.time_of_impact.map(|t| t * (1.0 - Real::EPSILON)), exact, r.contact_distance, top - bottom);
 }
+
+/// Edge b (half-length `half`, crossing the x axis at height `h`) turned
+/// about edge a's line (the x axis) by `angle`: each end point moves on a
+/// straight chord, so b's line comes to `h |dir(t)|` of a's, with
+/// `|dir(t)|² = 1 − 2t(1 − t)(1 − cos angle)` (b stays in the plane x = 0
+/// and its foot from the axis is its centre). The closest points stay
+/// inside both edges while the common normal turns with b: the turning
+/// the fixed-axis steps cannot follow.
+fn turning_edges(h: Real, half: Real, angle: Real) -> [[Point; 2]; 4] {
+    let (s, c) = angle.sin_cos();
+    let ea = [p(-1.0, 0.0, 0.0), p(1.0, 0.0, 0.0)];
+    let eb_t0 = [p(0.0, -half, h), p(0.0, half, h)];
+    let eb_t1 = [p(0.0, -half * c - h * s, -half * s + h * c), p(0.0, half * c - h * s, half * s + h * c)];
+    [ea, eb_t0, ea, eb_t1]
+}
+
+#[test]
+fn edges_turning_past_each_other_a_few_tolerances_apart_are_told_apart_in_a_few_steps() {
+    // Apart by h cos(angle / 2) at t = 1/2, over twice the contact
+    // distance: no contact. The steps along a fixed axis are limited by b's
+    // ends swinging through it, about 1e-5 of the step each: they ran out
+    // of their 10,000 iterations and reported a contact.
+    let (h, angle) = (2e-5, 0.5);
+    let [ea0, eb0, ea1, eb1] = turning_edges(h, 1.0, angle);
+    let r = edge_edge_time_of_impact_detailed(&ea0, &eb0, &ea1, &eb1, &CcdOptions::default());
+    assert!(r.contact_distance < 0.5 * h * (angle / 2.0).cos());
+    assert_eq!((r.time_of_impact, r.status), (None, CcdStatus::Separated));
+    assert!(r.iterations <= 20, "{} steps", r.iterations);
+}
+
+#[test]
+fn edges_turning_into_contact() {
+    // A minimum separation of 0.99 h is reached where |dir(t)|² = 0.99², on
+    // the way down to cos²(angle / 2) at t = 1/2.
+    let (h, angle) = (1e-3, 0.5);
+    let [ea0, eb0, ea1, eb1] = turning_edges(h, 1.0, angle);
+    let m = 0.99 * h;
+    let options = CcdOptions { minimum_separation: m, ..CcdOptions::default() };
+    let r = edge_edge_time_of_impact_detailed(&ea0, &eb0, &ea1, &eb1, &options);
+    let k = (m / h).powi(2);
+    let exact = (1.0 - (1.0 - 2.0 * (1.0 - k) / (1.0 - angle.cos())).sqrt()) / 2.0;
+    let closing = h * (1.0 - 2.0 * exact) * (1.0 - angle.cos()) / k.sqrt();
+    assert_time(r.time_of_impact, exact, r.contact_distance - m, closing);
+    assert!(r.iterations <= 20, "{} steps", r.iterations);
+}
+
+/// A face turned by `angle` about the x axis, which lies in it; the vertex
+/// stays at height `h` above the axis. The ends of the face's edges move on
+/// chords: the face spans x and (0, α, β) with α = 1 − t(1 − cos angle),
+/// β = t sin angle, and the vertex is `h α / |(α, β)|` from its plane.
+fn turning_face(h: Real, angle: Real) -> (Point, [Point; 3], Point, [Point; 3]) {
+    let (s, c) = angle.sin_cos();
+    let face_t0 = [p(-1.0, -1.0, 0.0), p(1.0, -1.0, 0.0), p(0.0, 1.0, 0.0)];
+    let face_t1 = face_t0.map(|f| p(f.x, f.y * c, f.y * s));
+    (p(0.0, 0.0, h), face_t0, p(0.0, 0.0, h), face_t1)
+}
+
+#[test]
+fn a_face_turning_under_a_vertex_touches_it_on_time() {
+    // With q = sqrt(h² − m²), the distance reaches m at t = q / (q (1 − cos) + m sin).
+    let (h, angle) = (1e-3, 0.4);
+    let (v0, f0, v1, f1) = turning_face(h, angle);
+    let m = 0.95 * h;
+    let options = CcdOptions { minimum_separation: m, ..CcdOptions::default() };
+    let r = vertex_face_time_of_impact_detailed(&v0, &f0, &v1, &f1, &options);
+    let (s, c) = angle.sin_cos();
+    let q = (h * h - m * m).sqrt();
+    let exact = q / (q * (1.0 - c) + m * s);
+    let (alpha, beta) = (1.0 - exact * (1.0 - c), exact * s);
+    let closing = h * (beta / alpha.hypot(beta)) * s / (alpha * alpha + beta * beta);
+    assert_time(r.time_of_impact, exact, r.contact_distance - m, closing);
+    assert!(r.iterations <= 20, "{} steps", r.iterations);
+    // Stopping short of m: no contact, decided in a few steps.
+    let options = CcdOptions { minimum_separation: 0.9 * h * c, ..CcdOptions::default() };
+    let r = vertex_face_time_of_impact_detailed(&v0, &f0, &v1, &f1, &options);
+    assert_eq!((r.time_of_impact, r.status), (None, CcdStatus::Separated));
+    assert!(r.iterations <= 20, "{} steps", r.iterations);
+}
