@@ -124,6 +124,13 @@ impl PairState {
 }
 
 impl World {
+    /// Frees the bodies' states and motions and the pairs, once the run's
+    /// result has read them.
+    pub fn release_buffers(&mut self) {
+        (self.states, self.motions, self.energies, self.pairs) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    }
+
     /// The world at the scene's start. `kinematic_states`: keep a state for
     /// kinematic bodies too (a response that can stop them needs it).
     pub fn new(model: &Model, kinematic_states: bool) -> World {
