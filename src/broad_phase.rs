@@ -265,12 +265,22 @@ impl GridBroadPhase {
         self.starts[0] = 0;
         // Each cell against itself and its 13 neighbours ahead (greater
         // linear index); the padding keeps every neighbour in the grid.
-        let (sx, sxy) = (shape.x as isize, (shape.x * shape.y) as isize);
-        let ahead = FORWARD_NEIGHBOURS.map(|(dx, dy, dz)| dx + dy * sx + dz * sxy);
+        // Cells x − 1, x and x + 1 of a row are adjacent in the sort, so the
+        // neighbours are read as runs: the cell itself with the next one,
+        // then the three cells of each of the rows (y + 1, z), (y − 1, z + 1),
+        // (y, z + 1) and (y + 1, z + 1) (`FORWARD_ROWS`).
+        let (sx, sxy) = (shape.x, shape.x * shape.y);
+        let rows = FORWARD_ROWS.map(|(dy, dz)| (dy * sx as isize + dz * sxy as isize) as usize);
         let (starts, entries, sorted) = (&self.starts, &self.entries, &self.sorted);
         let search = |cells: std::ops::Range<usize>, pairs: &mut Vec<(usize, usize)>| {
             for c in cells {
                 let (from, to) = (starts[c] as usize, starts[c + 1] as usize);
+                if from == to {
+                    continue;
+                }
+                // Each row's run, from the cell before to the cell after.
+                let runs = rows.map(|row| starts[c + row - 1] as usize..starts[c + row + 2] as usize);
+                let next = starts[c + 2] as usize;
                 for a in from..to {
                     let (i, box_i) = (entries[a] as usize, &sorted[a]);
                     let mut meet = |b: usize| {
@@ -279,10 +289,9 @@ impl GridBroadPhase {
                             pairs.push((i.min(j), i.max(j)));
                         }
                     };
-                    (a + 1..to).for_each(&mut meet);
-                    for offset in ahead {
-                        let other = (c as isize + offset) as usize;
-                        (starts[other] as usize..starts[other + 1] as usize).for_each(&mut meet);
+                    (a + 1..next).for_each(&mut meet);
+                    for run in &runs {
+                        run.clone().for_each(&mut meet);
                     }
                 }
             }
@@ -339,23 +348,11 @@ impl GridBroadPhase {
     }
 }
 
-/// The 13 cells ahead of a cell (greater linear index, x fastest) among
-/// its 26 neighbours: one of each pair of opposite offsets.
-const FORWARD_NEIGHBOURS: [(isize, isize, isize); 13] = [
-    (1, 0, 0),
-    (-1, 1, 0),
-    (0, 1, 0),
-    (1, 1, 0),
-    (-1, -1, 1),
-    (0, -1, 1),
-    (1, -1, 1),
-    (-1, 0, 1),
-    (0, 0, 1),
-    (1, 0, 1),
-    (-1, 1, 1),
-    (0, 1, 1),
-    (1, 1, 1),
-];
+/// The rows `(dy, dz)` whose cells x − 1, x and x + 1 are ahead of a cell
+/// (greater linear index, x fastest): with the next cell in its own row,
+/// the 13 of its 26 neighbours that are one of each pair of opposite
+/// offsets.
+const FORWARD_ROWS: [(isize, isize); 4] = [(1, 0), (-1, 1), (0, 1), (1, 1)];
 
 /// The broad phase's reusable state: parry's tree, or for many boxes the
 /// grid.
