@@ -170,16 +170,20 @@ mod tests {
     }
 
     /// A random frame: a point (near the origin or up to 1,000 from it), a
-    /// size from 1e-3 to 1, and two unit directions at an angle from 1e-10
-    /// to 1.5 rad (nearly parallel edges, slivers).
-    fn frame(rng: &mut Rng) -> (Point, Real, Vector, Vector) {
+    /// size from 1e-3 to 1, two edges of half to one and a half sizes at an
+    /// angle from 1e-10 to 1.5 rad (nearly parallel edges, slivers), and an
+    /// offset along their common normal of 1e-12 to 1e-2 sizes.
+    fn frame(rng: &mut Rng) -> (Point, Real, Vector, Vector, Vector) {
         let centre = Point::from(rng.in_unit_ball() * [1.0, 10.0, 1e3][rng.index(3)]);
         let size = rng.log_range(1e-3, 1.0);
         let u = rng.unit_vector();
         let side = rng.unit_vector();
         let across = (side - u * side.dot(&u)).normalize();
         let angle = rng.log_range(1e-10, 1.5);
-        (centre, size, u, u * angle.cos() + across * angle.sin())
+        let w = u * angle.cos() + across * angle.sin();
+        let (u, w) = (u * size * rng.range(0.5, 1.5), w * size * rng.range(0.5, 1.5));
+        let offset = u.cross(&w).normalize() * size * rng.log_range(1e-12, 1e-2);
+        (centre, size, u, w, offset)
     }
 
     /// Each point's end: moved by up to three sizes, often far less, so the
@@ -221,9 +225,7 @@ mod tests {
         let mut rng = Rng::new(71);
         let mut proved = 0;
         for _ in 0..600 {
-            let (centre, size, u, w) = frame(&mut rng);
-            let (u, w) = (u * size * rng.range(0.5, 1.5), w * size * rng.range(0.5, 1.5));
-            let gap = u.cross(&w).normalize() * size * rng.log_range(1e-12, 1e-2);
+            let (centre, size, u, w, gap) = frame(&mut rng);
             let (a0, b0) = (centre - u * rng.uniform(), centre + gap - w * rng.uniform());
             let start = [a0, a0 + u, b0, b0 + w];
             let end = ends(&mut rng, start, size);
@@ -249,9 +251,7 @@ mod tests {
         let mut rng = Rng::new(72);
         let mut proved = 0;
         for _ in 0..600 {
-            let (f0, size, u, w) = frame(&mut rng);
-            let (u, w) = (u * size * rng.range(0.5, 1.5), w * size * rng.range(0.5, 1.5));
-            let height = u.cross(&w).normalize() * size * rng.log_range(1e-12, 1e-2);
+            let (f0, size, u, w, height) = frame(&mut rng);
             let v = f0 + (u * rng.uniform() + w * rng.uniform()) * 0.5 + height;
             let start = [f0, f0 + u, f0 + w, v];
             let end = ends(&mut rng, start, size);
