@@ -47,10 +47,8 @@ impl Stepper {
         step: u64,
         t0: Real,
     ) -> Result<(), Termination> {
+        let check_energy = self.checks_energy();
         let (model, counters) = (&*self.model, &mut self.counters);
-        // Bounces move energy between bodies: the check is per body, so a
-        // response that exchanges momentum turns it off.
-        let check_energy = !self.response.exchanges_momentum();
         // The integrations (and the motions between the states) are
         // independent: on the threads when there are many (each body's step
         // is the same whatever the threads). The first body to fail a check

@@ -314,11 +314,18 @@ impl Stepper {
     /// the broad phase sets them each step). `kinematic_states`: see
     /// [`World::new`].
     pub(crate) fn new_world(&self, kinematic_states: bool) -> World {
-        let mut world = World::new(&self.model, kinematic_states);
+        let mut world = World::new(&self.model, kinematic_states, self.checks_energy());
         if self.broad.is_none() {
             world.pairs = self.model.movable_pairs().into_iter().map(|(a, b)| PairState::new(a, b)).collect();
         }
         world
+    }
+
+    /// Whether each integrated body's energy is checked for divergence:
+    /// bounces move energy between bodies, so a response that exchanges
+    /// momentum turns the (per body) check off.
+    pub(crate) fn checks_energy(&self) -> bool {
+        !self.response.exchanges_momentum()
     }
 
     /// Whether pairs come from a broad phase (otherwise [`Stepper::new_world`]

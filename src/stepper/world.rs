@@ -15,7 +15,8 @@ pub(crate) struct World {
     /// The bodies' states where the stepper keeps one (integrated bodies,
     /// and kinematic ones when the response can stop them); others `None`.
     pub states: Vec<Option<RigidState>>,
-    /// Integrated bodies' initial energy and energy scale.
+    /// Integrated bodies' initial energy and energy scale, where the
+    /// energy is checked (empty otherwise).
     pub energies: Vec<(Real, Real)>,
     /// Each body's motion over the current step.
     pub motions: Vec<StepMotion>,
@@ -133,7 +134,10 @@ impl World {
 
     /// The world at the scene's start. `kinematic_states`: keep a state for
     /// kinematic bodies too (a response that can stop them needs it).
-    pub fn new(model: &Model, kinematic_states: bool) -> World {
+    /// `energy_checked`: keep each integrated body's initial energy (the
+    /// divergence check's reference, which a response that exchanges
+    /// momentum turns off).
+    pub fn new(model: &Model, kinematic_states: bool, energy_checked: bool) -> World {
         let states: Vec<Option<RigidState>> = model
             .bodies
             .iter()
@@ -155,6 +159,7 @@ impl World {
             .bodies
             .iter()
             .zip(&states)
+            .take(if energy_checked { states.len() } else { 0 })
             .map(|(body, state)| match (&body.motion, state.as_ref()) {
                 (BodyMotion::Integrated(dynamics), Some(state)) => {
                     (dynamics.energy(state), dynamics.energy_scale(state).max(Real::MIN_POSITIVE))
