@@ -117,6 +117,9 @@ impl<B: RapierBodies> Guard<B> {
                 solver_iterations: crate::scene::file::DEFAULT_SOLVER_ITERATIONS,
                 skin: options.skin,
             },
+            // Rapier applies its own gravity to its bodies; none here is
+            // integrated.
+            gravity: Vector::zeros(),
             bodies: Arc::new(scene_bodies),
             parameters: Default::default(),
         };

@@ -117,14 +117,18 @@ impl RapierScene {
         let mut colliders = ColliderSet::new();
         let mut handles = Vec::with_capacity(scene.model.bodies.len());
         let mut shapes = Vec::with_capacity(scene.model.bodies.len());
-        let mut gravity = Vector::zeros();
+        // The scene's gravity where it pulls an integrated body (rapier's
+        // dynamic bodies of a scene with none, `--compare rapier` of a scene
+        // under another response, keep their velocities).
+        let integrated = |b: &crate::scene::Body| matches!(b.motion, BodyMotion::Integrated { .. });
+        let gravity =
+            if scene.model.bodies.iter().any(integrated) { scene.model.gravity } else { Vector::zeros() };
         // One collider shape per mesh asset (and shape kind): bodies of one
         // mesh share it, as they share the mesh (a thousand icospheres are
         // one convexity check and one hull).
         let mut built: Vec<(*const crate::mesh::TriMesh, bool, SharedShape, ColliderShape)> = Vec::new();
         for body in scene.model.bodies.iter() {
-            let (rigid, pulled_by) = rigid_body_of(body, rapier_ccd);
-            gravity = pulled_by.unwrap_or(gravity);
+            let rigid = rigid_body_of(body, rapier_ccd);
             let handle = bodies.insert(rigid);
             let material = body.material.unwrap_or(crate::scene::Material {
                 friction,
@@ -199,14 +203,14 @@ impl RapierScene {
                 }
                 continue;
             }
-            let BodyMotion::Integrated(dynamics) = &body.motion else { continue };
-            if dynamics.springs.is_empty() {
+            let BodyMotion::Integrated { springs } = &body.motion else { continue };
+            if springs.is_empty() {
                 continue;
             }
             let Some(rigid) = self.bodies.get_mut(*handle) else { continue };
             let state = rigid_state(rigid);
             rigid.reset_forces(false);
-            for spring in &dynamics.springs {
+            for spring in springs {
                 let (force, arm) = spring.force(
                     &state.position,
                     &state.orientation,
@@ -257,28 +261,20 @@ impl RapierScene {
 }
 
 /// A scene body as rapier's: fixed, kinematic (driven along its exact
-/// motion) or dynamic, with rapier's CCD where asked for; and the gravity
-/// of an integrated body.
-fn rigid_body_of(
-    body: &crate::scene::Body,
-    rapier_ccd: bool,
-) -> (rapier3d_f64::prelude::RigidBody, Option<Vector>) {
-    let mut gravity = None;
+/// motion) or dynamic, with rapier's CCD where asked for.
+fn rigid_body_of(body: &crate::scene::Body, rapier_ccd: bool) -> rapier3d_f64::prelude::RigidBody {
     let builder = match &body.motion {
         BodyMotion::Fixed => RigidBodyBuilder::fixed(),
         // Driven along its exact motion (`step` sets each next pose).
         _ if body.kinematic => RigidBodyBuilder::kinematic_position_based(),
-        BodyMotion::Integrated(dynamics) => {
-            gravity = Some(dynamics.gravity);
-            RigidBodyBuilder::dynamic()
-        }
+        BodyMotion::Integrated { .. } => RigidBodyBuilder::dynamic(),
         // Nothing acts on it in the scene (`--compare rapier` of a
         // scene under another response): dynamic, its mass from the
         // scene or rapier's default density.
         BodyMotion::Free => RigidBodyBuilder::dynamic(),
     };
     let moving = body.motion != BodyMotion::Fixed;
-    let rigid = builder
+    builder
         .pose(pose_to_parry(&body.pose))
         .linvel(vector_to_parry(&body.velocity))
         .angvel(vector_to_parry(&body.angular_velocity))
@@ -287,8 +283,7 @@ fn rigid_body_of(
         // A scene's spin is what it says (rapier caps it at about
         // 45° a step by default).
         .allow_fast_rotation(true)
-        .build();
-    (rigid, gravity)
+        .build()
 }
 
 impl Engine {
@@ -343,7 +338,7 @@ pub(crate) fn driver(scene: &Scene, options: RunOptions) -> Result<Guarded, Guar
     // The guard's model: rapier moves the bodies, so none is integrated by
     // the stepper; the dynamic ones are those contacts stop.
     let stoppable: Vec<bool> =
-        scene.model.bodies.iter().map(|b| matches!(b.motion, BodyMotion::Integrated(_))).collect();
+        scene.model.bodies.iter().map(|b| matches!(b.motion, BodyMotion::Integrated { .. })).collect();
     let mut guarded = scene.model.clone();
     for body in Arc::make_mut(&mut guarded.bodies) {
         if body.motion != BodyMotion::Fixed {

@@ -115,21 +115,25 @@ impl Spring {
     }
 }
 
-/// What acts on an integrated body.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Dynamics {
+/// What an integrated body's step needs: its mass properties and what
+/// acts on it. A view, borrowed from where each is kept (a scene's body
+/// keeps its mass, inertia and springs, the scene its gravity:
+/// [`Body::dynamics`](crate::scene::Body::dynamics)), made when the body is
+/// stepped, so that nothing is stored twice.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Dynamics<'a> {
     /// `1 / mass` (0 when the body has no mass: only gravity then acts).
     pub inverse_mass: Real,
     /// The inertia tensor about the centre of mass, body frame; `None`
     /// keeps the angular velocity constant (no torque can act).
-    pub inertia: Option<Matrix3<Real>>,
+    pub inertia: Option<&'a Matrix3<Real>>,
     /// Uniform gravitational acceleration.
     pub gravity: Vector,
     /// Springs attached to the body.
-    pub springs: Vec<Spring>,
+    pub springs: &'a [Spring],
 }
 
-impl Dynamics {
+impl Dynamics<'_> {
     /// Linear acceleration and body-frame torque in a state.
     fn loads(
         &self,
@@ -147,7 +151,7 @@ impl Dynamics {
             // result the same to the bit.
             return (self.gravity + force * self.inverse_mass, torque);
         }
-        for spring in &self.springs {
+        for spring in self.springs {
             let (f, arm) = spring.force(position, orientation, velocity, omega);
             force += f;
             torque += arm.cross(&f);
@@ -157,7 +161,7 @@ impl Dynamics {
 
     /// Body-frame angular acceleration `I⁻¹ (τ − ω × I ω)`.
     fn angular_acceleration(&self, omega_body: &Vector, torque_body: &Vector) -> Vector {
-        match &self.inertia {
+        match self.inertia {
             Some(inertia) => inertia
                 .lu()
                 .solve(&(torque_body - omega_body.cross(&(inertia * omega_body))))
@@ -167,7 +171,7 @@ impl Dynamics {
     }
 }
 
-impl Dynamics {
+impl Dynamics<'_> {
     /// The mass used for energies: the body's mass, or 1 for a massless
     /// body under gravity only (its energy is then per unit mass).
     fn energy_mass(&self) -> Real {
@@ -289,7 +293,7 @@ pub fn integrate_turning(
             let (acceleration, torque) =
                 dynamics.loads(&state.position, &q, &state.velocity, &state.angular_velocity);
             let velocity = state.velocity + acceleration * dt;
-            let (omega_next, turn, converged) = match (&dynamics.inertia, gyroscopic) {
+            let (omega_next, turn, converged) = match (dynamics.inertia, gyroscopic) {
                 (Some(inertia), Gyroscopic::Implicit) if inertia_is_isotropic(inertia) => {
                     // No gyroscopic torque: the implicit midpoint rule is
                     // `I (ω' − ω) = dt τ`, and with no torque `ω' = ω`.
@@ -390,7 +394,7 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
 
-    fn oscillator() -> (RigidState, Dynamics) {
+    fn oscillator() -> (RigidState, Spring) {
         let state = RigidState {
             position: Point::new(1.0, 0.0, 0.0),
             orientation: UnitQuaternion::identity(),
@@ -404,16 +408,21 @@ mod tests {
             damping: 0.0,
             rest_length: 0.0,
         };
-        let dynamics =
-            Dynamics { inverse_mass: 1.0, inertia: None, gravity: Vector::zeros(), springs: vec![spring] };
-        (state, dynamics)
+        (state, spring)
+    }
+
+    /// A unit mass held by `springs`, with `inertia`, no gravity.
+    fn held<'a>(inertia: Option<&'a Matrix3<Real>>, springs: &'a [Spring]) -> Dynamics<'a> {
+        Dynamics { inverse_mass: 1.0, inertia, gravity: Vector::zeros(), springs }
     }
 
     /// x(t) = cos(2t): the error at t = 1 shrinks with the method's order.
     #[test]
     fn orders_of_accuracy_on_a_harmonic_oscillator() {
         let error = |integrator: Integrator, steps: usize| {
-            let (mut state, dynamics) = oscillator();
+            let (mut state, spring) = oscillator();
+            let springs = [spring];
+            let dynamics = held(None, &springs);
             let dt = 1.0 / steps as Real;
             for _ in 0..steps {
                 state = integrate(&state, &dynamics, integrator, Gyroscopic::Implicit, dt).0;
@@ -434,9 +443,11 @@ mod tests {
     /// rounding, for every integrator, on a tumbling box under a spring.
     #[test]
     fn the_reported_turn_takes_one_orientation_to_the_next() {
-        let (mut state, mut dynamics) = oscillator();
-        dynamics.inertia = Some(Matrix3::from_diagonal(&Vector::new(0.1, 0.2, 0.3)));
-        dynamics.springs[0].point = Vector::new(0.0, 0.3, 0.1);
+        let (mut state, mut spring) = oscillator();
+        let inertia = Matrix3::from_diagonal(&Vector::new(0.1, 0.2, 0.3));
+        spring.point = Vector::new(0.0, 0.3, 0.1);
+        let springs = [spring];
+        let dynamics = held(Some(&inertia), &springs);
         state.angular_velocity = Vector::new(1.0, 7.0, -3.0);
         for integrator in [Integrator::SymplecticEuler, Integrator::ExplicitEuler, Integrator::Rk4] {
             for gyroscopic in [Gyroscopic::Implicit, Gyroscopic::Explicit] {
@@ -479,12 +490,7 @@ mod tests {
                 velocity: Vector::zeros(),
                 angular_velocity: rng.in_unit_ball() * 8.0,
             };
-            let free = Dynamics {
-                inverse_mass: 1.0,
-                inertia: Some(inertia),
-                gravity: Vector::zeros(),
-                springs: vec![],
-            };
+            let free = held(Some(&inertia), &[]);
             let step =
                 integrate_turning(&state, &free, Integrator::SymplecticEuler, Gyroscopic::Implicit, 0.01);
             let spin = state.angular_velocity;
@@ -499,7 +505,8 @@ mod tests {
                 damping: 0.0,
                 rest_length: 0.0,
             };
-            let held = Dynamics { springs: vec![spring], ..free };
+            let springs = [spring];
+            let held = Dynamics { springs: &springs, ..free };
             let step =
                 integrate_turning(&state, &held, Integrator::SymplecticEuler, Gyroscopic::Implicit, 0.01);
             let (_, torque) =
@@ -530,7 +537,7 @@ mod tests {
             inverse_mass: 0.0,
             inertia: None,
             gravity: Vector::new(0.0, -9.81, 0.0),
-            springs: vec![],
+            springs: &[],
         };
         let mut s = state;
         for _ in 0..100 {

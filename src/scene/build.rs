@@ -231,6 +231,7 @@ impl Builder<'_> {
                 ccd,
                 kernel,
                 on_contact: file.on_contact,
+                gravity,
                 bodies: Arc::new(bodies),
                 parameters: Default::default(),
             },

@@ -15,7 +15,7 @@ use crate::math::shortest;
 use crate::math::{Point, Pose, Real, Vector};
 use crate::mesh::{self, TriMesh, MAX_ICOSPHERE_SUBDIVISIONS};
 use crate::motion::classify::{needs_integration, spin_precesses, Influences};
-use crate::motion::{Dynamics, Spring, MAX_TURN_PER_STEP};
+use crate::motion::{Spring, MAX_TURN_PER_STEP};
 
 /// A keyframe's time is on a step when it is within this fraction of
 /// itself of a whole number of `dt`: `1e-9` (times written in decimals,
@@ -205,12 +205,7 @@ impl Builder<'_> {
                             ),
                         );
                     }
-                    BodyMotion::Integrated(Dynamics {
-                        inverse_mass: body.mass.map_or(0.0, |m| 1.0 / m),
-                        inertia: body.inertia,
-                        gravity,
-                        springs: std::mem::take(&mut springs[i]),
-                    })
+                    BodyMotion::Integrated { springs: std::mem::take(&mut springs[i]) }
                 } else {
                     BodyMotion::Free
                 }

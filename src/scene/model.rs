@@ -6,7 +6,7 @@ use super::parameters::StepParameters;
 use crate::ccd::CcdOptions;
 use crate::math::{Pose, Real, Vector};
 use crate::mesh::{DistanceKernel, TriMesh};
-use crate::motion::{Dynamics, Gyroscopic, Integrator, StepMotion};
+use crate::motion::{Dynamics, Gyroscopic, Integrator, Spring, StepMotion};
 use nalgebra::Matrix3;
 use std::sync::Arc;
 
@@ -63,6 +63,8 @@ pub struct Model {
     pub kernel: DistanceKernel,
     /// What happens at a contact.
     pub on_contact: OnContact,
+    /// The uniform gravitational acceleration on every integrated body.
+    pub gravity: Vector,
     /// The bodies, shared: a copy of the model (the stepper keeps one)
     /// does not copy them; `Arc::make_mut` changes a copy's own.
     pub bodies: Arc<Vec<Body>>,
@@ -188,8 +190,27 @@ pub enum BodyMotion {
     Fixed,
     /// Constant velocities, moved exactly (nothing acts on it, or it is kinematic).
     Free,
-    /// Integrated under these loads.
-    Integrated(Dynamics),
+    /// Integrated under the scene's gravity, contacts and these springs
+    /// ([`Body::dynamics`] gathers what its step needs).
+    Integrated {
+        /// The springs attached to the body.
+        springs: Vec<Spring>,
+    },
+}
+
+impl Body {
+    /// What an integrated body's step needs (its mass properties, springs
+    /// and `gravity`, the scene's), borrowed; `None` for a body that is not
+    /// integrated.
+    pub fn dynamics(&self, gravity: Vector) -> Option<Dynamics<'_>> {
+        let BodyMotion::Integrated { springs } = &self.motion else { return None };
+        Some(Dynamics {
+            inverse_mass: self.mass.map_or(0.0, |m| 1.0 / m),
+            inertia: self.inertia.as_ref(),
+            gravity,
+            springs,
+        })
+    }
 }
 
 /// The distance trace of a scene.

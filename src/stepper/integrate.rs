@@ -53,15 +53,16 @@ impl Stepper {
         // independent: on the threads when there are many (each body's step
         // is the same whatever the threads). The first body to fail a check
         // is the one reported.
-        let advance = |(body, state): (&Body, &Option<RigidState>)| match (&body.motion, state) {
-            (BodyMotion::Integrated(dynamics), Some(state)) => {
-                let stepped =
-                    integrate_turning(state, dynamics, model.integrator, model.gyroscopic, model.dt);
-                let energy = if check_energy { dynamics.energy(&stepped.next) } else { 0.0 };
-                Some(Advance { step: stepped, energy })
-            }
-            _ => None,
-        };
+        let advance =
+            |(body, state): (&Body, &Option<RigidState>)| match (body.dynamics(model.gravity), state) {
+                (Some(dynamics), Some(state)) => {
+                    let stepped =
+                        integrate_turning(state, &dynamics, model.integrator, model.gyroscopic, model.dt);
+                    let energy = if check_energy { dynamics.energy(&stepped.next) } else { 0.0 };
+                    Some(Advance { step: stepped, energy })
+                }
+                _ => None,
+            };
         let parallel =
             self.options.parallel && model.bodies.len() >= self.options.parallel_integration_bodies;
         // Each body's step, and the checks of it made with it: whether it
@@ -201,10 +202,10 @@ fn first_divergence(
             Some(Failure::NotFinite) => format!("the state of `{name}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator"),
             Some(Failure::Turned(turn)) => format!("`{name}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`"),
             Some(Failure::EnergyGrew) => {
-                let BodyMotion::Integrated(dynamics) = &model.bodies[i].motion else { continue };
+                let Some(dynamics) = model.bodies[i].dynamics(model.gravity) else { continue };
                 let ((initial, _), _) = energy_of(i).unwrap_or_default();
                 let (energy, time) = (advance.energy, (step + 1) as Real * model.dt);
-                let advice = stability_advice(dynamics, model.integrator, model.dt);
+                let advice = stability_advice(&dynamics, model.integrator, model.dt);
                 format!(
                     "the mechanical energy of `{name}` grew from {initial:.3e} to {energy:.3e} by t = {time:?}: the integration is unstable (or, near its stability limit, far too inaccurate to use). {advice}"
                 )
@@ -239,12 +240,12 @@ fn commit_step(
                 None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
             },
         },
-        (BodyMotion::Integrated(_), Some(Advance { step: IntegratorStep { next, turn, .. }, .. })) => {
+        (BodyMotion::Integrated { .. }, Some(Advance { step: IntegratorStep { next, turn, .. }, .. })) => {
             // (An integrated body with a step had a state.)
             let before = state.replace(*next).map_or(body.pose, |s| s.pose());
             StepMotion::between_turning(&before, &next.pose(), dt, *turn)
         }
-        (BodyMotion::Integrated(_), None) => return,
+        (BodyMotion::Integrated { .. }, None) => return,
     };
 }
 

@@ -143,7 +143,7 @@ impl World {
             .iter()
             .map(|body| {
                 let needs_state = match body.motion {
-                    BodyMotion::Integrated(_) => true,
+                    BodyMotion::Integrated { .. } => true,
                     BodyMotion::Free => kinematic_states,
                     BodyMotion::Fixed => false,
                 };
@@ -160,8 +160,8 @@ impl World {
             .iter()
             .zip(&states)
             .take(if energy_checked { states.len() } else { 0 })
-            .map(|(body, state)| match (&body.motion, state.as_ref()) {
-                (BodyMotion::Integrated(dynamics), Some(state)) => {
+            .map(|(body, state)| match (body.dynamics(model.gravity), state.as_ref()) {
+                (Some(dynamics), Some(state)) => {
                     (dynamics.energy(state), dynamics.energy_scale(state).max(Real::MIN_POSITIVE))
                 }
                 _ => (0.0, 0.0),
@@ -202,7 +202,7 @@ impl World {
     pub fn impact_body(&self, model: &Model, i: usize, s: Real) -> ImpactBody {
         let body = &model.bodies[i];
         let state = self.state_at(i, s);
-        let pushable = matches!(body.motion, BodyMotion::Integrated(_));
+        let pushable = matches!(body.motion, BodyMotion::Integrated { .. });
         let rotation = state.orientation.to_rotation_matrix().into_inner();
         let inverse_inertia = match body.inertia.and_then(|inertia| inertia.try_inverse()) {
             Some(inverse) if pushable => rotation * inverse * rotation.transpose(),

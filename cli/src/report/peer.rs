@@ -64,7 +64,7 @@ pub fn compare_with_parry(scene: &Scene, result: &RunResult) -> Vec<PeerComparis
                 parry_query: String::new(),
                 parry_wall_time_s: 0.0,
             };
-            let integrated = |m: &BodyMotion| matches!(m, BodyMotion::Integrated(_));
+            let integrated = |m: &BodyMotion| matches!(m, BodyMotion::Integrated { .. });
             if integrated(&body_a.motion) || integrated(&body_b.motion) {
                 row.parry_query =
                     "none: a body is integrated under forces; parry's casts follow constant velocities"

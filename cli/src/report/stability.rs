@@ -5,7 +5,7 @@
 use nearmiss::math::Real;
 use nearmiss::motion::{integrate, Dynamics, Gyroscopic, Integrator, RigidState};
 use nearmiss::run::{run, Termination};
-use nearmiss::scene::{BodyMotion, Scene};
+use nearmiss::scene::Scene;
 
 use super::sweep::integrator_name;
 
@@ -59,11 +59,9 @@ pub struct SpringRow {
 }
 
 /// The first integrated body of a scene and its dynamics.
-fn integrated_body(scene: &Scene) -> Option<(usize, &Dynamics)> {
-    scene.model().bodies.iter().enumerate().find_map(|(i, b)| match &b.motion {
-        BodyMotion::Integrated(dynamics) => Some((i, dynamics)),
-        _ => None,
-    })
+fn integrated_body(scene: &Scene) -> Option<(usize, Dynamics<'_>)> {
+    let model = scene.model();
+    model.bodies.iter().enumerate().find_map(|(i, b)| Some((i, b.dynamics(model.gravity)?)))
 }
 
 /// The spring's natural frequency `ω = sqrt(Σk / m)` of the scene's first
@@ -153,7 +151,7 @@ pub fn spin_drift(scene: &Scene, steps: u64, sample_every: u64) -> Vec<SpinDrift
             };
             let mut sign = spin0.signum();
             for step in 1..=steps {
-                state = integrate(&state, dynamics, integrator, gyroscopic, scene.model().dt).0;
+                state = integrate(&state, &dynamics, integrator, gyroscopic, scene.model().dt).0;
                 let energy = (dynamics.energy(&state) - e0).abs() / e0.abs().max(Real::MIN_POSITIVE);
                 let momentum = (momentum(&state) - l0).norm() / l0.norm().max(Real::MIN_POSITIVE);
                 drift.max_energy_drift = drift.max_energy_drift.max(energy);
