@@ -13,7 +13,7 @@ mod vector;
 pub use point_segment::point_segment_distance_squared;
 pub use triangle_overlap::{triangle_intersection_polygon, triangle_penetration_depth_squared};
 pub use triangle_triangle::{
-    point_triangle_distance_squared, segment_segment_distance_squared, triangle_distance_f64,
-    triangle_distance_squared,
+    point_triangle_distance_squared, rational_triangle_distance_squared, segment_segment_distance_squared,
+    triangle_distance_f64, triangle_distance_squared,
 };
 pub use vector::{rational, to_f64, Rational, RationalVector};

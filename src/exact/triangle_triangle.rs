@@ -16,8 +16,16 @@ use num_traits::{Signed, Zero};
 /// Exact squared distance between triangles `a` and `b` (0 when they meet).
 /// Degenerate triangles are the segments or points they span.
 pub fn triangle_distance_squared(a: &Triangle, b: &Triangle) -> Rational {
-    let a = a.map(|v| RationalVector::from_point(&v));
-    let b = b.map(|v| RationalVector::from_point(&v));
+    rational_triangle_distance_squared(
+        &a.map(|v| RationalVector::from_point(&v)),
+        &b.map(|v| RationalVector::from_point(&v)),
+    )
+}
+
+/// [`triangle_distance_squared`] of triangles with rational vertices (for
+/// example posed exactly: [`RationalVector::posed`]).
+pub fn rational_triangle_distance_squared(a: &[RationalVector; 3], b: &[RationalVector; 3]) -> Rational {
+    let (a, b) = (a.clone(), b.clone());
     if edges_cross_interior(&a, &b) || edges_cross_interior(&b, &a) {
         return Rational::zero();
     }
@@ -165,6 +173,29 @@ mod tests {
         assert!(triangle_distance_squared(&a, &crossing).is_zero());
         let above = t([[0.5, 0.5, 0.25], [0.5, 0.5, 1.0], [3.0, 3.0, 1.0]]);
         assert_eq!(triangle_distance_squared(&a, &above), rational(0.0625));
+    }
+
+    /// Posed exactly, a triangle pair's distance is that of the pair placed
+    /// by hand: a quarter turn about z (entries 0 and ±1, exact in f64) and
+    /// a translation take `b` to where `skew_edges` has it.
+    #[test]
+    fn exactly_posed_triangles() {
+        use crate::math::Vector;
+        use nalgebra::Matrix3;
+        let a = t([[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, -1.0, -1.0]]);
+        // (x, y, z) -> (-y, x, z) + (0, 0, 0.5) takes these to skew_edges' b.
+        let b = t([[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 2.5]]);
+        let quarter = Matrix3::new(0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0);
+        let posed = b.map(|v| RationalVector::posed(&v, &quarter, &Vector::new(0.0, 0.0, 0.5)));
+        let a = a.map(|v| RationalVector::from_point(&v));
+        assert_eq!(rational_triangle_distance_squared(&a, &posed), rational(0.25));
+        // A rotation whose entries are not exact: the posed coordinates are
+        // the exact products and sums, not their rounding.
+        let (c, s) = (0.6, 0.8);
+        let turn = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
+        let p = RationalVector::posed(&Point::new(0.1, 0.3, 0.0), &turn, &Vector::zeros());
+        assert_eq!(p.x, rational(c) * rational(0.1) - rational(s) * rational(0.3));
+        assert_ne!(p.x, rational(c * 0.1 - s * 0.3));
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! Exact 3-vectors of rationals, converted losslessly from f64.
 
-use crate::math::Point;
+use crate::math::{Point, Real, Vector};
+use nalgebra::Matrix3;
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{FromPrimitive, Signed, Zero};
@@ -35,6 +36,17 @@ impl RationalVector {
     /// The exact coordinates of `p`.
     pub fn from_point(p: &Point) -> RationalVector {
         RationalVector { x: rational(p.x), y: rational(p.y), z: rational(p.z) }
+    }
+
+    /// `rotation · p + translation`, exactly: the point posed by a rotation
+    /// matrix and a translation as given (the matrix need not be exactly
+    /// orthogonal; no rounding of the posing enters the reference).
+    pub fn posed(p: &Point, rotation: &Matrix3<Real>, translation: &Vector) -> RationalVector {
+        let p = [rational(p.x), rational(p.y), rational(p.z)];
+        let row = |k: usize| {
+            (0..3).fold(rational(translation[k]), |sum, j| sum + rational(rotation[(k, j)]) * &p[j])
+        };
+        RationalVector { x: row(0), y: row(1), z: row(2) }
     }
 
     /// `self - other`.
