@@ -7,7 +7,7 @@ use super::result::Contact;
 use crate::ccd::{MeshCcdResult, WarmSimplex, WarmStart};
 use crate::math::{Point, Real, Vector};
 use crate::motion::{RigidState, StepMotion};
-use crate::scene::{BodyMotion, Model};
+use crate::scene::{Body, BodyMotion, Model};
 use crate::stepper::respond::ImpactBody;
 
 /// The world state of a run.
@@ -155,18 +155,15 @@ impl World {
                 })
             })
             .collect();
-        let energies = model
-            .bodies
-            .iter()
-            .zip(&states)
-            .take(if energy_checked { states.len() } else { 0 })
-            .map(|(body, state)| match (body.dynamics(model.gravity), state.as_ref()) {
-                (Some(dynamics), Some(state)) => {
-                    (dynamics.energy(state), dynamics.energy_scale(state).max(Real::MIN_POSITIVE))
-                }
-                _ => (0.0, 0.0),
-            })
-            .collect();
+        let energy = |(body, state): (&Body, &Option<RigidState>)| match (body.dynamics(model.gravity), state)
+        {
+            (Some(dynamics), Some(state)) => {
+                (dynamics.energy(state), dynamics.energy_scale(state).max(Real::MIN_POSITIVE))
+            }
+            _ => (0.0, 0.0),
+        };
+        let energies =
+            if energy_checked { model.bodies.iter().zip(&states).map(energy).collect() } else { Vec::new() };
         World {
             states,
             energies,
