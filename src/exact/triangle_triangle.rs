@@ -25,12 +25,11 @@ pub fn triangle_distance_squared(a: &Triangle, b: &Triangle) -> Rational {
 /// [`triangle_distance_squared`] of triangles with rational vertices (for
 /// example posed exactly: [`RationalVector::posed`]).
 pub fn rational_triangle_distance_squared(a: &[RationalVector; 3], b: &[RationalVector; 3]) -> Rational {
-    let (a, b) = (a.clone(), b.clone());
-    if edges_cross_interior(&a, &b) || edges_cross_interior(&b, &a) {
+    if edges_cross_interior(a, b) || edges_cross_interior(b, a) {
         return Rational::zero();
     }
     // vertex_edge[0][i][j]: vertex i of a to edge j of b; [1]: b's vertices to a's edges.
-    let vertex_edge = [(&a, &b), (&b, &a)].map(|(from, to)| {
+    let vertex_edge = [(a, b), (b, a)].map(|(from, to)| {
         from.each_ref().map(|v| edge_indices().map(|(j, k)| point_segment_squared(v, &to[j], &to[k])))
     });
     let mut best: Option<Rational> = None;
@@ -42,7 +41,7 @@ pub fn rational_triangle_distance_squared(a: &[RationalVector; 3], b: &[Rational
     for row in vertex_edge.iter().flatten().flatten() {
         consider(row.clone());
     }
-    for (points, triangle) in [(&a, &b), (&b, &a)] {
+    for (points, triangle) in [(a, b), (b, a)] {
         for p in points.iter() {
             if let Some(d) = face_interior_squared(p, triangle) {
                 consider(d);

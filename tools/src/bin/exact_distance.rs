@@ -13,7 +13,9 @@
 use std::io::{BufRead, Write};
 
 use nalgebra::Matrix3;
-use nearmiss::exact::{rational_triangle_distance_squared, to_f64, triangle_distance_f64, RationalVector};
+use nearmiss::exact::{
+    rational_triangle_distance_squared, to_f64, triangle_distance_squared, RationalVector,
+};
 use nearmiss::math::{Point, Triangle, Vector};
 
 fn main() {
@@ -36,19 +38,17 @@ fn main() {
         let triangle = |k: usize| -> Triangle {
             [0, 1, 2].map(|v| Point::new(values[k + 3 * v], values[k + 3 * v + 1], values[k + 3 * v + 2]))
         };
-        let distance = if values.len() == 18 {
-            triangle_distance_f64(&triangle(0), &triangle(9))
+        let squared = if values.len() == 18 {
+            triangle_distance_squared(&triangle(0), &triangle(9))
         } else {
             let posed = |t: Triangle, k: usize| {
                 let rotation = Matrix3::from_row_slice(&values[k..k + 9]);
                 let translation = Vector::new(values[k + 9], values[k + 10], values[k + 11]);
                 t.map(|v| RationalVector::posed(&v, &rotation, &translation))
             };
-            let squared =
-                rational_triangle_distance_squared(&posed(triangle(0), 18), &posed(triangle(9), 30));
-            to_f64(&squared).sqrt()
+            rational_triangle_distance_squared(&posed(triangle(0), 18), &posed(triangle(9), 30))
         };
-        let _ = writeln!(out, "{distance:?}");
+        let _ = writeln!(out, "{:?}", to_f64(&squared).sqrt());
     }
 }
 
