@@ -13,6 +13,44 @@ pub type Pose = nalgebra::Isometry3<Real>;
 /// A triangle as its three vertices, in order.
 pub type Triangle = [Point; 3];
 
+/// A rigid pose as a rotation matrix and a translation, `p ↦ rotation · p +
+/// translation`, with the matrix kept as given: for callers who hold their
+/// poses as matrices (a 4 × 4 transform, a robot's forward kinematics), so
+/// a query's answer is that of the pose they hold, not of a quaternion
+/// rounded from it. The matrix must be a rotation to rounding (`MᵀM` within
+/// a few dozen ulps of the identity); it is applied as it is.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct MatrixPose {
+    /// The rotation.
+    pub rotation: nalgebra::Matrix3<Real>,
+    /// The translation, applied after the rotation.
+    pub translation: Vector,
+}
+
+/// A pose that a query takes either way: a [`Pose`] (its quaternion's
+/// rotation matrix, rounded) or a [`MatrixPose`] (its matrix as given).
+pub trait Placement {
+    /// The pose as a matrix and a translation.
+    fn matrix_pose(&self) -> MatrixPose;
+}
+
+impl Placement for Pose {
+    #[inline]
+    fn matrix_pose(&self) -> MatrixPose {
+        MatrixPose {
+            rotation: self.rotation.to_rotation_matrix().into_inner(),
+            translation: self.translation.vector,
+        }
+    }
+}
+
+impl Placement for MatrixPose {
+    #[inline]
+    fn matrix_pose(&self) -> MatrixPose {
+        *self
+    }
+}
+
 /// Converts a nalgebra point to parry's glam vector.
 #[inline]
 pub fn to_parry(p: &Point) -> parry3d_f64::math::Vector {

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use crate::mesh::Mesh;
 use nearmiss::ccd::{ApproachStatus, CcdOptions, CcdStatus};
 use nearmiss::kernels::{Feature, PointEdgeFormula};
-use nearmiss::math::{Point, Pose, Triangle, Vector};
+use nearmiss::math::{MatrixPose, Placement, Point, Pose, Triangle, Vector};
 use nearmiss::mesh::{DistanceKernel, MeshDistance, TriMesh};
 use nearmiss::motion::StepMotion;
 use numpy::ndarray::Array2;
@@ -215,7 +215,19 @@ pub(crate) fn pose(
     position: &PyReadonlyArrayDyn<'_, f64>,
     rotation: &PyReadonlyArrayDyn<'_, f64>,
 ) -> PyResult<Pose> {
+    Ok(pose_as_given(name, position, rotation)?.0)
+}
+
+/// [`pose`], and the pose as given: a rotation matrix that is one to
+/// rounding (within [`ORTHONORMAL_TO_ROUNDING`]) kept as it is, for the
+/// queries that pose exactly; otherwise the quaternion's matrix.
+pub(crate) fn pose_as_given(
+    name: &str,
+    position: &PyReadonlyArrayDyn<'_, f64>,
+    rotation: &PyReadonlyArrayDyn<'_, f64>,
+) -> PyResult<(Pose, MatrixPose)> {
     let translation = vector(&format!("{name} position"), position)?;
+    let mut as_given = None;
     let rotation_name = format!("{name} rotation");
     let rotation = match rotation.shape() {
         [4] => {
@@ -242,6 +254,7 @@ pub(crate) fn pose(
             if off <= ORTHONORMAL_TO_ROUNDING {
                 // A rotation to rounding: read directly (Shepperd's method;
                 // the nearest-rotation iteration moves it by a few ulps more).
+                as_given = Some(m);
                 nalgebra::UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(m))
             } else {
                 nalgebra::UnitQuaternion::from_matrix(&m)
@@ -254,7 +267,12 @@ pub(crate) fn pose(
             )))
         }
     };
-    Ok(Pose::from_parts(translation.into(), rotation))
+    let pose = Pose::from_parts(translation.into(), rotation);
+    let matrix_pose = match as_given {
+        Some(rotation) => MatrixPose { rotation, translation },
+        None => pose.matrix_pose(),
+    };
+    Ok((pose, matrix_pose))
 }
 
 /// Two arrays of an argument: a pose's position and rotation, a motion's

@@ -13,7 +13,8 @@
 
 use super::compensated::{two_difference, two_sum};
 use super::lanes::V3;
-use crate::math::Real;
+use crate::math::{Point, Real, Vector};
+use nalgebra::Matrix3;
 use std::ops::{Add, Mul, Sub};
 
 /// `high + low`, with `|low| ≤ ulp(high) / 2`.
@@ -32,6 +33,33 @@ impl DoubleDouble {
         let (high, low) = two_difference(x, y);
         DoubleDouble { high, low }
     }
+
+    /// The exact product `x · y` (by FMA).
+    #[inline(always)]
+    pub fn product(x: Real, y: Real) -> DoubleDouble {
+        let high = x * y;
+        DoubleDouble { high, low: x.mul_add(y, -high) }
+    }
+
+    /// `x` itself.
+    #[inline(always)]
+    pub fn from_real(x: Real) -> DoubleDouble {
+        DoubleDouble { high: x, low: 0.0 }
+    }
+}
+
+/// `rotation · p + translation` in double-double: each product exact, the
+/// sums within about `ε²` of the largest term. Posing a mesh's point this
+/// way keeps the pose as given to far below an ulp of the result, where
+/// plain arithmetic rounds each coordinate by up to an ulp or two.
+#[inline]
+pub fn posed_point(rotation: &Matrix3<Real>, translation: &Vector, p: &Point) -> [DoubleDouble; 3] {
+    std::array::from_fn(|row| {
+        DoubleDouble::product(rotation[(row, 0)], p.x)
+            + DoubleDouble::product(rotation[(row, 1)], p.y)
+            + DoubleDouble::product(rotation[(row, 2)], p.z)
+            + DoubleDouble::from_real(translation[row])
+    })
 }
 
 impl Add for DoubleDouble {

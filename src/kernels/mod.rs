@@ -59,7 +59,7 @@ mod ymm;
 
 pub use compensated::difference_of_products;
 pub use dispatch::SimdLevel;
-pub use double_double::{height_over_plane, vector_difference, DoubleDouble};
+pub use double_double::{height_over_plane, posed_point, vector_difference, DoubleDouble};
 pub use dyop::{dynamic_origin_point, dyop_distance, dyop_distance_checked};
 pub use feature::Feature;
 pub use point_segment::{
@@ -72,7 +72,7 @@ pub(crate) use refine::{REFINE_BELOW_EXTENT, REFINE_TIE_BAND_ULPS};
 pub use scale::MIN_RELATIVE_SIZE;
 pub(crate) use scale::{largest_magnitude, normalising_exponent, scale_by_power_of_two, scale_point};
 pub use segment_segment::{segment_segment, segment_segment_lanes, Edge, SegmentSegment};
-pub use triangle_distance::{triangle_distance, triangle_distance_with};
+pub use triangle_distance::{posed_triangle_distance, triangle_distance, triangle_distance_with};
 pub use triangle_intersection::triangles_intersect;
 pub use triangle_overlap::{triangle_intersection, OverlapPolygon, TriangleIntersection};
 pub use triangle_penetration::{triangle_penetration, TrianglePenetration};

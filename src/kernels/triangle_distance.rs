@@ -4,10 +4,11 @@
 //! (`triangle_triangle.rs`). Results are bit-identical at every level.
 
 use super::dispatch::SimdLevel;
+use super::double_double::{posed_point, DoubleDouble};
 #[cfg(target_arch = "x86_64")]
 use super::pair_lanes;
 use super::triangle_triangle::{normalised_triangle_distance, Sequential, TriangleDistance};
-use crate::math::Triangle;
+use crate::math::{MatrixPose, Point, Triangle, Vector};
 
 /// Distance between triangles `a` and `b`.
 ///
@@ -41,4 +42,34 @@ pub fn triangle_distance_with(level: SimdLevel, a: &Triangle, b: &Triangle) -> T
     }
     let _ = level;
     normalised_triangle_distance::<Sequential>(a, b)
+}
+
+/// The distance between triangle `a` posed by `pose_a` and triangle `b`
+/// posed by `pose_b`, the poses taken exactly: each vertex is posed in
+/// double-double ([`posed_point`]) and the pair moved next to the origin
+/// (by `a`'s first posed vertex, rounded) before it is rounded to `f64`, so
+/// the rounding is of the pair's own size, not of its distance from the
+/// origin. The points come back in the poses' frame.
+///
+/// Where plain posing rounds each coordinate by up to an ulp or two of the
+/// coordinates (and so moves the distance by as much), this answer is the
+/// kernel's on the exactly posed pair: for a mesh distance's closest pair,
+/// within an ulp of the largest coordinate of the exact distance.
+pub fn posed_triangle_distance(
+    a: &Triangle,
+    pose_a: &MatrixPose,
+    b: &Triangle,
+    pose_b: &MatrixPose,
+) -> TriangleDistance {
+    let posed_a = a.map(|p| posed_point(&pose_a.rotation, &pose_a.translation, &p));
+    let posed_b = b.map(|p| posed_point(&pose_b.rotation, &pose_b.translation, &p));
+    let origin = Vector::from_fn(|k, _| posed_a[0][k].high);
+    let near_origin = |p: [DoubleDouble; 3]| {
+        Point::from_slice(&std::array::from_fn::<_, 3, _>(|k| {
+            let moved = p[k] - DoubleDouble::from_real(origin[k]);
+            moved.high + moved.low
+        }))
+    };
+    let found = triangle_distance(&posed_a.map(near_origin), &posed_b.map(near_origin));
+    TriangleDistance { point_a: found.point_a + origin, point_b: found.point_b + origin, ..found }
 }

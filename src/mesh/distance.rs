@@ -20,8 +20,11 @@ use nalgebra::Matrix3;
 
 use super::bvh::BVH_LEAF_SIZE;
 use super::trimesh::TriMesh;
-use crate::kernels::{batch, dyop_distance, point_triangle, triangle_distance, Feature, PointEdgeFormula};
-use crate::math::{Point, Pose, Real, Triangle, Vector};
+use crate::kernels::{
+    batch, dyop_distance, point_triangle, posed_triangle_distance, triangle_distance, Feature,
+    PointEdgeFormula,
+};
+use crate::math::{Placement, Point, Pose, Real, Triangle, Vector};
 
 /// Triangle pairs queued before a batched kernel call.
 const FLUSH_PAIRS: usize = 16;
@@ -120,29 +123,39 @@ impl DistanceSearch {
 }
 
 /// The distance between mesh `a` at `pose_a` and mesh `b` at `pose_b`.
+///
+/// The poses are a [`Pose`] or a [`MatrixPose`](crate::math::MatrixPose) (a rotation matrix applied
+/// as given). The search runs in `a`'s frame; its closest triangle pair is
+/// then measured again with each triangle posed exactly in the world
+/// ([`posed_triangle_distance`]), so the answer is within about an ulp of
+/// the largest coordinate of the exact distance of the poses given, and the
+/// points are in world coordinates.
 pub fn mesh_distance(
     a: &TriMesh,
-    pose_a: &Pose,
+    pose_a: &impl Placement,
     b: &TriMesh,
-    pose_b: &Pose,
+    pose_b: &impl Placement,
     search: &DistanceSearch,
     scratch: &mut MeshDistanceScratch,
 ) -> MeshDistance {
-    // b's frame in a's as a matrix product of the two rotations (fewer
-    // roundings than composing the quaternions and turning the result
-    // into a matrix).
-    let (rotation_a, rotation_b) = (
-        pose_a.rotation.to_rotation_matrix().into_inner(),
-        pose_b.rotation.to_rotation_matrix().into_inner(),
-    );
+    let (pose_a, pose_b) = (pose_a.matrix_pose(), pose_b.matrix_pose());
+    // b's frame in a's as a matrix product of the two rotations.
     let relative = Relative {
-        rotation: rotation_a.tr_mul(&rotation_b),
-        shift: rotation_a.tr_mul(&(pose_b.translation.vector - pose_a.translation.vector)),
+        rotation: pose_a.rotation.tr_mul(&pose_b.rotation),
+        shift: pose_a.rotation.tr_mul(&(pose_b.translation - pose_a.translation)),
     };
-    let mut found = search_relative(a, b, &relative, search, scratch);
-    found.point_a = pose_a * found.point_a;
-    found.point_b = pose_a * found.point_b;
-    found
+    let found = search_relative(a, b, &relative, search, scratch);
+    let (i, j) = (found.triangle_a, found.triangle_b);
+    let world = posed_triangle_distance(&a.triangle(i), &pose_a, &b.triangle(j), &pose_b);
+    MeshDistance {
+        // DyOP's value stays DyOP's.
+        distance: if search.kernel == DistanceKernel::Exact { world.distance } else { found.distance },
+        point_a: world.point_a,
+        point_b: world.point_b,
+        feature_a: world.feature_a,
+        feature_b: world.feature_b,
+        ..found
+    }
 }
 
 /// Mesh `b`'s frame in mesh `a`'s: `p ↦ rotation · p + shift`.

@@ -4,7 +4,9 @@
 //! needle, a flat plate turned off the axes, a lone sliver; at poses
 //! separated, grazing and overlapping, both argument orders.
 
-use nearmiss::math::{Point, Pose, Real, Vector};
+use nearmiss::exact;
+use nearmiss::kernels::triangle_distance;
+use nearmiss::math::{MatrixPose, Point, Pose, Real, Vector};
 use nearmiss::mesh::{
     box_mesh, icosphere, mesh_distance, mesh_distance_brute_force, needle, torus, DistanceSearch,
     MeshDistanceScratch, TriMesh,
@@ -84,5 +86,87 @@ fn a_small_body_in_a_ring_hole_is_searched_briefly_and_alike_both_ways() {
         }
         assert_eq!(forward_pairs, backward_pairs, "case {case}");
         assert!(forward_pairs <= 2_500, "case {case}: {forward_pairs} triangle pairs");
+    }
+}
+
+/// Poses given as rotation matrices ([`MatrixPose`], applied as given): the
+/// distance is within an ulp of the largest posed coordinate of the exact
+/// least distance over every triangle pair, each triangle posed exactly in
+/// rationals, both argument orders; separated, grazing and overlapping.
+/// The matrices are f64 rotations (orthonormal to rounding, not exactly),
+/// as a user's forward kinematics gives them. The meshes sit near the
+/// origin, where the roundings of b's pose in a's frame are of the size of
+/// the answer's ulp: the search's own value misses the bound on some of
+/// these poses (1.25 ulps on one), the closest pair posed again meets it.
+#[test]
+fn matrix_poses_give_the_exact_distance_to_an_ulp() {
+    let ball = icosphere(0.7, 1).unwrap();
+    let plate = turned(&box_mesh(&Vector::new(1.0, 0.6, 0.05)).unwrap(), Vector::new(0.2, -0.3, 0.1), 1.0);
+    let mut rng = Rng::new(4547);
+    let mut scratch = MeshDistanceScratch::default();
+    let search = DistanceSearch::default();
+    let matrix = |rng: &mut Rng| nalgebra::Rotation3::new(rng.in_unit_ball() * 3.0).into_inner();
+    // The exact least over the pairs that plain f64 posing puts within 1e-9
+    // of its least (its rounding is some 1e-13 here: the least is among them).
+    let exact_least = |a: &TriMesh, pose_a: &MatrixPose, b: &TriMesh, pose_b: &MatrixPose| {
+        let plain = |mesh: &TriMesh, pose: &MatrixPose, k: usize| {
+            mesh.triangle(k).map(|p| Point::from(pose.rotation * p.coords + pose.translation))
+        };
+        let pairs: Vec<_> = (0..a.triangles().len())
+            .flat_map(|i| (0..b.triangles().len()).map(move |j| (i, j)))
+            .map(|(i, j)| (triangle_distance(&plain(a, pose_a, i), &plain(b, pose_b, j)).distance, i, j))
+            .collect();
+        let least = pairs.iter().map(|p| p.0).fold(Real::INFINITY, Real::min);
+        let posed = |mesh: &TriMesh, pose: &MatrixPose, k: usize| {
+            mesh.triangle(k).map(|p| exact::RationalVector::posed(&p, &pose.rotation, &pose.translation))
+        };
+        pairs
+            .iter()
+            .filter(|p| p.0 <= least + 1e-9)
+            .map(|&(_, i, j)| {
+                exact::rational_triangle_distance_squared(&posed(a, pose_a, i), &posed(b, pose_b, j))
+            })
+            .min()
+            .map(|d| exact::to_f64(&d).sqrt())
+            .unwrap()
+    };
+    for case in 0..48 {
+        let centre = rng.unit_vector() * 0.3;
+        let pose_a = MatrixPose { rotation: matrix(&mut rng), translation: centre };
+        let rotation_b = matrix(&mut rng);
+        // b's centre along a random direction at a reach whose gap is
+        // about 0.2, 1e-6 or -0.01 (overlapping).
+        let gap = [0.2, 1e-6, -0.01][case % 3];
+        let direction = rng.unit_vector();
+        let reach_of =
+            |reach: Real| MatrixPose { rotation: rotation_b, translation: centre + direction * reach };
+        let (mut low, mut high) = (0.0, 3.0);
+        for _ in 0..60 {
+            let middle = 0.5 * (low + high);
+            let d = mesh_distance(&ball, &pose_a, &plate, &reach_of(middle), &search, &mut scratch).distance;
+            if d > 0.0 {
+                high = middle;
+            } else {
+                low = middle;
+            }
+        }
+        let pose_b = reach_of(high + gap);
+        let expected = exact_least(&ball, &pose_a, &plate, &pose_b);
+        let largest = [(&ball, &pose_a), (&plate, &pose_b)]
+            .iter()
+            .flat_map(|(mesh, pose)| {
+                mesh.vertices().iter().map(|p| (pose.rotation * p.coords + pose.translation).amax())
+            })
+            .fold(0.0, Real::max);
+        let ulp = f64::from_bits(largest.to_bits() + 1) - largest;
+        let forward = mesh_distance(&ball, &pose_a, &plate, &pose_b, &search, &mut scratch);
+        let backward = mesh_distance(&plate, &pose_b, &ball, &pose_a, &search, &mut scratch);
+        for found in [forward.distance, backward.distance] {
+            let error = (found - expected).abs() / ulp;
+            assert!(
+                error <= 1.0,
+                "case {case} (gap {gap}): {found:e} against exact {expected:e}: {error:.2} ulps"
+            );
+        }
     }
 }
