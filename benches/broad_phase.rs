@@ -12,7 +12,7 @@
 //! two steps. `cargo bench --bench broad_phase` (about two minutes).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use nearmiss::broad_phase::{sweep_pairs, BroadPhase, GridBroadPhase, SweptBox};
+use nearmiss::broad_phase::{sweep_pairs, BroadPhase, GridBroadPhase, StaticBoxes, SweptBox};
 use nearmiss::math::{Point, Vector};
 use nearmiss::samples::Rng;
 use std::hint::black_box;
@@ -94,5 +94,58 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+/// Nine in ten of the bodies fixed (`many_bodies --fixed 90`): the
+/// stepper keeps the fixed boxes in a grid made once (`StaticBoxes`) and
+/// each step pairs the moving boxes among themselves (`BroadPhase`) and
+/// reads the cells each can reach, where it would otherwise pair every box
+/// each step (the grid).
+fn bench_fixed(c: &mut Criterion) {
+    let mut group = c.benchmark_group("broad_phase_fixed_90");
+    group.sample_size(10);
+    for n in [10_000, 100_000] {
+        let mut rng = Rng::new(7);
+        let start = boxes(n, &mut rng);
+        let fixed = |k: usize| k >= n || k * 37 % 100 < 90;
+        let statics =
+            StaticBoxes::new(start.iter().enumerate().filter(|&(k, _)| fixed(k)).map(|(_, b)| *b).collect());
+        let steps: Vec<Vec<SweptBox>> = (0..8)
+            .map(|_| {
+                moved(&start, &mut rng)
+                    .into_iter()
+                    .enumerate()
+                    .filter(|&(k, _)| !fixed(k))
+                    .map(|(_, b)| b)
+                    .collect()
+            })
+            .collect();
+        let (mut among, mut across) = (Vec::new(), Vec::new());
+        let mut tree = BroadPhase::default();
+        let mut k = 0;
+        group.bench_with_input(
+            BenchmarkId::new("moving boxes paired, fixed ones in a static grid", n),
+            &n,
+            |b, _| {
+                b.iter(|| {
+                    k = (k + 1) % steps.len();
+                    tree.pairs_into(black_box(&steps[k]), &mut among);
+                    statics.overlaps_into_on(black_box(&steps[k]), &mut across, false);
+                    among.len() + across.len()
+                })
+            },
+        );
+        let every: Vec<Vec<SweptBox>> = (0..8).map(|_| moved(&start, &mut rng)).collect();
+        let mut grid = GridBroadPhase::default();
+        let mut pairs = Vec::new();
+        group.bench_with_input(BenchmarkId::new("every box through the grid", n), &n, |b, _| {
+            b.iter(|| {
+                k = (k + 1) % every.len();
+                grid.pairs_into(black_box(&every[k]), &mut pairs);
+                pairs.len()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, bench_fixed);
 criterion_main!(benches);

@@ -20,8 +20,10 @@
 //! refitted tree alone degrades as the bodies mix, its boxes growing until
 //! a traversal meets most of the tree. From `GRID_BROAD_PHASE_BOXES` boxes
 //! on, a uniform grid rebuilt at each step ([`GridBroadPhase`]) takes the
-//! tree's place: the same pairs, sooner for many bodies.
-//! Pairs of two fixed bodies are dropped.
+//! tree's place: the same pairs, sooner for many bodies. Boxes that never
+//! move (a scene's many fixed bodies) go into a grid once
+//! ([`StaticBoxes`]), and each step's moving boxes read the cells they
+//! can reach. Pairs of two fixed bodies are dropped.
 
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
@@ -145,6 +147,14 @@ pub const GRID_CELLS_PER_BOX: usize = 8;
 /// [`brute_force_pairs`], sorted.
 #[derive(Debug, Default)]
 pub struct GridBroadPhase {
+    cells: GridCells,
+}
+
+/// Boxes sorted into a uniform grid by the cell of their smallest corner,
+/// the cell at least the largest of them (see [`GridBroadPhase`]); the few
+/// boxes much larger than the median ([`LARGE_BOX_FACTOR`]) kept apart.
+#[derive(Debug, Default)]
+struct GridCells {
     /// Each box's cell (`u32::MAX`: large).
     cell_of: Vec<u32>,
     /// Each cell's first entry (a counting sort's starts).
@@ -157,6 +167,124 @@ pub struct GridBroadPhase {
     large: Vec<u32>,
     /// A sample of the boxes' extents (for the median).
     extents: Vec<Real>,
+    /// The smallest corner of the grid's boxes' smallest corners, the
+    /// cell's size and its inverse, the cells along each axis (one of
+    /// padding on every side), and whether any box is in the grid.
+    low: Point,
+    cell: Real,
+    inverse: Real,
+    shape: nalgebra::Vector3<usize>,
+    grid: bool,
+}
+
+impl GridCells {
+    /// Sorts `boxes` into the grid (the buffers are kept between calls).
+    fn fill(&mut self, boxes: &[SweptBox]) {
+        let n = boxes.len();
+        let extent = |b: &SweptBox| (b.1 - b.0).max();
+        self.extents.clear();
+        self.extents.extend(boxes.iter().step_by(EXTENT_SAMPLE_STRIDE).map(extent));
+        let middle = self.extents.len() / 2;
+        let median = *self.extents.select_nth_unstable_by(middle, |a, b| a.total_cmp(b)).1;
+        let limit = LARGE_BOX_FACTOR * median;
+        // The grid's boxes: their cell is at least the largest of them (at
+        // least a sliver of their spread, for boxes that are points), over
+        // the span of their smallest corners.
+        self.large.clear();
+        let (mut low, mut high) = (Point::from([Real::INFINITY; 3]), Point::from([Real::NEG_INFINITY; 3]));
+        let mut largest: Real = 0.0;
+        for (i, b) in boxes.iter().enumerate() {
+            let e = extent(b);
+            if e <= limit {
+                largest = largest.max(e);
+                (low, high) = (low.inf(&b.0), high.sup(&b.0));
+            } else {
+                self.large.push(i as u32);
+            }
+        }
+        let grid = self.large.len() < n;
+        let span = if grid { (high - low).max() } else { 0.0 };
+        let mut cell = (largest * CELL_SLACK).max(span * GRID_MIN_CELL_OF_SPAN).max(GRID_MIN_CELL);
+        // One empty cell of padding on every side: every neighbour exists.
+        let dims = |cell: Real| (high - low).map(|d| if grid { (d / cell).floor() as usize + 3 } else { 3 });
+        let mut shape = dims(cell);
+        while shape.iter().map(|&d| d as Real).product::<Real>() > (GRID_CELLS_PER_BOX * n + 27) as Real {
+            cell *= 2.0;
+            shape = dims(cell);
+        }
+        (self.low, self.cell, self.inverse, self.shape, self.grid) = (low, cell, 1.0 / cell, shape, grid);
+        let cells = shape.iter().product::<usize>();
+        // A counting sort of the grid's boxes by cell.
+        self.cell_of.clear();
+        self.starts.clear();
+        self.starts.resize(cells + 1, 0);
+        let mut next_large = self.large.iter().peekable();
+        for (i, b) in boxes.iter().enumerate() {
+            if next_large.next_if(|&&l| l as usize == i).is_some() {
+                self.cell_of.push(u32::MAX);
+            } else {
+                let c = self.index(&b.0);
+                self.cell_of.push(c as u32);
+                self.starts[c + 1] += 1;
+            }
+        }
+        for c in 0..cells {
+            self.starts[c + 1] += self.starts[c];
+        }
+        let in_grid = n - self.large.len();
+        self.entries.clear();
+        self.entries.resize(in_grid, 0);
+        self.sorted.clear();
+        self.sorted.resize(in_grid, (Point::origin(), Point::origin()));
+        // Each start is its cell's cursor while filling (the boxes keep
+        // their order within a cell), then the starts move back one cell.
+        for (i, &c) in self.cell_of.iter().enumerate() {
+            if c != u32::MAX {
+                let at = self.starts[c as usize] as usize;
+                (self.entries[at], self.sorted[at]) = (i as u32, boxes[i]);
+                self.starts[c as usize] += 1;
+            }
+        }
+        self.starts.copy_within(0..cells, 1);
+        self.starts[0] = 0;
+    }
+
+    /// The cell coordinates of `p` (from 1: the padding is 0), not clamped above.
+    #[inline]
+    fn cell_at(&self, p: &Point) -> nalgebra::Vector3<usize> {
+        (p - self.low).map(|d| ((d * self.inverse).floor().max(0.0) as usize).saturating_add(1))
+    }
+
+    /// The linear index of the cell of `p`, clamped into the grid.
+    #[inline]
+    fn index(&self, p: &Point) -> usize {
+        let (c, shape) = (self.cell_at(p), self.shape);
+        (c.z.min(shape.z - 2) * shape.y + c.y.min(shape.y - 2)) * shape.x + c.x.min(shape.x - 2)
+    }
+
+    /// Each grid box whose smallest corner is in a cell that a box `b`
+    /// overlapping it can reach (from a cell below `b`'s smallest corner to
+    /// the cell of its largest), row by row: `visit(entry)` with its place
+    /// in `entries` and `sorted`.
+    #[inline]
+    fn reach(&self, b: &SweptBox, mut visit: impl FnMut(usize)) {
+        if !self.grid {
+            return;
+        }
+        let shape = self.shape;
+        let from = self.cell_at(&(b.0 - Vector::repeat(self.cell))).map(|c| c.clamp(1, usize::MAX));
+        let to = self.cell_at(&b.1);
+        for z in from.z..=to.z.min(shape.z - 2) {
+            for y in from.y..=to.y.min(shape.y - 2) {
+                let row = (z * shape.y + y) * shape.x;
+                let (first, last) = (row + from.x, row + to.x.min(shape.x - 2));
+                if first > last {
+                    continue;
+                }
+                (self.starts[first] as usize..self.starts[last + 1] as usize).for_each(&mut visit);
+            }
+        }
+    }
 }
 
 /// [`BroadPhase`] finds the pairs of this many boxes or more through a
@@ -193,76 +321,12 @@ impl GridBroadPhase {
         if n < 2 {
             return;
         }
-        let extent = |b: &SweptBox| (b.1 - b.0).max();
-        self.extents.clear();
-        self.extents.extend(boxes.iter().step_by(EXTENT_SAMPLE_STRIDE).map(extent));
-        let middle = self.extents.len() / 2;
-        let median = *self.extents.select_nth_unstable_by(middle, |a, b| a.total_cmp(b)).1;
-        let limit = LARGE_BOX_FACTOR * median;
-        // The grid's boxes: their cell is at least the largest of them (at
-        // least a sliver of their spread, for boxes that are points), over
-        // the span of their smallest corners.
-        self.large.clear();
-        let (mut low, mut high) = (Point::from([Real::INFINITY; 3]), Point::from([Real::NEG_INFINITY; 3]));
-        let mut largest: Real = 0.0;
-        for (i, b) in boxes.iter().enumerate() {
-            let e = extent(b);
-            if e <= limit {
-                largest = largest.max(e);
-                (low, high) = (low.inf(&b.0), high.sup(&b.0));
-            } else {
-                self.large.push(i as u32);
-            }
-        }
-        let grid = self.large.len() < n;
-        let span = if grid { (high - low).max() } else { 0.0 };
-        let mut cell = (largest * CELL_SLACK).max(span * GRID_MIN_CELL_OF_SPAN).max(GRID_MIN_CELL);
-        // One empty cell of padding on every side: every neighbour exists.
-        let dims = |cell: Real| (high - low).map(|d| if grid { (d / cell).floor() as usize + 3 } else { 3 });
-        let mut shape = dims(cell);
-        while shape.iter().map(|&d| d as Real).product::<Real>() > (GRID_CELLS_PER_BOX * n + 27) as Real {
-            cell *= 2.0;
-            shape = dims(cell);
-        }
+        let grid = &mut self.cells;
+        grid.fill(boxes);
+        let grid = &self.cells;
+        let shape = grid.shape;
         let cells = shape.iter().product::<usize>();
-        let inverse = 1.0 / cell;
-        let index = |p: &Point| {
-            let c = (p - low).map(|d| ((d * inverse).floor().max(0.0) as usize).saturating_add(1));
-            (c.z.min(shape.z - 2) * shape.y + c.y.min(shape.y - 2)) * shape.x + c.x.min(shape.x - 2)
-        };
-        // A counting sort of the grid's boxes by cell.
-        self.cell_of.clear();
-        self.starts.clear();
-        self.starts.resize(cells + 1, 0);
-        let mut next_large = self.large.iter().peekable();
-        for (i, b) in boxes.iter().enumerate() {
-            if next_large.next_if(|&&l| l as usize == i).is_some() {
-                self.cell_of.push(u32::MAX);
-            } else {
-                let c = index(&b.0);
-                self.cell_of.push(c as u32);
-                self.starts[c + 1] += 1;
-            }
-        }
-        for c in 0..cells {
-            self.starts[c + 1] += self.starts[c];
-        }
-        let in_grid = n - self.large.len();
-        self.entries.clear();
-        self.entries.resize(in_grid, 0);
-        self.sorted.clear();
-        self.sorted.resize(in_grid, (Point::origin(), Point::origin()));
-        // Each start is its cell's cursor while filling (the boxes keep
-        // their order within a cell), then the starts move back one cell.
-        for (i, &c) in self.cell_of.iter().enumerate() {
-            if c != u32::MAX {
-                let at = self.starts[c as usize] as usize;
-                (self.entries[at], self.sorted[at]) = (i as u32, boxes[i]);
-                self.starts[c as usize] += 1;
-            }
-        }
-        self.starts.copy_within(0..cells, 1);
-        self.starts[0] = 0;
+        let in_grid = grid.sorted.len();
         // Each cell against itself and its 13 neighbours ahead (greater
         // linear index); the padding keeps every neighbour in the grid.
         // Cells x − 1, x and x + 1 of a row are adjacent in the sort, so the
@@ -271,7 +335,7 @@ impl GridBroadPhase {
         // (y, z + 1) and (y + 1, z + 1) (`FORWARD_ROWS`).
         let (sx, sxy) = (shape.x, shape.x * shape.y);
         let rows = FORWARD_ROWS.map(|(dy, dz)| (dy * sx as isize + dz * sxy as isize) as usize);
-        let (starts, entries, sorted) = (&self.starts, &self.entries, &self.sorted);
+        let (starts, entries, sorted) = (&grid.starts, &grid.entries, &grid.sorted);
         let search = |cells: std::ops::Range<usize>, pairs: &mut Vec<(usize, usize)>| {
             for c in cells {
                 let (from, to) = (starts[c] as usize, starts[c + 1] as usize);
@@ -315,30 +379,15 @@ impl GridBroadPhase {
         // The large boxes against the grid's boxes in the cells they reach
         // (a box overlapping one has its smallest corner at most a cell
         // below it), and against each other (each pair once).
-        let cell_at =
-            |p: &Point| (p - low).map(|d| ((d * inverse).floor().max(0.0) as usize).saturating_add(1));
-        for (k, &l) in self.large.iter().enumerate() {
+        for (k, &l) in grid.large.iter().enumerate() {
             let (l, large_box) = (l as usize, &boxes[l as usize]);
-            if grid {
-                let from = cell_at(&(large_box.0 - Vector::repeat(cell))).map(|c| c.clamp(1, usize::MAX));
-                let to = cell_at(&large_box.1);
-                for z in from.z..=to.z.min(shape.z - 2) {
-                    for y in from.y..=to.y.min(shape.y - 2) {
-                        let row = (z * shape.y + y) * shape.x;
-                        let (first, last) = (row + from.x, row + to.x.min(shape.x - 2));
-                        if first > last {
-                            continue;
-                        }
-                        for b in starts[first] as usize..starts[last + 1] as usize {
-                            if boxes_overlap(large_box, &sorted[b]) {
-                                let j = entries[b] as usize;
-                                pairs.push((l.min(j), l.max(j)));
-                            }
-                        }
-                    }
+            grid.reach(large_box, |b| {
+                if boxes_overlap(large_box, &sorted[b]) {
+                    let j = entries[b] as usize;
+                    pairs.push((l.min(j), l.max(j)));
                 }
-            }
-            for &other in &self.large[k + 1..] {
+            });
+            for &other in &grid.large[k + 1..] {
                 if boxes_overlap(large_box, &boxes[other as usize]) {
                     pairs.push((l.min(other as usize), l.max(other as usize)));
                 }
@@ -450,10 +499,140 @@ impl BroadPhase {
     }
 }
 
+/// Boxes that stay put (fixed bodies' boxes), sorted into a grid once
+/// (the [`GridBroadPhase`]'s cells: by their smallest corner, the few
+/// large ones apart), and the moving boxes that overlap them, each found
+/// by reading the cells it can reach: a step then costs nothing per fixed
+/// body (no box, no place in the step's grid or tree). The pairs are those
+/// of [`brute_force_pairs`] between the two sets (the same inclusive test,
+/// [`boxes_overlap`]).
+#[derive(Debug)]
+pub struct StaticBoxes {
+    boxes: Vec<SweptBox>,
+    cells: GridCells,
+}
+
+/// [`StaticBoxes::overlaps_into_on`] reads its cells on rayon's threads
+/// from this many moving boxes: `4096` (as [`PARALLEL_GRID_BOXES`]).
+pub const PARALLEL_STATIC_QUERIES: usize = 4096;
+
+impl StaticBoxes {
+    /// The grid of `boxes` (they keep their indices).
+    pub fn new(boxes: Vec<SweptBox>) -> StaticBoxes {
+        let mut cells = GridCells::default();
+        if !boxes.is_empty() {
+            cells.fill(&boxes);
+        }
+        StaticBoxes { boxes, cells }
+    }
+
+    /// The boxes, in their order.
+    pub fn boxes(&self) -> &[SweptBox] {
+        &self.boxes
+    }
+
+    /// Every `(k, s)` with `queries[k]` overlapping box `s`, sorted, into
+    /// `pairs` (cleared first); the queries on rayon's threads when
+    /// `threads` (from [`PARALLEL_STATIC_QUERIES`]): the same pairs.
+    pub fn overlaps_into_on(&self, queries: &[SweptBox], pairs: &mut Vec<(usize, usize)>, threads: bool) {
+        pairs.clear();
+        if self.boxes.is_empty() {
+            return;
+        }
+        let grid = &self.cells;
+        let query = |range: std::ops::Range<usize>, pairs: &mut Vec<(usize, usize)>| {
+            for k in range {
+                let moving = &queries[k];
+                let first = pairs.len();
+                grid.reach(moving, |b| {
+                    if boxes_overlap(moving, &grid.sorted[b]) {
+                        pairs.push((k, grid.entries[b] as usize));
+                    }
+                });
+                for &l in &grid.large {
+                    if boxes_overlap(moving, &self.boxes[l as usize]) {
+                        pairs.push((k, l as usize));
+                    }
+                }
+                pairs[first..].sort_unstable();
+            }
+        };
+        if threads && queries.len() >= PARALLEL_STATIC_QUERIES {
+            use rayon::prelude::*;
+            let run = queries.len().div_ceil(4 * rayon::current_num_threads()).max(1);
+            let found: Vec<Vec<(usize, usize)>> = (0..queries.len().div_ceil(run))
+                .into_par_iter()
+                .map(|k| {
+                    let mut found = Vec::new();
+                    query(k * run..((k + 1) * run).min(queries.len()), &mut found);
+                    found
+                })
+                .collect();
+            found.iter().for_each(|part| pairs.extend_from_slice(part));
+        } else {
+            query(0..queries.len(), pairs);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::samples::Rng;
+
+    /// The static grid's pairs are the brute force's pairs between the two
+    /// sets, on random boxes, boxes touching exactly, and with no static
+    /// box or no query, a large box kept out of the grid, queries outside
+    /// its span; on one thread and on the threads alike.
+    #[test]
+    fn static_boxes_pairs_equal_brute_force_pairs() {
+        let mut rng = Rng::new(47);
+        let random_boxes = |rng: &mut Rng, n: usize| -> Vec<SweptBox> {
+            (0..n)
+                .map(|_| {
+                    let center = Point::from(rng.in_unit_ball() * 20.0);
+                    let half = Vector::new(rng.range(0.05, 2.0), rng.range(0.05, 2.0), rng.range(0.05, 2.0));
+                    (center - half, center + half)
+                })
+                .collect()
+        };
+        for (fixed, moving) in [(0, 10), (10, 0), (1, 1), (7, 300), (300, 7), (500, 5000)] {
+            let mut statics = random_boxes(&mut rng, fixed);
+            if fixed >= 300 {
+                // A floor under them all, kept out of the grid (large).
+                statics.push((Point::new(-30.0, -30.0, -1.0), Point::new(30.0, 30.0, 0.0)));
+            }
+            let mut queries = random_boxes(&mut rng, moving);
+            // Queries far outside the static boxes' span, each side.
+            if moving >= 7 {
+                queries[1] = (Point::new(-90.0, 0.0, 0.0), Point::new(-80.0, 1.0, 1.0));
+                queries[2] = (Point::new(80.0, 80.0, 80.0), Point::new(81.0, 81.0, 81.0));
+            }
+            // A query touching a static box exactly, face to face.
+            if let (Some(s), Some(q)) = (statics.first(), queries.first_mut()) {
+                let width = q.1.x - q.0.x;
+                q.0.x = s.1.x;
+                q.1.x = s.1.x + width;
+                (q.0.y, q.0.z, q.1.y, q.1.z) = (s.0.y, s.0.z, s.1.y, s.1.z);
+            }
+            let mut all = queries.clone();
+            all.extend_from_slice(&statics);
+            let expected: Vec<(usize, usize)> = brute_force_pairs(&all)
+                .into_iter()
+                .filter(|&(i, j)| i < moving && j >= moving)
+                .map(|(i, j)| (i, j - moving))
+                .collect();
+            let tree = StaticBoxes::new(statics);
+            for threads in [false, true] {
+                let mut pairs = vec![(7, 7)];
+                tree.overlaps_into_on(&queries, &mut pairs, threads);
+                assert_eq!(pairs, expected, "{fixed} static, {moving} moving, threads {threads}");
+            }
+            if fixed > 0 && moving > 0 {
+                assert!(expected.contains(&(0, 0)), "the boxes touching face to face are a pair");
+            }
+        }
+    }
 
     #[test]
     fn tree_pairs_equal_brute_force_pairs() {
