@@ -1,6 +1,8 @@
 //! Stage 2, broad phase: the pairs whose swept boxes overlap in the step
 //! (scenes of more than two bodies; with two, the one pair is kept from
-//! the start). Each pair keeps its state from the previous step; a new pair
+//! the start). In a run of many fixed bodies ([`FIXED_APART_BODIES`]),
+//! their boxes are made once and kept in a static grid; each step boxes
+//! the moving bodies only. Each pair keeps its state from the previous step; a new pair
 //! starts fresh. A pair in contact stays in the set until the re-arm stage
 //! finds it separated (farther apart than its re-arm distance), whether or
 //! not its boxes still overlap: boxes that fit the meshes part as soon as
@@ -12,16 +14,53 @@ use std::time::Instant;
 
 use super::world::{PairState, World};
 use super::Stepper;
-use crate::broad_phase::swept_box;
+use crate::broad_phase::{swept_box, StaticBoxes};
 use crate::ccd::box_margin;
 use crate::math::Real;
-use crate::scene::BodyMotion;
+use crate::scene::{BodyMotion, Model};
 
 /// The swept boxes are computed, and parry's tree of them refitted and
 /// traversed (or, for many bodies, the grid's cells searched), on rayon's
 /// threads from this many bodies (when the run is parallel): `4096` (a box
 /// takes tens of nanoseconds, fewer are not worth handing out).
 pub(crate) const PARALLEL_BOX_BODIES: usize = 4096;
+
+/// A run keeps its fixed bodies apart from the broad phase's steps from
+/// this many of them: `64`. Their boxes go into a static grid once, and
+/// each step boxes and pairs only the moving bodies (against each other,
+/// and each against that grid). With a few fixed bodies (a room's walls) the grid
+/// or the refitted tree handles them as cheaply.
+pub(crate) const FIXED_APART_BODIES: usize = 64;
+
+/// The fixed bodies of a run that keeps them apart (see
+/// [`FIXED_APART_BODIES`]): a fixed body never moves in the stepper's own
+/// integration, so its box is made once.
+pub(crate) struct FixedApart {
+    /// The fixed bodies and the others, by index, ascending.
+    fixed: Vec<usize>,
+    moving: Vec<usize>,
+    /// The fixed bodies' boxes in a grid, made at the first step.
+    statics: Option<StaticBoxes>,
+    /// The moving bodies' pairs (indices into `moving`) and their pairs
+    /// with the fixed ones (into `moving`, into `fixed`).
+    among: Vec<(usize, usize)>,
+    across: Vec<(usize, usize)>,
+}
+
+impl FixedApart {
+    /// For a model with at least [`FIXED_APART_BODIES`] fixed bodies.
+    pub(crate) fn of(model: &Model) -> Option<FixedApart> {
+        let (fixed, moving): (Vec<usize>, Vec<usize>) =
+            (0..model.bodies.len()).partition(|&i| model.bodies[i].motion == BodyMotion::Fixed);
+        (fixed.len() >= FIXED_APART_BODIES).then(|| FixedApart {
+            fixed,
+            moving,
+            statics: None,
+            among: Vec::new(),
+            across: Vec::new(),
+        })
+    }
+}
 
 impl Stepper {
     /// Replaces `world.pairs` by the pairs of this step's swept boxes.
@@ -32,7 +71,7 @@ impl Stepper {
             let model = &*model;
             let boxes = &mut self.scratch.boxes;
             let extra_box_margin = self.extra_box_margin;
-            let swept = |(body, motion): (&crate::scene::Body, &crate::motion::StepMotion)| {
+            let swept = |body: &crate::scene::Body, motion: &crate::motion::StepMotion| {
                 let radius = body.mesh.radius();
                 // Each box grows by at least its share of any pair's contact
                 // distance (the contract's box margin) and a rounding margin.
@@ -42,18 +81,49 @@ impl Stepper {
                     + model.parameters.broad_phase_rounding_ulps * Real::EPSILON * reach;
                 swept_box(&body.mesh, motion, model.dt, margin)
             };
-            // Each body's box is its own: on the threads when there are many
-            // (and the tree's refit and traversal with them).
-            let threads = self.options.parallel && model.bodies.len() >= PARALLEL_BOX_BODIES;
-            if threads {
-                use rayon::prelude::*;
-                model.bodies.par_iter().zip(&world.motions).map(swept).collect_into_vec(boxes);
-            } else {
-                boxes.clear();
-                boxes.extend(model.bodies.iter().zip(&world.motions).map(swept));
-            }
             let candidates = &mut self.scratch.candidates;
-            broad.pairs_into_on(boxes, candidates, threads);
+            if let Some(apart) = self.fixed_apart.as_mut() {
+                // The fixed bodies' boxes once; the moving bodies' each step,
+                // paired among themselves and against the fixed ones.
+                let statics = apart.statics.get_or_insert_with(|| {
+                    StaticBoxes::new(
+                        apart.fixed.iter().map(|&i| swept(&model.bodies[i], &world.motions[i])).collect(),
+                    )
+                });
+                let threads = self.options.parallel && apart.moving.len() >= PARALLEL_BOX_BODIES;
+                let moving_box = |&i: &usize| swept(&model.bodies[i], &world.motions[i]);
+                if threads {
+                    use rayon::prelude::*;
+                    apart.moving.par_iter().map(moving_box).collect_into_vec(boxes);
+                } else {
+                    boxes.clear();
+                    boxes.extend(apart.moving.iter().map(moving_box));
+                }
+                broad.pairs_into_on(boxes, &mut apart.among, threads);
+                statics.overlaps_into_on(boxes, &mut apart.across, threads);
+                let (fixed, moving) = (&apart.fixed, &apart.moving);
+                candidates.clear();
+                candidates.extend(apart.among.iter().map(|&(i, j)| (moving[i], moving[j])));
+                candidates.extend(apart.across.iter().map(|&(k, s)| {
+                    let (m, f) = (moving[k], fixed[s]);
+                    (m.min(f), m.max(f))
+                }));
+                candidates.sort_unstable();
+            } else {
+                // Each body's box is its own: on the threads when there are
+                // many (and the tree's refit and traversal with them).
+                let threads = self.options.parallel && model.bodies.len() >= PARALLEL_BOX_BODIES;
+                let each =
+                    |(body, motion): (&crate::scene::Body, &crate::motion::StepMotion)| swept(body, motion);
+                if threads {
+                    use rayon::prelude::*;
+                    model.bodies.par_iter().zip(&world.motions).map(each).collect_into_vec(boxes);
+                } else {
+                    boxes.clear();
+                    boxes.extend(model.bodies.iter().zip(&world.motions).map(each));
+                }
+                broad.pairs_into_on(boxes, candidates, threads);
+            }
             let fixed = |i: usize| model.bodies[i].motion == BodyMotion::Fixed;
             // The new pairs go into the previous step's spare buffer.
             let mut old = std::mem::replace(&mut world.pairs, std::mem::take(&mut self.scratch.spare_pairs));

@@ -80,7 +80,14 @@ impl Stepper {
             }
         };
         advanced.resize(model.bodies.len(), None);
+        // A fixed body is not stepped: its slot stays `None`, and neither
+        // its body nor its state is read (in a scene of many fixed bodies,
+        // reading them was most of this stage).
+        let fixed = &self.fixed;
         let fill = |i: usize, slot: &mut Option<Advance>, body: &Body, state: &Option<RigidState>| {
+            if fixed[i] {
+                return Checked::default();
+            }
             *slot = advance((body, state));
             checked(i, slot)
         };
@@ -103,15 +110,18 @@ impl Stepper {
         // Every body's motion over the step (and an integrated body's state
         // at its end), each its own: on the threads with the integrations.
         let dt = model.dt;
-        let commit =
-            |(((body, motion), state), step_of)| commit_step(body, motion, state, step_of, step, t0, dt);
+        let commit = |((((body, motion), state), step_of), &fixed): (_, &bool)| {
+            if !fixed {
+                commit_step(body, motion, state, step_of, step, t0, dt);
+            }
+        };
         if parallel {
             let bodies =
                 model.bodies.par_iter().zip(world.motions.par_iter_mut()).zip(world.states.par_iter_mut());
-            bodies.zip(advanced.par_iter()).for_each(commit);
+            bodies.zip(advanced.par_iter()).zip(self.fixed.par_iter()).for_each(commit);
         } else {
             let bodies = model.bodies.iter().zip(world.motions.iter_mut()).zip(world.states.iter_mut());
-            bodies.zip(advanced.iter()).for_each(commit);
+            bodies.zip(advanced.iter()).zip(self.fixed.iter()).for_each(commit);
         }
         Ok(())
     }

@@ -63,7 +63,7 @@ pub(crate) use world::{PairState, World};
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;
 use crate::math::Real;
-use crate::scene::{Model, RunSpec, Scene};
+use crate::scene::{BodyMotion, Model, RunSpec, Scene};
 use observe::near_miss::NearMissObserver;
 use observe::poses::PoseObserver;
 use observe::trace::TraceObserver;
@@ -99,8 +99,10 @@ impl Integrated {
     /// `Bounce`); `None` under `Simulate`, whose steps rapier makes.
     pub(crate) fn of(scene: &Scene, options: RunOptions) -> Option<Integrated> {
         let response = respond::for_model(&scene.model)?;
-        let stepper =
+        let mut stepper =
             Stepper::with_response(Arc::new(scene.model.clone()), Some(&scene.run), options, response);
+        // Its own integration never moves a fixed body.
+        stepper.fixed_apart = stepper.broad.as_ref().and_then(|_| broad::FixedApart::of(&scene.model));
         let world = stepper.new_world(stepper.response.stops_kinematic_bodies());
         Some(Integrated { stepper, world, name: scene.run.name.clone() })
     }
@@ -115,6 +117,13 @@ pub(crate) struct Stepper {
     response: Box<dyn Response>,
     /// The broad phase, for scenes of more than two bodies.
     broad: Option<BroadPhase>,
+    /// The fixed bodies' boxes, made once, in the stepper's own
+    /// integration of a scene with many fixed bodies (under a guard, an
+    /// engine may move a fixed body: every box is made each step).
+    fixed_apart: Option<broad::FixedApart>,
+    /// Whether each body is fixed (the integration passes over them
+    /// without reading them).
+    fixed: Vec<bool>,
     /// The trace, when the scene asks for one.
     trace: Option<TraceObserver>,
     /// The pose record, when the scene asks for one.
@@ -169,6 +178,8 @@ impl Stepper {
             options,
             response,
             broad: (options.broad_phase && model.bodies.len() > 2).then(BroadPhase::default),
+            fixed_apart: None,
+            fixed: model.bodies.iter().map(|b| b.motion == BodyMotion::Fixed).collect(),
             trace: run.and_then(|run| {
                 TraceObserver::of(&model, run, options.parallel.then_some(options.parallel_trace_pairs))
             }),

@@ -57,3 +57,36 @@ fn threads_and_broad_phase_change_nothing() {
     let pairs = 40 * 39 / 2;
     assert!(pairs >= RunOptions::default().parallel_trace_pairs && threaded.trace.len() > pairs);
 }
+
+/// A crowd among many fixed bodies (posts on a lattice through the cube):
+/// a run keeps the fixed bodies' boxes in a grid made once (from
+/// `FIXED_APART_BODIES`, 64, of them) and pairs only the moving bodies each
+/// step. The contacts, with the fixed posts among them, are those of the run
+/// that queries every pair each step, and the same on the threads.
+#[test]
+fn many_fixed_bodies_kept_apart_change_nothing() {
+    let mut text = String::from(
+        "Scene(name: \"posts\", dt: 0.01, duration: 0.6, on_contact: Record, trace: (pairs: All), bodies: [",
+    );
+    for (k, x) in (0..4).flat_map(|i| (0..4).flat_map(move |j| (0..5).map(move |m| (i, j, m)))).enumerate() {
+        let at = |n: i32, count: i32| -3.0 + 6.0 * (n as f64 + 0.5) / count as f64;
+        text.push_str(&format!(
+            "(name: \"post{k}\", mesh: Box(half_extents: (0.06, 0.06, 0.4)), position: ({:?}, {:?}, {:?}), fixed: true),",
+            at(x.0, 4),
+            at(x.1, 4),
+            at(x.2, 5)
+        ));
+    }
+    text.push_str(&crowd::crowd_bodies(30, 11, ""));
+    text.push_str("])");
+    let scene = Scene::from_ron_str(&text).unwrap();
+    let quiet = &mut |_| {};
+    let reference =
+        run_with(&scene, RunOptions { parallel: false, broad_phase: false, ..RunOptions::default() }, quiet);
+    let posts = |r: &RunResult| r.contacts.iter().filter(|c| c.body_a < 80 || c.body_b < 80).count();
+    assert!(posts(&reference) >= 5, "the crowd should meet the posts: {} contacts", posts(&reference));
+    let apart = run_with(&scene, RunOptions { parallel: false, ..RunOptions::default() }, quiet);
+    same_contacts(&reference, &apart);
+    let threaded = run_with(&scene, RunOptions::default(), quiet);
+    same_outcome(&apart, &threaded);
+}

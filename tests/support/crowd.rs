@@ -9,8 +9,17 @@ use nearmiss::scene::Scene;
 /// scene's other `settings` (RON fields, e.g. `on_contact: Record`) and
 /// each body's (`body`, e.g. `density: 1.0`, or none).
 pub fn random_crowd(bodies: usize, seed: u64, settings: &str, body: &str) -> Scene {
+    let crowd = crowd_bodies(bodies, seed, body);
+    Scene::from_ron_str(&format!(
+        "Scene(name: \"many\", dt: 0.01, duration: 0.6, {settings}, bodies: [{crowd}])"
+    ))
+    .unwrap()
+}
+
+/// The bodies of [`random_crowd`] as RON entries (each followed by a comma).
+pub fn crowd_bodies(bodies: usize, seed: u64, body: &str) -> String {
     let mut rng = Rng::new(seed);
-    let mut text = format!("Scene(name: \"many\", dt: 0.01, duration: 0.6, {settings}, bodies: [");
+    let mut text = String::new();
     for k in 0..bodies {
         let v = |rng: &mut Rng, s: f64| {
             let x = rng.in_unit_ball() * s;
@@ -31,6 +40,5 @@ pub fn random_crowd(bodies: usize, seed: u64, settings: &str, body: &str) -> Sce
             "(name: \"b{k}\", mesh: {mesh}, position: {position}, velocity: {velocity}, angular_velocity: {spin}, {body}),"
         ));
     }
-    text.push_str("])");
-    Scene::from_ron_str(&text).unwrap()
+    text
 }

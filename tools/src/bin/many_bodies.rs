@@ -20,6 +20,10 @@
 //! run (restitution 1, no friction, its CCD on, convex hulls), its steps
 //! per second and nearmiss's rate over it; built with the tools'
 //! `rapier-parallel` feature, rapier on its own threads.
+//! With `--fixed P`: P% of the bodies (spread through the box; with
+//! `--fixed-first`, the first P% of them, a block of the box) are fixed
+//! where they start, the others move as without it (a clutter of fixed
+//! obstacles).
 //! With `--final-states PREFIX`: every body's final state and every
 //! contact written to `PREFIX<N>.txt` (to compare two builds).
 //! With `--bunnies`: every fifth body (those that were icospheres of 320
@@ -41,13 +45,26 @@ struct Setup {
     near_misses: Option<f64>,
     /// `--near-miss-tolerance T`: their brackets' width.
     near_miss_tolerance: Option<f64>,
+    /// `--fixed P`: this percentage of the bodies fixed where they start,
+    /// spread through the box; with `--fixed-first`, the first bodies.
+    fixed_percent: usize,
+    fixed_first: bool,
 }
 
 /// The bunny's OBJ file (see `scripts/fetch-bunny.sh`).
 const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/meshes/bunny.obj");
 
 fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
-    let Setup { steps, simulate, trace, bunnies, near_misses, near_miss_tolerance } = setup;
+    let Setup {
+        steps,
+        simulate,
+        trace,
+        bunnies,
+        near_misses,
+        near_miss_tolerance,
+        fixed_percent,
+        fixed_first,
+    } = setup;
     let mut rng = Rng::new(seed);
     let per_side = (bodies as f64).cbrt().ceil() as usize;
     let cell = 1.2;
@@ -100,8 +117,16 @@ fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
             n => format!("mesh: Icosphere(radius: 0.3, subdivisions: {}), density: 1.0", n - 1),
         };
         let (velocity, spin) = (v(&mut rng, 2.0), v(&mut rng, 8.0));
+        // `--fixed P`: P in every 100 bodies, spread through the box, or the
+        // first P% (the others move as without it).
+        let fixed = if fixed_first { k * 100 < fixed_percent * bodies } else { k * 37 % 100 < fixed_percent };
+        let motion = if fixed {
+            "fixed: true".to_string()
+        } else {
+            format!("velocity: {velocity}, angular_velocity: {spin}")
+        };
         text.push_str(&format!(
-            "(name: \"b{k}\", {mesh}, position: ({:?}, {:?}, {:?}), velocity: {velocity}, angular_velocity: {spin}),",
+            "(name: \"b{k}\", {mesh}, position: ({:?}, {:?}, {:?}), {motion}),",
             position.0, position.1, position.2
         ));
     }
@@ -137,7 +162,22 @@ fn main() {
         .position(|a| a == "--near-miss-tolerance")
         .and_then(|k| args.get(k + 1))
         .map(|s| s.parse().expect("a near-miss tolerance"));
-    let setup = Setup { steps, simulate, trace, bunnies, near_misses, near_miss_tolerance };
+    let fixed_percent = args
+        .iter()
+        .position(|a| a == "--fixed")
+        .and_then(|k| args.get(k + 1))
+        .map_or(0, |s| s.parse().expect("a percentage of fixed bodies"));
+    let fixed_first = args.iter().any(|a| a == "--fixed-first");
+    let setup = Setup {
+        steps,
+        simulate,
+        trace,
+        bunnies,
+        near_misses,
+        near_miss_tolerance,
+        fixed_percent,
+        fixed_first,
+    };
     if simulate {
         return simulate_beside_rapier(&args, setup);
     }
