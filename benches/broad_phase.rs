@@ -106,8 +106,9 @@ fn bench_fixed(c: &mut Criterion) {
         let mut rng = Rng::new(7);
         let start = boxes(n, &mut rng);
         let fixed = |k: usize| k >= n || k * 37 % 100 < 90;
-        let statics =
-            StaticBoxes::new(start.iter().enumerate().filter(|&(k, _)| fixed(k)).map(|(_, b)| *b).collect());
+        let fixed_boxes: Vec<SweptBox> =
+            start.iter().enumerate().filter(|&(k, _)| fixed(k)).map(|(_, b)| *b).collect();
+        let statics = StaticBoxes::new(&fixed_boxes);
         let steps: Vec<Vec<SweptBox>> = (0..8)
             .map(|_| {
                 moved(&start, &mut rng)

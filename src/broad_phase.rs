@@ -508,8 +508,11 @@ impl BroadPhase {
 /// [`boxes_overlap`]).
 #[derive(Debug)]
 pub struct StaticBoxes {
-    boxes: Vec<SweptBox>,
+    /// How many boxes.
+    count: usize,
+    /// The grid of them, and the large ones (index and box).
     cells: GridCells,
+    large: Vec<(u32, SweptBox)>,
 }
 
 /// [`StaticBoxes::overlaps_into_on`] reads its cells on rayon's threads
@@ -518,17 +521,27 @@ pub const PARALLEL_STATIC_QUERIES: usize = 4096;
 
 impl StaticBoxes {
     /// The grid of `boxes` (they keep their indices).
-    pub fn new(boxes: Vec<SweptBox>) -> StaticBoxes {
+    pub fn new(boxes: &[SweptBox]) -> StaticBoxes {
         let mut cells = GridCells::default();
         if !boxes.is_empty() {
-            cells.fill(&boxes);
+            cells.fill(boxes);
         }
-        StaticBoxes { boxes, cells }
+        // The grid keeps its own copy of the boxes, in cell order; what only
+        // the fill needs is let go.
+        let large = cells.large.iter().map(|&l| (l, boxes[l as usize])).collect();
+        cells.cell_of = Vec::new();
+        cells.extents = Vec::new();
+        StaticBoxes { count: boxes.len(), cells, large }
     }
 
-    /// The boxes, in their order.
-    pub fn boxes(&self) -> &[SweptBox] {
-        &self.boxes
+    /// How many boxes it holds.
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    /// Whether it holds none.
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
     }
 
     /// Every `(k, s)` with `queries[k]` overlapping box `s`, sorted, into
@@ -536,7 +549,7 @@ impl StaticBoxes {
     /// `threads` (from [`PARALLEL_STATIC_QUERIES`]): the same pairs.
     pub fn overlaps_into_on(&self, queries: &[SweptBox], pairs: &mut Vec<(usize, usize)>, threads: bool) {
         pairs.clear();
-        if self.boxes.is_empty() {
+        if self.is_empty() {
             return;
         }
         let grid = &self.cells;
@@ -549,9 +562,9 @@ impl StaticBoxes {
                         pairs.push((k, grid.entries[b] as usize));
                     }
                 });
-                for &l in &grid.large {
-                    if boxes_overlap(moving, &self.boxes[l as usize]) {
-                        pairs.push((k, l as usize));
+                for (l, large) in &self.large {
+                    if boxes_overlap(moving, large) {
+                        pairs.push((k, *l as usize));
                     }
                 }
                 pairs[first..].sort_unstable();
@@ -622,7 +635,7 @@ mod tests {
                 .filter(|&(i, j)| i < moving && j >= moving)
                 .map(|(i, j)| (i, j - moving))
                 .collect();
-            let tree = StaticBoxes::new(statics);
+            let tree = StaticBoxes::new(&statics);
             for threads in [false, true] {
                 let mut pairs = vec![(7, 7)];
                 tree.overlaps_into_on(&queries, &mut pairs, threads);

@@ -86,9 +86,9 @@ impl Stepper {
                 // The fixed bodies' boxes once; the moving bodies' each step,
                 // paired among themselves and against the fixed ones.
                 let statics = apart.statics.get_or_insert_with(|| {
-                    StaticBoxes::new(
-                        apart.fixed.iter().map(|&i| swept(&model.bodies[i], &world.motions[i])).collect(),
-                    )
+                    let boxes: Vec<_> =
+                        apart.fixed.iter().map(|&i| swept(&model.bodies[i], &world.motions[i])).collect();
+                    StaticBoxes::new(&boxes)
                 });
                 let threads = self.options.parallel && apart.moving.len() >= PARALLEL_BOX_BODIES;
                 let moving_box = |&i: &usize| swept(&model.bodies[i], &world.motions[i]);
