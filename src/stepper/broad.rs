@@ -2,12 +2,12 @@
 //! (scenes of more than two bodies; with two, the one pair is kept from
 //! the start). In a run of many fixed bodies ([`FIXED_APART_BODIES`]),
 //! their boxes are made once and kept in a static grid; each step boxes
-//! the moving bodies only. Each pair keeps its state from the previous step; a new pair
-//! starts fresh. A pair in contact stays in the set until the re-arm stage
-//! finds it separated (farther apart than its re-arm distance), whether or
-//! not its boxes still overlap: boxes that fit the meshes part as soon as
-//! the meshes are a contact distance apart, and a resting pair must not be
-//! re-armed by that.
+//! the moving bodies only. Each pair keeps its state from the previous
+//! step; a new pair starts fresh. A pair in contact stays in the set until
+//! the re-arm stage finds it separated (farther apart than its re-arm
+//! distance), whether or not its boxes still overlap: boxes that fit the
+//! meshes part as soon as the meshes are a contact distance apart, and a
+//! resting pair must not be re-armed by that.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -28,8 +28,8 @@ pub(crate) const PARALLEL_BOX_BODIES: usize = 4096;
 /// A run keeps its fixed bodies apart from the broad phase's steps from
 /// this many of them: `64`. Their boxes go into a static grid once, and
 /// each step boxes and pairs only the moving bodies (against each other,
-/// and each against that grid). With a few fixed bodies (a room's walls) the grid
-/// or the refitted tree handles them as cheaply.
+/// and each against that grid). With a few fixed bodies (a room's walls)
+/// the step's grid or refitted tree handles them as cheaply.
 pub(crate) const FIXED_APART_BODIES: usize = 64;
 
 /// The fixed bodies of a run that keeps them apart (see
