@@ -39,7 +39,7 @@ use crate::ccd::{
     box_margin, closest_approach, mesh_time_of_impact, ApproachStatus, CcdOptions, CcdStatus,
     ClosestApproach, ClosestApproachQuery, MeshCcdQuery, MeshCcdScratch, MovingMesh, WarmStart,
 };
-use crate::math::{Pose, Real};
+use crate::math::{MatrixPose, Placement, Pose, Real};
 use crate::mesh::{mesh_distance, DistanceSearch, MeshDistance, MeshDistanceScratch, TriMesh};
 use crate::motion::StepMotion;
 
@@ -47,7 +47,9 @@ use crate::motion::StepMotion;
 /// its reach (the largest coordinate it spans): `1e3`, as the stepper's
 /// swept boxes (`StepParameters::broad_phase_rounding_ulps`). The box is
 /// computed from the pose's matrix, the distances from the relative pose
-/// of the pair; the widening covers the difference of their roundings and
+/// of the pair (their closest pair posed again by the poses as given, a
+/// [`MatrixPose`]'s matrix as it is); the widening covers the difference of
+/// their roundings and
 /// the CCD's rounding floor (`ccd::ROUNDING_FLOOR_ULPS` of the largest
 /// coordinate), so that no pair the CCD would count as touching is
 /// dropped.
@@ -59,6 +61,9 @@ pub struct Object {
     name: String,
     mesh: Arc<TriMesh>,
     pose: Pose,
+    /// The pose as given (a rotation matrix kept as it is): the distances
+    /// pose their closest pair by it.
+    placement: MatrixPose,
     world_box: SweptBox,
 }
 
@@ -76,6 +81,12 @@ impl Object {
     /// Its pose (its frame in the world).
     pub fn pose(&self) -> &Pose {
         &self.pose
+    }
+
+    /// Its pose as given (inserted with a [`MatrixPose`]: its matrix; with
+    /// a [`Pose`]: its quaternion's matrix).
+    pub fn placement(&self) -> &MatrixPose {
+        &self.placement
     }
 
     /// Its world box (see the module).
@@ -203,11 +214,19 @@ impl Collection {
         Collection::default()
     }
 
-    /// Adds the object `name`, or replaces the one of that name (returned).
-    pub fn insert(&mut self, name: impl Into<String>, mesh: Arc<TriMesh>, pose: Pose) -> Option<Object> {
+    /// Adds the object `name`, or replaces the one of that name (returned),
+    /// at `pose`: a [`Pose`], or a [`MatrixPose`] whose matrix its
+    /// distances apply as given.
+    pub fn insert(
+        &mut self,
+        name: impl Into<String>,
+        mesh: Arc<TriMesh>,
+        pose: impl Placement,
+    ) -> Option<Object> {
         let name = name.into();
+        let (placement, pose) = (pose.matrix_pose(), pose.pose());
         let world_box = widened_box(&mesh, &StepMotion::fixed(pose), 0.0, 0.0);
-        let object = Object { name: name.clone(), mesh, pose, world_box };
+        let object = Object { name: name.clone(), mesh, pose, placement, world_box };
         match self.index.get(&name) {
             Some(&i) => Some(std::mem::replace(&mut self.objects[i], object)),
             None => {
@@ -229,10 +248,11 @@ impl Collection {
     }
 
     /// Moves the object `name` to `pose`.
-    pub fn set_pose(&mut self, name: &str, pose: Pose) -> Result<(), UnknownObject> {
+    pub fn set_pose(&mut self, name: &str, pose: impl Placement) -> Result<(), UnknownObject> {
         let i = *self.index.get(name).ok_or_else(|| UnknownObject(name.to_owned()))?;
         let object = &mut self.objects[i];
-        object.pose = pose;
+        let (placement, pose) = (pose.matrix_pose(), pose.pose());
+        (object.pose, object.placement) = (pose, placement);
         object.world_box = widened_box(&object.mesh, &StepMotion::fixed(pose), 0.0, 0.0);
         Ok(())
     }
@@ -259,14 +279,15 @@ impl Collection {
 
     /// Every object `mesh` at `pose` touches (surfaces touching or
     /// crossing), in the collection's order.
-    pub fn in_collision(&self, mesh: &TriMesh, pose: &Pose) -> Vec<Touch<'_>> {
-        let query_box = widened_box(mesh, &StepMotion::fixed(*pose), 0.0, 0.0);
+    pub fn in_collision(&self, mesh: &TriMesh, pose: &impl Placement) -> Vec<Touch<'_>> {
+        let placement = pose.matrix_pose();
+        let query_box = widened_box(mesh, &StepMotion::fixed(pose.pose()), 0.0, 0.0);
         let mut scratch = MeshDistanceScratch::default();
         self.objects
             .iter()
             .filter(|object| box_gap(&object.world_box, &query_box) == 0.0)
             .filter_map(|object| {
-                let found = touching(&object.mesh, &object.pose, mesh, pose, &mut scratch)?;
+                let found = touching(&object.mesh, &object.placement, mesh, &placement, &mut scratch)?;
                 Some(Touch { a: &object.name, b: None, found })
             })
             .collect()
@@ -281,7 +302,7 @@ impl Collection {
             .into_iter()
             .filter_map(|(i, j)| {
                 let (a, b) = (&self.objects[i], &self.objects[j]);
-                let found = touching(&a.mesh, &a.pose, &b.mesh, &b.pose, &mut scratch)?;
+                let found = touching(&a.mesh, &a.placement, &b.mesh, &b.placement, &mut scratch)?;
                 Some(Touch { a: &a.name, b: Some(&b.name), found })
             })
             .collect()
@@ -290,8 +311,9 @@ impl Collection {
     /// The nearest object to `mesh` at `pose` (the earliest in the
     /// collection's order among equally near ones; 0 where it touches one),
     /// or `None` for an empty collection.
-    pub fn min_distance(&self, mesh: &TriMesh, pose: &Pose) -> Option<Nearest<'_>> {
-        let query_box = widened_box(mesh, &StepMotion::fixed(*pose), 0.0, 0.0);
+    pub fn min_distance(&self, mesh: &TriMesh, pose: &impl Placement) -> Option<Nearest<'_>> {
+        let placement = pose.matrix_pose();
+        let query_box = widened_box(mesh, &StepMotion::fixed(pose.pose()), 0.0, 0.0);
         let search = DistanceSearch::default();
         let mut scratch = MeshDistanceScratch::default();
         let mut best: Option<(MeshDistance, usize)> = None;
@@ -300,7 +322,8 @@ impl Collection {
                 break;
             }
             let object = &self.objects[i];
-            let found = mesh_distance(&object.mesh, &object.pose, mesh, pose, &search, &mut scratch);
+            let found =
+                mesh_distance(&object.mesh, &object.placement, mesh, &placement, &search, &mut scratch);
             if best.is_none_or(|(b, k)| (found.distance, i) < (b.distance, k)) {
                 best = Some((found, i));
             }
@@ -321,7 +344,7 @@ impl Collection {
         let mut scratch = MeshDistanceScratch::default();
         let measure = |(i, j): (usize, usize), scratch: &mut MeshDistanceScratch| {
             let (a, b) = (&self.objects[i], &self.objects[j]);
-            mesh_distance(&a.mesh, &a.pose, &b.mesh, &b.pose, &search, scratch)
+            mesh_distance(&a.mesh, &a.placement, &b.mesh, &b.placement, &search, scratch)
         };
         // A first bound: the pair of the smallest box gap among neighbours
         // in x (or among `only`'s pairs).
@@ -518,9 +541,9 @@ impl Collection {
 /// stops at the first pair at distance 0.
 fn touching(
     a: &TriMesh,
-    pose_a: &Pose,
+    pose_a: &MatrixPose,
     b: &TriMesh,
-    pose_b: &Pose,
+    pose_b: &MatrixPose,
     scratch: &mut MeshDistanceScratch,
 ) -> Option<MeshDistance> {
     let search = DistanceSearch { enough: 0.0, ..DistanceSearch::default() };

@@ -32,6 +32,10 @@ pub struct MatrixPose {
 pub trait Placement {
     /// The pose as a matrix and a translation.
     fn matrix_pose(&self) -> MatrixPose;
+
+    /// The pose as a [`Pose`] (for the motions, boxes and CCD): a matrix's
+    /// quaternion by Shepperd's method, rounded.
+    fn pose(&self) -> Pose;
 }
 
 impl Placement for Pose {
@@ -42,12 +46,22 @@ impl Placement for Pose {
             translation: self.translation.vector,
         }
     }
+
+    #[inline]
+    fn pose(&self) -> Pose {
+        *self
+    }
 }
 
 impl Placement for MatrixPose {
     #[inline]
     fn matrix_pose(&self) -> MatrixPose {
         *self
+    }
+
+    fn pose(&self) -> Pose {
+        let rotation = nalgebra::Rotation3::from_matrix_unchecked(self.rotation);
+        Pose::from_parts(self.translation.into(), nalgebra::UnitQuaternion::from_rotation_matrix(&rotation))
     }
 }
 

@@ -215,19 +215,41 @@ pub(crate) fn pose(
     position: &PyReadonlyArrayDyn<'_, f64>,
     rotation: &PyReadonlyArrayDyn<'_, f64>,
 ) -> PyResult<Pose> {
-    Ok(pose_as_given(name, position, rotation)?.0)
+    Ok(placed(name, position, rotation)?.pose())
 }
 
-/// [`pose`], and the pose as given: a rotation matrix that is one to
-/// rounding (within [`ORTHONORMAL_TO_ROUNDING`]) kept as it is, for the
-/// queries that pose exactly; otherwise the quaternion's matrix.
-pub(crate) fn pose_as_given(
+/// A pose as the queries that pose exactly take it: a rotation matrix that
+/// is one to rounding (within [`ORTHONORMAL_TO_ROUNDING`]) kept as it is,
+/// any other rotation as its quaternion.
+#[derive(Copy, Clone, Debug)]
+pub(crate) enum Placed {
+    Quaternion(Pose),
+    Matrix(MatrixPose),
+}
+
+impl Placement for Placed {
+    fn matrix_pose(&self) -> MatrixPose {
+        match self {
+            Placed::Quaternion(pose) => pose.matrix_pose(),
+            Placed::Matrix(matrix) => *matrix,
+        }
+    }
+
+    fn pose(&self) -> Pose {
+        match self {
+            Placed::Quaternion(pose) => *pose,
+            Placed::Matrix(matrix) => matrix.pose(),
+        }
+    }
+}
+
+/// [`pose`], kept as given ([`Placed`]).
+pub(crate) fn placed(
     name: &str,
     position: &PyReadonlyArrayDyn<'_, f64>,
     rotation: &PyReadonlyArrayDyn<'_, f64>,
-) -> PyResult<(Pose, MatrixPose)> {
+) -> PyResult<Placed> {
     let translation = vector(&format!("{name} position"), position)?;
-    let mut as_given = None;
     let rotation_name = format!("{name} rotation");
     let rotation = match rotation.shape() {
         [4] => {
@@ -252,13 +274,12 @@ pub(crate) fn pose_as_given(
                 )));
             }
             if off <= ORTHONORMAL_TO_ROUNDING {
-                // A rotation to rounding: read directly (Shepperd's method;
-                // the nearest-rotation iteration moves it by a few ulps more).
-                as_given = Some(m);
-                nalgebra::UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(m))
-            } else {
-                nalgebra::UnitQuaternion::from_matrix(&m)
+                // A rotation to rounding: kept as it is (its quaternion by
+                // Shepperd's method where one is needed; the nearest-rotation
+                // iteration moves it by a few ulps more).
+                return Ok(Placed::Matrix(MatrixPose { rotation: m, translation }));
             }
+            nalgebra::UnitQuaternion::from_matrix(&m)
         }
         shape => {
             return Err(PyValueError::new_err(format!(
@@ -267,12 +288,7 @@ pub(crate) fn pose_as_given(
             )))
         }
     };
-    let pose = Pose::from_parts(translation.into(), rotation);
-    let matrix_pose = match as_given {
-        Some(rotation) => MatrixPose { rotation, translation },
-        None => pose.matrix_pose(),
-    };
-    Ok((pose, matrix_pose))
+    Ok(Placed::Quaternion(Pose::from_parts(translation.into(), rotation)))
 }
 
 /// Two arrays of an argument: a pose's position and rotation, a motion's

@@ -41,7 +41,7 @@ impl Collection {
 
     /// Adds (or replaces) the object `name`.
     fn insert(&mut self, name: String, mesh: &Mesh, pose: Arrays<'_>) -> PyResult<()> {
-        let pose = self::pose(&format!("pose of {name:?}"), &pose.0, &pose.1)?;
+        let pose = placed(&format!("pose of {name:?}"), &pose.0, &pose.1)?;
         self.inner.insert(name, mesh.inner.clone(), pose);
         Ok(())
     }
@@ -53,7 +53,7 @@ impl Collection {
 
     /// Moves the object `name` (`KeyError` if there is none).
     fn set_pose(&mut self, name: &str, pose: Arrays<'_>) -> PyResult<()> {
-        let pose = self::pose(&format!("pose of {name:?}"), &pose.0, &pose.1)?;
+        let pose = placed(&format!("pose of {name:?}"), &pose.0, &pose.1)?;
         self.inner.set_pose(name, pose).map_err(unknown)
     }
 
@@ -72,7 +72,7 @@ impl Collection {
         mesh: &Mesh,
         pose: Arrays<'py>,
     ) -> PyResult<Vec<Found<'py>>> {
-        let pose = self::pose("transform", &pose.0, &pose.1)?;
+        let pose = placed("transform", &pose.0, &pose.1)?;
         let (inner, mesh) = (&self.inner, &mesh.inner);
         Ok(touches(py, &py.detach(|| inner.in_collision(mesh, &pose))))
     }
@@ -90,7 +90,7 @@ impl Collection {
         mesh: &Mesh,
         pose: Arrays<'py>,
     ) -> PyResult<Option<Found<'py>>> {
-        let pose = self::pose("transform", &pose.0, &pose.1)?;
+        let pose = placed("transform", &pose.0, &pose.1)?;
         let (inner, mesh) = (&self.inner, &mesh.inner);
         Ok(nearest(py, py.detach(|| inner.min_distance(mesh, &pose))))
     }

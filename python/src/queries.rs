@@ -26,8 +26,8 @@ pub(crate) fn mesh_distance_between<'py>(
     pose_b: Arrays<'py>,
 ) -> PyResult<MeshDistanceTuple<'py>> {
     // The poses as given: a rotation matrix is applied as it is.
-    let (_, pa) = pose_as_given("pose_a", &pose_a.0, &pose_a.1)?;
-    let (_, pb) = pose_as_given("pose_b", &pose_b.0, &pose_b.1)?;
+    let pa = placed("pose_a", &pose_a.0, &pose_a.1)?;
+    let pb = placed("pose_b", &pose_b.0, &pose_b.1)?;
     let (a, b) = (mesh_a.inner.clone(), mesh_b.inner.clone());
     let found = py.detach(|| {
         let search = DistanceSearch::new(DistanceKernel::Exact, None);

@@ -136,3 +136,31 @@ def test_a_link_swinging_about_its_joint_against_the_manager():
     assert found.status == "contact" and found.name == "slab"
     # The corner moves at 2 * (pi / 2) per unit time at least.
     assert exact - found.contact_distance / np.pi <= found.time <= exact
+
+
+def test_transforms_are_kept_as_given():
+    """A 4 x 4 transform's rotation matrix is applied as it is (not through
+    a quaternion): the manager's nearest distance is ``mesh_distance``'s on
+    the same transforms, to the bit (that one is within an ulp of the exact
+    distance of the poses as given)."""
+    rng = np.random.default_rng(46)
+    manager, placed = nearmiss.CollisionManager(), []
+    for k in range(10):
+        q = rng.normal(size=4)
+        w, x, y, z = q / np.linalg.norm(q)
+        transform = np.eye(4)
+        transform[:3, :3] = [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+        transform[:3, 3] = rng.uniform(-3.0, 3.0, 3)
+        mesh = box((0.6, 0.4, 0.5)) if k % 2 else box((0.5, 0.3, 0.2))
+        manager.add_object(f"o{k}", mesh, transform)
+        placed.append((mesh, transform))
+    query = box((0.2, 0.3, 0.4))
+    for _ in range(6):
+        transform = placed[0][1].copy()
+        transform[:3, 3] = rng.uniform(-3.0, 3.0, 3)
+        expected = min(nearmiss.mesh_distance(mesh, t, query, transform).distance for mesh, t in placed)
+        assert manager.min_distance_single(query, transform) == expected

@@ -8,8 +8,11 @@ use std::sync::Arc;
 
 use nearmiss::ccd::{ApproachStatus, CcdOptions};
 use nearmiss::collection::{Collection, FirstContactStatus, UnknownObject};
-use nearmiss::math::{Pose, Real, Vector};
-use nearmiss::mesh::{box_mesh, icosphere, mesh_distance_brute_force, TriMesh};
+use nearmiss::math::{MatrixPose, Placement, Pose, Real, Vector};
+use nearmiss::mesh::{
+    box_mesh, icosphere, mesh_distance, mesh_distance_brute_force, DistanceSearch, MeshDistanceScratch,
+    TriMesh,
+};
 use nearmiss::motion::StepMotion;
 
 fn cube(half: Real) -> Arc<TriMesh> {
@@ -241,4 +244,54 @@ fn the_clearance_is_the_nearest_pass_bracketed() {
     assert_eq!((hit.approach.status, hit.object), (ApproachStatus::Contact, Some("in the way")));
     assert!(hit.approach.time <= 6.0 && hit.approach.time >= 6.0 - 1e-5);
     assert_eq!(hit.approach.lower, 0.0);
+}
+
+/// Objects and a query placed by rotation matrices as given
+/// ([`MatrixPose`]): the nearest object's distance is the mesh distance of
+/// the two poses as given, to the bit (posed exactly, within an ulp of the
+/// exact distance: `tests/meshes/distance_search.rs`), for the query and
+/// for the nearest two objects; each object keeps its matrix, and its
+/// `Pose` is the matrix's quaternion.
+#[test]
+fn matrix_poses_are_kept_as_given() {
+    let mut draw = Draw(4548);
+    let shapes = [cube(0.5), Arc::new(icosphere(0.6, 1).unwrap()), cube(0.3)];
+    let matrix = |pose: Pose| MatrixPose {
+        rotation: nalgebra::Rotation3::new(pose.rotation.scaled_axis()).into_inner(),
+        translation: pose.translation.vector,
+    };
+    let mut collection = Collection::new();
+    let placements: Vec<MatrixPose> = (0..12).map(|_| matrix(draw.pose(6.0))).collect();
+    for (i, placement) in placements.iter().enumerate() {
+        collection.insert(format!("object {i}"), shapes[i % 3].clone(), *placement);
+    }
+    for (object, placement) in collection.objects().iter().zip(&placements) {
+        assert_eq!(object.placement(), placement);
+        assert_eq!(*object.pose(), placement.pose());
+    }
+    let search = DistanceSearch::default();
+    let mut scratch = MeshDistanceScratch::default();
+    let query_mesh = icosphere(0.4, 1).unwrap();
+    for _ in 0..8 {
+        let query = matrix(draw.pose(6.0));
+        let nearest = collection.min_distance(&query_mesh, &query).expect("objects");
+        let least = collection
+            .objects()
+            .iter()
+            .map(|o| {
+                mesh_distance(o.mesh(), o.placement(), &query_mesh, &query, &search, &mut scratch).distance
+            })
+            .fold(Real::INFINITY, Real::min);
+        assert_eq!(nearest.found.distance, least);
+    }
+    let pair = collection.min_distance_internal(None).unwrap().expect("objects");
+    let objects = collection.objects();
+    let least = (0..objects.len())
+        .flat_map(|i| (i + 1..objects.len()).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let (a, b) = (&objects[i], &objects[j]);
+            mesh_distance(a.mesh(), a.placement(), b.mesh(), b.placement(), &search, &mut scratch).distance
+        })
+        .fold(Real::INFINITY, Real::min);
+    assert_eq!(pair.found.distance, least);
 }
