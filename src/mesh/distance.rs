@@ -124,12 +124,12 @@ impl DistanceSearch {
 
 /// The distance between mesh `a` at `pose_a` and mesh `b` at `pose_b`.
 ///
-/// The poses are a [`Pose`] or a [`MatrixPose`](crate::math::MatrixPose) (a rotation matrix applied
-/// as given). The search runs in `a`'s frame; its closest triangle pair is
-/// then measured again with each triangle posed exactly in the world
-/// ([`posed_triangle_distance`]), so the answer is within about an ulp of
-/// the largest coordinate of the exact distance of the poses given, and the
-/// points are in world coordinates.
+/// The poses are a [`Pose`] or a [`MatrixPose`](crate::math::MatrixPose)
+/// (a rotation matrix applied as given). The search runs in `a`'s frame;
+/// its closest triangle pair is then measured again with each triangle
+/// posed exactly in the world ([`posed_triangle_distance`]), so the answer
+/// is within about an ulp of the largest coordinate of the exact distance
+/// of the poses given, and the points are in world coordinates.
 pub fn mesh_distance(
     a: &TriMesh,
     pose_a: &impl Placement,
