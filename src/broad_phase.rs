@@ -360,22 +360,7 @@ impl GridBroadPhase {
                 }
             }
         };
-        if threads && in_grid >= PARALLEL_GRID_BOXES {
-            // Runs of cells on the threads, their pairs joined in order.
-            use rayon::prelude::*;
-            let run = cells.div_ceil(4 * rayon::current_num_threads()).max(1);
-            let found: Vec<Vec<(usize, usize)>> = (0..cells.div_ceil(run))
-                .into_par_iter()
-                .map(|k| {
-                    let mut found = Vec::new();
-                    search(k * run..((k + 1) * run).min(cells), &mut found);
-                    found
-                })
-                .collect();
-            found.iter().for_each(|part| pairs.extend_from_slice(part));
-        } else {
-            search(0..cells, pairs);
-        }
+        in_runs(cells, threads && in_grid >= PARALLEL_GRID_BOXES, pairs, search);
         // The large boxes against the grid's boxes in the cells they reach
         // (a box overlapping one has its smallest corner at most a cell
         // below it), and against each other (each pair once).
@@ -395,6 +380,32 @@ impl GridBroadPhase {
         }
         pairs.sort_unstable();
     }
+}
+
+/// `find` over `0..count`, appending pairs in order: on rayon's threads
+/// when `threads`, as runs of about a quarter of a thread's share each
+/// (their pairs joined in the runs' order, so the same as on one thread).
+fn in_runs(
+    count: usize,
+    threads: bool,
+    pairs: &mut Vec<(usize, usize)>,
+    find: impl Fn(std::ops::Range<usize>, &mut Vec<(usize, usize)>) + Sync,
+) {
+    if !threads {
+        find(0..count, pairs);
+        return;
+    }
+    use rayon::prelude::*;
+    let run = count.div_ceil(4 * rayon::current_num_threads()).max(1);
+    let found: Vec<Vec<(usize, usize)>> = (0..count.div_ceil(run))
+        .into_par_iter()
+        .map(|k| {
+            let mut found = Vec::new();
+            find(k * run..((k + 1) * run).min(count), &mut found);
+            found
+        })
+        .collect();
+    found.iter().for_each(|part| pairs.extend_from_slice(part));
 }
 
 /// The rows `(dy, dz)` whose cells x − 1, x and x + 1 are ahead of a cell
@@ -529,8 +540,7 @@ impl StaticBoxes {
         // The grid keeps its own copy of the boxes, in cell order; what only
         // the fill needs is let go.
         let large = cells.large.iter().map(|&l| (l, boxes[l as usize])).collect();
-        cells.cell_of = Vec::new();
-        cells.extents = Vec::new();
+        (cells.cell_of, cells.extents, cells.large) = (Vec::new(), Vec::new(), Vec::new());
         StaticBoxes { count: boxes.len(), cells, large }
     }
 
@@ -570,21 +580,7 @@ impl StaticBoxes {
                 pairs[first..].sort_unstable();
             }
         };
-        if threads && queries.len() >= PARALLEL_STATIC_QUERIES {
-            use rayon::prelude::*;
-            let run = queries.len().div_ceil(4 * rayon::current_num_threads()).max(1);
-            let found: Vec<Vec<(usize, usize)>> = (0..queries.len().div_ceil(run))
-                .into_par_iter()
-                .map(|k| {
-                    let mut found = Vec::new();
-                    query(k * run..((k + 1) * run).min(queries.len()), &mut found);
-                    found
-                })
-                .collect();
-            found.iter().for_each(|part| pairs.extend_from_slice(part));
-        } else {
-            query(0..queries.len(), pairs);
-        }
+        in_runs(queries.len(), threads && queries.len() >= PARALLEL_STATIC_QUERIES, pairs, query);
     }
 }
 

@@ -144,17 +144,17 @@ pub fn mesh_distance(
         rotation: pose_a.rotation.tr_mul(&pose_b.rotation),
         shift: pose_a.rotation.tr_mul(&(pose_b.translation - pose_a.translation)),
     };
-    let found = search_relative(a, b, &relative, search, scratch);
-    let (i, j) = (found.triangle_a, found.triangle_b);
+    let (best, (i, j)) = search_relative(a, b, &relative, search, scratch);
     let world = posed_triangle_distance(&a.triangle(i), &pose_a, &b.triangle(j), &pose_b);
     MeshDistance {
         // DyOP's value stays DyOP's.
-        distance: if search.kernel == DistanceKernel::Exact { world.distance } else { found.distance },
+        distance: if search.kernel == DistanceKernel::Exact { world.distance } else { best },
         point_a: world.point_a,
         point_b: world.point_b,
+        triangle_a: i,
+        triangle_b: j,
         feature_a: world.feature_a,
         feature_b: world.feature_b,
-        ..found
     }
 }
 
@@ -196,18 +196,23 @@ pub fn mesh_distance_relative(
     search: &DistanceSearch,
     scratch: &mut MeshDistanceScratch,
 ) -> MeshDistance {
-    search_relative(a, b, &Relative::of(pos_ab), search, scratch)
+    let relative = Relative::of(pos_ab);
+    let (best, (i, j)) = search_relative(a, b, &relative, search, scratch);
+    // The kernel's value (DyOP's, if chosen), points and features exact.
+    MeshDistance { distance: best, ..pair_distance_relative(a, i, b, j, &relative) }
 }
 
-/// The search of [`mesh_distance_relative`], b's frame in a's given as a
-/// matrix and a shift.
+/// The search of [`mesh_distance_relative`] and [`mesh_distance`], b's
+/// frame in a's given as a matrix and a shift: the least distance by the
+/// search's kernel and the triangle pair that has it (each caller measures
+/// that pair in its own frame).
 fn search_relative(
     a: &TriMesh,
     b: &TriMesh,
     relative: &Relative,
     search: &DistanceSearch,
     scratch: &mut MeshDistanceScratch,
-) -> MeshDistance {
+) -> (Real, (usize, usize)) {
     let DistanceSearch { kernel, hint, enough } = *search;
     let Relative { rotation, shift } = *relative;
     let slack = PRUNE_SLACK_ULPS * Real::EPSILON * (shift.norm() + a.radius() + b.radius());
@@ -308,10 +313,8 @@ fn search_relative(
     }
     flush(scratch, kernel, &mut search);
 
-    let (i, j) = (search.best_pair.0 as usize, search.best_pair.1 as usize);
-    // The kernel's value (DyOP's, if chosen), points and features exact.
     scratch.triangle_pairs = search.evaluated;
-    MeshDistance { distance: search.best, ..pair_distance_relative(a, i, b, j, relative) }
+    (search.best, (search.best_pair.0 as usize, search.best_pair.1 as usize))
 }
 
 /// Triangle `i` of `a` and triangle `j` of `b` (posed by `pos_ab` in `a`'s

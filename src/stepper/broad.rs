@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use super::world::{PairState, World};
 use super::Stepper;
-use crate::broad_phase::{swept_box, StaticBoxes};
+use crate::broad_phase::{swept_box, StaticBoxes, SweptBox};
 use crate::ccd::box_margin;
 use crate::math::Real;
 use crate::scene::{BodyMotion, Model};
@@ -71,7 +71,8 @@ impl Stepper {
             let model = &*model;
             let boxes = &mut self.scratch.boxes;
             let extra_box_margin = self.extra_box_margin;
-            let swept = |body: &crate::scene::Body, motion: &crate::motion::StepMotion| {
+            let swept = |i: usize| {
+                let (body, motion) = (&model.bodies[i], &world.motions[i]);
                 let radius = body.mesh.radius();
                 // Each box grows by at least its share of any pair's contact
                 // distance (the contract's box margin) and a rounding margin.
@@ -81,27 +82,36 @@ impl Stepper {
                     + model.parameters.broad_phase_rounding_ulps * Real::EPSILON * reach;
                 swept_box(&body.mesh, motion, model.dt, margin)
             };
+            // The boxes of the bodies `only` lists (all of them for `None`),
+            // each its own: on the threads when there are many (and the
+            // tree's refit and traversal with them).
+            let parallel = self.options.parallel;
+            let boxes_of = |only: Option<&[usize]>, boxes: &mut Vec<SweptBox>| {
+                let count = only.map_or(model.bodies.len(), <[usize]>::len);
+                let body = |k: usize| only.map_or(k, |ids| ids[k]);
+                let threads = parallel && count >= PARALLEL_BOX_BODIES;
+                if threads {
+                    use rayon::prelude::*;
+                    (0..count).into_par_iter().map(|k| swept(body(k))).collect_into_vec(boxes);
+                } else {
+                    boxes.clear();
+                    boxes.extend((0..count).map(|k| swept(body(k))));
+                }
+                threads
+            };
             let candidates = &mut self.scratch.candidates;
             if let Some(apart) = self.fixed_apart.as_mut() {
                 // The fixed bodies' boxes once; the moving bodies' each step,
                 // paired among themselves and against the fixed ones.
                 let statics = apart.statics.get_or_insert_with(|| {
-                    let boxes: Vec<_> =
-                        apart.fixed.iter().map(|&i| swept(&model.bodies[i], &world.motions[i])).collect();
+                    let boxes: Vec<SweptBox> = apart.fixed.iter().map(|&i| swept(i)).collect();
                     StaticBoxes::new(&boxes)
                 });
-                let threads = self.options.parallel && apart.moving.len() >= PARALLEL_BOX_BODIES;
-                let moving_box = |&i: &usize| swept(&model.bodies[i], &world.motions[i]);
-                if threads {
-                    use rayon::prelude::*;
-                    apart.moving.par_iter().map(moving_box).collect_into_vec(boxes);
-                } else {
-                    boxes.clear();
-                    boxes.extend(apart.moving.iter().map(moving_box));
-                }
+                let moving = &apart.moving;
+                let threads = boxes_of(Some(moving), boxes);
                 broad.pairs_into_on(boxes, &mut apart.among, threads);
                 statics.overlaps_into_on(boxes, &mut apart.across, threads);
-                let (fixed, moving) = (&apart.fixed, &apart.moving);
+                let fixed = &apart.fixed;
                 candidates.clear();
                 candidates.extend(apart.among.iter().map(|&(i, j)| (moving[i], moving[j])));
                 candidates.extend(apart.across.iter().map(|&(k, s)| {
@@ -110,18 +120,7 @@ impl Stepper {
                 }));
                 candidates.sort_unstable();
             } else {
-                // Each body's box is its own: on the threads when there are
-                // many (and the tree's refit and traversal with them).
-                let threads = self.options.parallel && model.bodies.len() >= PARALLEL_BOX_BODIES;
-                let each =
-                    |(body, motion): (&crate::scene::Body, &crate::motion::StepMotion)| swept(body, motion);
-                if threads {
-                    use rayon::prelude::*;
-                    model.bodies.par_iter().zip(&world.motions).map(each).collect_into_vec(boxes);
-                } else {
-                    boxes.clear();
-                    boxes.extend(model.bodies.iter().zip(&world.motions).map(each));
-                }
+                let threads = boxes_of(None, boxes);
                 broad.pairs_into_on(boxes, candidates, threads);
             }
             let fixed = |i: usize| model.bodies[i].motion == BodyMotion::Fixed;

@@ -134,39 +134,29 @@ fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
     Scene::from_ron_str(&text).expect("a valid scene")
 }
 
+/// The value after `flag` in `args`, parsed (`what` it should be, in the
+/// panic of a value that does not parse).
+fn value_of<T: std::str::FromStr>(args: &[String], flag: &str, what: &str) -> Option<T>
+where
+    T::Err: std::fmt::Debug,
+{
+    let value = args.iter().position(|a| a == flag).and_then(|k| args.get(k + 1))?;
+    Some(value.parse().expect(what))
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let steps = args
-        .iter()
-        .position(|a| a == "--steps")
-        .and_then(|k| args.get(k + 1))
-        .map_or(240, |s| s.parse().expect("a step count"));
+    let steps = value_of(&args, "--steps", "a step count").unwrap_or(240);
     let simulate = args.iter().any(|a| a == "--simulate");
-    let trace = args
-        .iter()
-        .position(|a| a == "--trace")
-        .and_then(|k| args.get(k + 1))
-        .map(|s| s.parse().expect("a trace cadence"));
+    let trace = value_of(&args, "--trace", "a trace cadence");
     let bunnies = args.iter().any(|a| a == "--bunnies");
     if bunnies && !std::path::Path::new(BUNNY).exists() {
         eprintln!("--bunnies needs {BUNNY}: run scripts/fetch-bunny.sh");
         std::process::exit(2);
     }
-    let near_misses = args
-        .iter()
-        .position(|a| a == "--near-misses")
-        .and_then(|k| args.get(k + 1))
-        .map(|s| s.parse().expect("a near-miss distance"));
-    let near_miss_tolerance = args
-        .iter()
-        .position(|a| a == "--near-miss-tolerance")
-        .and_then(|k| args.get(k + 1))
-        .map(|s| s.parse().expect("a near-miss tolerance"));
-    let fixed_percent = args
-        .iter()
-        .position(|a| a == "--fixed")
-        .and_then(|k| args.get(k + 1))
-        .map_or(0, |s| s.parse().expect("a percentage of fixed bodies"));
+    let near_misses = value_of(&args, "--near-misses", "a near-miss distance");
+    let near_miss_tolerance = value_of(&args, "--near-miss-tolerance", "a near-miss tolerance");
+    let fixed_percent = value_of(&args, "--fixed", "a percentage of fixed bodies").unwrap_or(0);
     let fixed_first = args.iter().any(|a| a == "--fixed-first");
     let setup = Setup {
         steps,
@@ -253,7 +243,7 @@ fn main() {
             .sum();
         eprintln!("{n} bodies: mesh assets (vertices, triangles, BVHs, tables) {mesh_bytes} bytes");
         eprintln!("{n} bodies: digest of the final states and contacts {:016x}", digest(&result));
-        if let Some(prefix) = args.iter().position(|a| a == "--final-states").and_then(|k| args.get(k + 1)) {
+        if let Some(prefix) = value_of::<String>(&args, "--final-states", "a path prefix") {
             let path = format!("{prefix}{n}.txt");
             std::fs::write(&path, final_states(&result)).expect("a writable --final-states path");
             eprintln!("{n} bodies: final states and contacts written to {path}");
