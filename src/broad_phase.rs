@@ -177,32 +177,66 @@ struct GridCells {
     grid: bool,
 }
 
+/// The span of a grid's boxes' smallest corners, the largest extent and
+/// the count of its boxes (see [`GridCells::fill`]).
+#[derive(Copy, Clone)]
+struct GridSpan {
+    low: Point,
+    high: Point,
+    largest: Real,
+    count: usize,
+}
+
+impl GridSpan {
+    /// The span of two sets of boxes together.
+    fn join(self, other: GridSpan) -> GridSpan {
+        GridSpan {
+            low: self.low.inf(&other.low),
+            high: self.high.sup(&other.high),
+            largest: self.largest.max(other.largest),
+            count: self.count + other.count,
+        }
+    }
+}
+
 impl GridCells {
-    /// Sorts `boxes` into the grid (the buffers are kept between calls).
-    fn fill(&mut self, boxes: &[SweptBox]) {
+    /// Sorts `boxes` into the grid (the buffers are kept between calls):
+    /// each box's cell found on rayon's threads when `threads` (the same
+    /// grid either way; the sort itself on the calling thread).
+    fn fill(&mut self, boxes: &[SweptBox], threads: bool) {
+        use rayon::prelude::*;
         let n = boxes.len();
-        let extent = |b: &SweptBox| (b.1 - b.0).max();
+        let extent = |(low, high): &SweptBox| (high.x - low.x).max(high.y - low.y).max(high.z - low.z);
         self.extents.clear();
         self.extents.extend(boxes.iter().step_by(EXTENT_SAMPLE_STRIDE).map(extent));
         let middle = self.extents.len() / 2;
         let median = *self.extents.select_nth_unstable_by(middle, |a, b| a.total_cmp(b)).1;
         let limit = LARGE_BOX_FACTOR * median;
+        let in_grid = |b: &SweptBox| extent(b) <= limit;
         // The grid's boxes: their cell is at least the largest of them (at
         // least a sliver of their spread, for boxes that are points), over
-        // the span of their smallest corners.
-        self.large.clear();
-        let (mut low, mut high) = (Point::from([Real::INFINITY; 3]), Point::from([Real::NEG_INFINITY; 3]));
-        let mut largest: Real = 0.0;
-        for (i, b) in boxes.iter().enumerate() {
-            let e = extent(b);
-            if e <= limit {
-                largest = largest.max(e);
-                (low, high) = (low.inf(&b.0), high.sup(&b.0));
-            } else {
-                self.large.push(i as u32);
-            }
-        }
-        let grid = self.large.len() < n;
+        // the span of their smallest corners. (Least, greatest and count:
+        // the same in any order.)
+        let none = || GridSpan {
+            low: Point::from([Real::INFINITY; 3]),
+            high: Point::from([Real::NEG_INFINITY; 3]),
+            largest: 0.0,
+            count: 0,
+        };
+        let add = |span: GridSpan, b: &SweptBox| match in_grid(b) {
+            true => GridSpan {
+                low: span.low.inf(&b.0),
+                high: span.high.sup(&b.0),
+                largest: span.largest.max(extent(b)),
+                count: span.count + 1,
+            },
+            false => span,
+        };
+        let GridSpan { low, high, largest, count } = match threads {
+            true => boxes.par_iter().fold(none, add).reduce(none, GridSpan::join),
+            false => boxes.iter().fold(none(), add),
+        };
+        let grid = count > 0;
         let span = if grid { (high - low).max() } else { 0.0 };
         let mut cell = (largest * CELL_SLACK).max(span * GRID_MIN_CELL_OF_SPAN).max(GRID_MIN_CELL);
         // One empty cell of padding on every side: every neighbour exists.
@@ -214,28 +248,35 @@ impl GridCells {
         }
         (self.low, self.cell, self.inverse, self.shape, self.grid) = (low, cell, 1.0 / cell, shape, grid);
         let cells = shape.iter().product::<usize>();
-        // A counting sort of the grid's boxes by cell.
-        self.cell_of.clear();
+        // Each box's cell (`u32::MAX`: large), then a counting sort of the
+        // grid's boxes by cell.
+        let mut cell_of_box = std::mem::take(&mut self.cell_of);
+        let cell_of = |b: &SweptBox| if in_grid(b) { self.index(&b.0) as u32 } else { u32::MAX };
+        match threads {
+            true => boxes.par_iter().map(cell_of).collect_into_vec(&mut cell_of_box),
+            false => {
+                cell_of_box.clear();
+                cell_of_box.extend(boxes.iter().map(cell_of));
+            }
+        }
+        self.cell_of = cell_of_box;
+        self.large.clear();
         self.starts.clear();
         self.starts.resize(cells + 1, 0);
-        let mut next_large = self.large.iter().peekable();
-        for (i, b) in boxes.iter().enumerate() {
-            if next_large.next_if(|&&l| l as usize == i).is_some() {
-                self.cell_of.push(u32::MAX);
+        for (i, &c) in self.cell_of.iter().enumerate() {
+            if c == u32::MAX {
+                self.large.push(i as u32);
             } else {
-                let c = self.index(&b.0);
-                self.cell_of.push(c as u32);
-                self.starts[c + 1] += 1;
+                self.starts[c as usize + 1] += 1;
             }
         }
         for c in 0..cells {
             self.starts[c + 1] += self.starts[c];
         }
-        let in_grid = n - self.large.len();
         self.entries.clear();
-        self.entries.resize(in_grid, 0);
+        self.entries.resize(count, 0);
         self.sorted.clear();
-        self.sorted.resize(in_grid, (Point::origin(), Point::origin()));
+        self.sorted.resize(count, (Point::origin(), Point::origin()));
         // Each start is its cell's cursor while filling (the boxes keep
         // their order within a cell), then the starts move back one cell.
         for (i, &c) in self.cell_of.iter().enumerate() {
@@ -252,7 +293,8 @@ impl GridCells {
     /// The cell coordinates of `p` (from 1: the padding is 0), not clamped above.
     #[inline]
     fn cell_at(&self, p: &Point) -> nalgebra::Vector3<usize> {
-        (p - self.low).map(|d| ((d * self.inverse).floor().max(0.0) as usize).saturating_add(1))
+        // (Truncation is the floor here: a negative offset is clamped to 0.)
+        (p - self.low).map(|d| ((d * self.inverse).max(0.0) as usize).saturating_add(1))
     }
 
     /// The linear index of the cell of `p`, clamped into the grid.
@@ -322,7 +364,7 @@ impl GridBroadPhase {
             return;
         }
         let grid = &mut self.cells;
-        grid.fill(boxes);
+        grid.fill(boxes, threads && n >= PARALLEL_GRID_BOXES);
         let grid = &self.cells;
         let shape = grid.shape;
         let cells = shape.iter().product::<usize>();
@@ -535,7 +577,7 @@ impl StaticBoxes {
     pub fn new(boxes: &[SweptBox]) -> StaticBoxes {
         let mut cells = GridCells::default();
         if !boxes.is_empty() {
-            cells.fill(boxes);
+            cells.fill(boxes, boxes.len() >= PARALLEL_GRID_BOXES);
         }
         // The grid keeps its own copy of the boxes, in cell order; what only
         // the fill needs is let go.
