@@ -373,13 +373,16 @@ fn simulate_beside_rapier(args: &[String], setup: Setup) {
     }
 }
 
-/// The body counts among the arguments (the numbers that are not `--steps`'s value).
+/// The flags followed by a value (a number among them is not a body count).
+const VALUE_FLAGS: [&str; 6] =
+    ["--steps", "--trace", "--near-misses", "--near-miss-tolerance", "--fixed", "--final-states"];
+
+/// The body counts among the arguments (the numbers that are not a flag's
+/// value).
 fn body_counts(args: &[String]) -> Vec<usize> {
     args.iter()
         .enumerate()
-        .filter(|(k, a)| {
-            a.parse::<usize>().is_ok() && (*k == 0 || (args[k - 1] != "--steps" && args[k - 1] != "--trace"))
-        })
-        .map(|(_, a)| a.parse().expect("a body count"))
+        .filter(|&(k, _)| k == 0 || !VALUE_FLAGS.contains(&args[k - 1].as_str()))
+        .filter_map(|(_, a)| a.parse().ok())
         .collect()
 }
