@@ -596,6 +596,38 @@ impl StaticBoxes {
         self.count == 0
     }
 
+    /// The overlapping pairs `(i, j)`, `i < j`, among its own boxes for
+    /// which `keep(i, j)` holds, sorted (the pairs of
+    /// [`brute_force_pairs`] kept), with no buffer but the pairs.
+    pub fn pairs_among(&self, keep: impl Fn(usize, usize) -> bool) -> Vec<(usize, usize)> {
+        let grid = &self.cells;
+        let mut pairs = Vec::new();
+        let mut meet = |i: usize, a: &SweptBox, j: usize, b: &SweptBox| {
+            if i < j && boxes_overlap(a, b) && keep(i, j) {
+                pairs.push((i, j));
+            }
+        };
+        // Each grid box against the grid boxes it can reach (each pair
+        // found from both sides: kept once, from its lower index).
+        for (a, box_a) in grid.sorted.iter().enumerate() {
+            let i = grid.entries[a] as usize;
+            grid.reach(box_a, |b| meet(i, box_a, grid.entries[b] as usize, &grid.sorted[b]));
+        }
+        // The large ones against every box.
+        for (l, large) in &self.large {
+            let l = *l as usize;
+            for (a, box_a) in grid.sorted.iter().enumerate() {
+                let i = grid.entries[a] as usize;
+                meet(l.min(i), large, l.max(i), box_a);
+            }
+            for (other, other_box) in &self.large {
+                meet(l, large, *other as usize, other_box);
+            }
+        }
+        pairs.sort_unstable();
+        pairs
+    }
+
     /// Every `(k, s)` with `queries[k]` overlapping box `s`, sorted, into
     /// `pairs` (cleared first); the queries on rayon's threads when
     /// `threads` (from [`PARALLEL_STATIC_QUERIES`]): the same pairs.
@@ -632,7 +664,8 @@ mod tests {
     use crate::samples::Rng;
 
     /// The static grid's pairs are the brute force's pairs between the two
-    /// sets, on random boxes, boxes touching exactly, and with no static
+    /// sets (and its pairs among its own boxes, the brute force's among
+    /// them), on random boxes, boxes touching exactly, and with no static
     /// box or no query, a large box kept out of the grid, queries outside
     /// its span; on one thread and on the threads alike.
     #[test]
@@ -674,6 +707,12 @@ mod tests {
                 .map(|(i, j)| (i, j - moving))
                 .collect();
             let tree = StaticBoxes::new(&statics);
+            // Its own pairs (the floor's among them), all or some kept.
+            let among = brute_force_pairs(&statics);
+            assert_eq!(tree.pairs_among(|_, _| true), among, "{fixed} static: their pairs");
+            let odd = |i: usize, j: usize| (i + j) % 2 == 1;
+            let kept: Vec<(usize, usize)> = among.iter().copied().filter(|&(i, j)| odd(i, j)).collect();
+            assert_eq!(tree.pairs_among(odd), kept, "{fixed} static: their pairs kept");
             for threads in [false, true] {
                 let mut pairs = vec![(7, 7)];
                 tree.overlaps_into_on(&queries, &mut pairs, threads);

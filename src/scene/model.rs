@@ -199,6 +199,22 @@ pub enum BodyMotion {
 }
 
 impl Body {
+    /// Whether the body is still for good: fixed, or free (nothing acts on
+    /// it) with zero velocities and no keyframe path. No response moves a
+    /// free body (a stop holds it where it is), so a stepper may box it once
+    /// and pass over it in its integration, as a fixed one.
+    pub fn stays_put(&self) -> bool {
+        match self.motion {
+            BodyMotion::Fixed => true,
+            BodyMotion::Free => {
+                self.path.is_none()
+                    && self.velocity == Vector::zeros()
+                    && self.angular_velocity == Vector::zeros()
+            }
+            BodyMotion::Integrated { .. } => false,
+        }
+    }
+
     /// What an integrated body's step needs (its mass properties, springs
     /// and `gravity`, the scene's), borrowed; `None` for a body that is not
     /// integrated.

@@ -1,8 +1,8 @@
 //! Stage 2, broad phase: the pairs whose swept boxes overlap in the step
 //! (scenes of more than two bodies; with two, the one pair is kept from
-//! the start). In a run of many fixed bodies ([`FIXED_APART_BODIES`]),
-//! their boxes are made once and kept in a static grid; each step boxes
-//! the moving bodies only. Each pair keeps its state from the previous
+//! the start). In a run of many bodies that stay put (fixed, or free and at
+//! rest: [`FIXED_APART_BODIES`]), their boxes are made once and kept in a
+//! static grid; each step boxes the moving bodies only. Each pair keeps its state from the previous
 //! step; a new pair starts fresh. A pair in contact stays in the set until
 //! the re-arm stage finds it separated (farther apart than its re-arm
 //! distance), whether or not its boxes still overlap: boxes that fit the
@@ -25,22 +25,29 @@ use crate::scene::{BodyMotion, Model};
 /// takes tens of nanoseconds, fewer are not worth handing out).
 pub(crate) const PARALLEL_BOX_BODIES: usize = 4096;
 
-/// A run keeps its fixed bodies apart from the broad phase's steps from
-/// this many of them: `64`. Their boxes go into a static grid once, and
-/// each step boxes and pairs only the moving bodies (against each other,
-/// and each against that grid). With a few fixed bodies (a room's walls)
-/// the step's grid or refitted tree handles them as cheaply.
+/// A run keeps its bodies that stay put ([`Body::stays_put`]: fixed, or
+/// free and at rest) apart from the broad phase's steps from this many of
+/// them: `64`. Their boxes go into a static grid once, and each step boxes
+/// and pairs only the moving bodies (against each other, and each against
+/// that grid). With a few such bodies (a room's walls) the step's grid or
+/// refitted tree handles them as cheaply.
+///
+/// [`Body::stays_put`]: crate::scene::Body::stays_put
 pub(crate) const FIXED_APART_BODIES: usize = 64;
 
-/// The fixed bodies of a run that keeps them apart (see
-/// [`FIXED_APART_BODIES`]): a fixed body never moves in the stepper's own
-/// integration, so its box is made once.
+/// The bodies that stay put in a run that keeps them apart (see
+/// [`FIXED_APART_BODIES`]): they never move in the stepper's own
+/// integration, so their boxes are made once.
 pub(crate) struct FixedApart {
-    /// The fixed bodies and the others, by index, ascending.
+    /// The bodies that stay put and the others, by index, ascending.
     fixed: Vec<usize>,
     moving: Vec<usize>,
-    /// The fixed bodies' boxes in a grid, made at the first step.
+    /// Their boxes in a grid, made at the first step.
     statics: Option<StaticBoxes>,
+    /// The pairs among them that are queried all the same (not both fixed:
+    /// a body at rest touching another is a contact), as body indices,
+    /// found in the grid at the first step.
+    still_pairs: Option<Vec<(usize, usize)>>,
     /// The moving bodies' pairs (indices into `moving`) and their pairs
     /// with the fixed ones (into `moving`, into `fixed`).
     among: Vec<(usize, usize)>,
@@ -48,14 +55,16 @@ pub(crate) struct FixedApart {
 }
 
 impl FixedApart {
-    /// For a model with at least [`FIXED_APART_BODIES`] fixed bodies.
+    /// For a model with at least [`FIXED_APART_BODIES`] bodies that stay
+    /// put.
     pub(crate) fn of(model: &Model) -> Option<FixedApart> {
         let (fixed, moving): (Vec<usize>, Vec<usize>) =
-            (0..model.bodies.len()).partition(|&i| model.bodies[i].motion == BodyMotion::Fixed);
+            (0..model.bodies.len()).partition(|&i| model.bodies[i].stays_put());
         (fixed.len() >= FIXED_APART_BODIES).then(|| FixedApart {
             fixed,
             moving,
             statics: None,
+            still_pairs: None,
             among: Vec::new(),
             across: Vec::new(),
         })
@@ -100,30 +109,37 @@ impl Stepper {
                 threads
             };
             let candidates = &mut self.scratch.candidates;
+            let fixed = |i: usize| model.bodies[i].motion == BodyMotion::Fixed;
             if let Some(apart) = self.fixed_apart.as_mut() {
-                // The fixed bodies' boxes once; the moving bodies' each step,
-                // paired among themselves and against the fixed ones.
+                // The still bodies' boxes once, and their pairs that are
+                // queried (not both fixed); the moving bodies' boxes each
+                // step, paired among themselves and against the still ones.
                 let statics = apart.statics.get_or_insert_with(|| {
                     let boxes: Vec<SweptBox> = apart.fixed.iter().map(|&i| swept(i)).collect();
                     StaticBoxes::new(&boxes)
                 });
+                if apart.still_pairs.is_none() {
+                    let still = &apart.fixed;
+                    let pairs = statics.pairs_among(|i, j| !(fixed(still[i]) && fixed(still[j])));
+                    apart.still_pairs = Some(pairs.iter().map(|&(i, j)| (still[i], still[j])).collect());
+                }
                 let moving = &apart.moving;
                 let threads = boxes_of(Some(moving), boxes);
                 broad.pairs_into_on(boxes, &mut apart.among, threads);
                 statics.overlaps_into_on(boxes, &mut apart.across, threads);
-                let fixed = &apart.fixed;
+                let still = &apart.fixed;
                 candidates.clear();
                 candidates.extend(apart.among.iter().map(|&(i, j)| (moving[i], moving[j])));
                 candidates.extend(apart.across.iter().map(|&(k, s)| {
-                    let (m, f) = (moving[k], fixed[s]);
+                    let (m, f) = (moving[k], still[s]);
                     (m.min(f), m.max(f))
                 }));
+                candidates.extend(apart.still_pairs.iter().flatten());
                 candidates.sort_unstable();
             } else {
                 let threads = boxes_of(None, boxes);
                 broad.pairs_into_on(boxes, candidates, threads);
             }
-            let fixed = |i: usize| model.bodies[i].motion == BodyMotion::Fixed;
             // The new pairs go into the previous step's spare buffer.
             let mut old = std::mem::replace(&mut world.pairs, std::mem::take(&mut self.scratch.spare_pairs));
             world.pairs.clear();

@@ -63,7 +63,7 @@ pub(crate) use world::{PairState, World};
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;
 use crate::math::Real;
-use crate::scene::{BodyMotion, Model, RunSpec, Scene};
+use crate::scene::{Body, BodyMotion, Model, RunSpec, Scene};
 use observe::near_miss::NearMissObserver;
 use observe::poses::PoseObserver;
 use observe::trace::TraceObserver;
@@ -101,7 +101,9 @@ impl Integrated {
         let response = respond::for_model(&scene.model)?;
         let mut stepper =
             Stepper::with_response(Arc::new(scene.model.clone()), Some(&scene.run), options, response);
-        // Its own integration never moves a fixed body.
+        // Its own integration never moves a body that stays put (fixed, or
+        // free at rest): passed over in the integration, boxed once.
+        stepper.fixed = scene.model.bodies.iter().map(Body::stays_put).collect();
         stepper.fixed_apart = stepper.broad.as_ref().and_then(|_| broad::FixedApart::of(&scene.model));
         let world = stepper.new_world(stepper.response.stops_kinematic_bodies());
         Some(Integrated { stepper, world, name: scene.run.name.clone() })
@@ -121,8 +123,9 @@ pub(crate) struct Stepper {
     /// integration of a scene with many fixed bodies (under a guard, an
     /// engine may move a fixed body: every box is made each step).
     fixed_apart: Option<broad::FixedApart>,
-    /// Whether each body is fixed (the integration passes over them
-    /// without reading them).
+    /// Whether each body is fixed (in the stepper's own integration: stays
+    /// put, fixed or free at rest), which the integration passes over
+    /// without reading.
     fixed: Vec<bool>,
     /// The trace, when the scene asks for one.
     trace: Option<TraceObserver>,

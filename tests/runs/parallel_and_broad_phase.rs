@@ -90,3 +90,61 @@ fn many_fixed_bodies_kept_apart_change_nothing() {
     let threaded = run_with(&scene, RunOptions::default(), quiet);
     same_outcome(&apart, &threaded);
 }
+
+/// Bodies at rest (free, no velocity) are kept apart like fixed ones: their
+/// boxes made once, passed over in the integration. A scene of 80 resting
+/// posts (posts 1 and 21 touching posts 0 and 20, a fixed block touching
+/// post 40) and a tumbling crowd gives the contacts of the run that queries
+/// every pair each step, the resting pairs' contacts among them, under
+/// `Record` and under `Bounce` (the posts kinematic: the crowd bounces off
+/// them, and each stops at its contacts within a step); and the same on the
+/// threads.
+#[test]
+fn bodies_at_rest_kept_apart_change_nothing() {
+    let at = |n: usize, count: usize| -3.0 + 6.0 * (n as f64 + 0.5) / count as f64;
+    let mut posts: Vec<[f64; 3]> = (0..4)
+        .flat_map(|i| (0..4).flat_map(move |j| (0..5).map(move |m| [at(i, 4), at(j, 4), at(m, 5)])))
+        .collect();
+    // Boxes of half-width 0.06 side by side, faces touching.
+    posts[1] = [posts[0][0] + 0.12, posts[0][1], posts[0][2]];
+    posts[21] = [posts[20][0], posts[20][1] + 0.12, posts[20][2]];
+    let block = [posts[40][0] + 0.16, posts[40][1], posts[40][2]];
+    let bounce = ("Bounce(restitution: 1.0)", ", kinematic: true", "density: 1.0");
+    for (on_contact, post, crowd) in [("Record", "", ""), bounce] {
+        let mut text =
+            format!("Scene(name: \"resting\", dt: 0.01, duration: 0.6, on_contact: {on_contact}, bodies: [");
+        for (k, [x, y, z]) in posts.iter().enumerate() {
+            text.push_str(&format!(
+                "(name: \"post{k}\", mesh: Box(half_extents: (0.06, 0.06, 0.4)), position: ({x:?}, {y:?}, {z:?}){post}),"
+            ));
+        }
+        text.push_str(&crowd::crowd_bodies(30, 11, crowd));
+        let [x, y, z] = block;
+        text.push_str(&format!(
+            "(name: \"block\", mesh: Box(half_extents: (0.1, 0.1, 0.1)), position: ({x:?}, {y:?}, {z:?}), fixed: true)])"
+        ));
+        let scene = Scene::from_ron_str(&text).unwrap();
+        let quiet = &mut |_| {};
+        let reference = run_with(
+            &scene,
+            RunOptions { parallel: false, broad_phase: false, ..RunOptions::default() },
+            quiet,
+        );
+        let met =
+            reference.contacts.iter().filter(|c| c.body_a < 80 && (80..110).contains(&c.body_b)).count();
+        assert!(met >= 5, "{on_contact}: the crowd should meet the posts: {met} contacts");
+        // (Under `Bounce` a resting pair is queried again, and met again,
+        // when the crowd stops one of its posts.)
+        let mut resting: Vec<(usize, usize)> = (reference.contacts.iter())
+            .filter(|c| c.body_b < 80 || (c.body_a < 80 && c.body_b == 110))
+            .map(|c| (c.body_a, c.body_b))
+            .collect();
+        resting.sort_unstable();
+        resting.dedup();
+        assert_eq!(resting, [(0, 1), (20, 21), (40, 110)], "{on_contact}: the resting pairs met");
+        let apart = run_with(&scene, RunOptions { parallel: false, ..RunOptions::default() }, quiet);
+        same_contacts(&reference, &apart);
+        let threaded = run_with(&scene, RunOptions::default(), quiet);
+        same_outcome(&apart, &threaded);
+    }
+}

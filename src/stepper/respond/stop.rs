@@ -204,8 +204,9 @@ pub(super) fn hold_stopped_bodies(step: &mut StepContext<'_>, stops: &mut Stops)
         world.motions[i] = StepMotion::fixed(pose);
     }
     let kinematic = kinematic_with_state.get_or_insert_with(|| {
+        // (A body at rest stays where its state has it.)
         let with_state = |&(i, body): &(usize, &crate::scene::Body)| {
-            body.motion == BodyMotion::Free && world.states[i].is_some()
+            body.motion == BodyMotion::Free && !body.stays_put() && world.states[i].is_some()
         };
         model.bodies.iter().enumerate().filter(with_state).map(|(i, _)| i).collect()
     });

@@ -23,7 +23,8 @@
 //! With `--fixed P`: P% of the bodies (spread through the box; with
 //! `--fixed-first`, the first P% of them, a block of the box) are fixed
 //! where they start, the others move as without it (a clutter of fixed
-//! obstacles).
+//! obstacles); with `--at-rest`, those bodies are kinematic with no
+//! velocity instead (obstacles at rest, not declared fixed).
 //! With `--final-states PREFIX`: every body's final state and every
 //! contact written to `PREFIX<N>.txt` (to compare two builds).
 //! With `--bunnies`: every fifth body (those that were icospheres of 320
@@ -49,6 +50,8 @@ struct Setup {
     /// spread through the box; with `--fixed-first`, the first bodies.
     fixed_percent: usize,
     fixed_first: bool,
+    /// `--at-rest`: those bodies kinematic and still, not fixed.
+    at_rest: bool,
 }
 
 /// The bunny's OBJ file (see `scripts/fetch-bunny.sh`).
@@ -64,6 +67,7 @@ fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
         near_miss_tolerance,
         fixed_percent,
         fixed_first,
+        at_rest,
     } = setup;
     let mut rng = Rng::new(seed);
     let per_side = (bodies as f64).cbrt().ceil() as usize;
@@ -121,7 +125,7 @@ fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
         // first P% (the others move as without it).
         let fixed = if fixed_first { k * 100 < fixed_percent * bodies } else { k * 37 % 100 < fixed_percent };
         let motion = if fixed {
-            "fixed: true".to_string()
+            if at_rest { "kinematic: true" } else { "fixed: true" }.to_string()
         } else {
             format!("velocity: {velocity}, angular_velocity: {spin}")
         };
@@ -158,6 +162,7 @@ fn main() {
     let near_miss_tolerance = value_of(&args, "--near-miss-tolerance", "a near-miss tolerance");
     let fixed_percent = value_of(&args, "--fixed", "a percentage of fixed bodies").unwrap_or(0);
     let fixed_first = args.iter().any(|a| a == "--fixed-first");
+    let at_rest = args.iter().any(|a| a == "--at-rest");
     let setup = Setup {
         steps,
         simulate,
@@ -167,6 +172,7 @@ fn main() {
         near_miss_tolerance,
         fixed_percent,
         fixed_first,
+        at_rest,
     };
     if simulate {
         return simulate_beside_rapier(&args, setup);
