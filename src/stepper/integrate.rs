@@ -89,7 +89,10 @@ impl Stepper {
         // and maximum, so the same whatever the threads.
         let limit = model.parameters.divergence_energy_growth;
         let energy_of = |i: usize, advance: &Advance| {
-            let dynamics = model.bodies[i].dynamics(model.gravity).filter(|_| check_energy)?;
+            if !check_energy {
+                return None;
+            }
+            let dynamics = model.bodies[i].dynamics(model.gravity)?;
             let (initial, scale) = world.energies[i];
             Some(EnergyCheck { now: dynamics.energy(&advance.step.next), initial, scale, limit })
         };
