@@ -75,7 +75,7 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(crate::collection::BOX_ROUNDING_ULPS, 1e3);
     // broad_phase.rs: the tree re-optimised at every second refit.
     assert_eq!(crate::broad_phase::OPTIMIZE_EVERY_REFITS, 2);
-    assert_eq!(crate::broad_phase::GRID_BROAD_PHASE_BOXES, 16384);
+    assert_eq!(crate::broad_phase::GRID_BROAD_PHASE_BOXES, 8192);
     assert_eq!(crate::broad_phase::PARALLEL_GRID_BOXES, 4096);
     let parameters = crate::scene::StepParameters::default();
     assert_eq!(parameters.divergence_energy_growth, 10.0);
