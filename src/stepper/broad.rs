@@ -1,13 +1,14 @@
 //! Stage 2, broad phase: the pairs whose swept boxes overlap in the step
 //! (scenes of more than two bodies; with two, the one pair is kept from
-//! the start). In a run of many bodies that stay put (fixed, or free and at
-//! rest: [`FIXED_APART_BODIES`]), their boxes are made once and kept in a
-//! static grid; each step boxes the moving bodies only. Each pair keeps its state from the previous
-//! step; a new pair starts fresh. A pair in contact stays in the set until
-//! the re-arm stage finds it separated (farther apart than its re-arm
-//! distance), whether or not its boxes still overlap: boxes that fit the
-//! meshes part as soon as the meshes are a contact distance apart, and a
-//! resting pair must not be re-armed by that.
+//! the start). In a run of many bodies that stay put (fixed, or free and
+//! at rest: [`FIXED_APART_BODIES`]), their boxes are made once and kept in
+//! a static grid; each step boxes the moving bodies only. Each pair keeps
+//! its state from the previous step; a new pair starts fresh. A pair in
+//! contact stays in the set until the re-arm stage finds it separated
+//! (farther apart than its re-arm distance), whether or not its boxes
+//! still overlap: boxes that fit the meshes part as soon as the meshes are
+//! a contact distance apart, and a resting pair must not be re-armed by
+//! that.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -40,7 +41,7 @@ pub(crate) const FIXED_APART_BODIES: usize = 64;
 /// integration, so their boxes are made once.
 pub(crate) struct FixedApart {
     /// The bodies that stay put and the others, by index, ascending.
-    fixed: Vec<usize>,
+    still: Vec<usize>,
     moving: Vec<usize>,
     /// Their boxes in a grid, made at the first step.
     statics: Option<StaticBoxes>,
@@ -49,7 +50,7 @@ pub(crate) struct FixedApart {
     /// found in the grid at the first step.
     still_pairs: Option<Vec<(usize, usize)>>,
     /// The moving bodies' pairs (indices into `moving`) and their pairs
-    /// with the fixed ones (into `moving`, into `fixed`).
+    /// with the still ones (into `moving`, into `still`).
     among: Vec<(usize, usize)>,
     across: Vec<(usize, usize)>,
 }
@@ -58,10 +59,10 @@ impl FixedApart {
     /// For a model with at least [`FIXED_APART_BODIES`] bodies that stay
     /// put.
     pub(crate) fn of(model: &Model) -> Option<FixedApart> {
-        let (fixed, moving): (Vec<usize>, Vec<usize>) =
+        let (still, moving): (Vec<usize>, Vec<usize>) =
             (0..model.bodies.len()).partition(|&i| model.bodies[i].stays_put());
-        (fixed.len() >= FIXED_APART_BODIES).then(|| FixedApart {
-            fixed,
+        (still.len() >= FIXED_APART_BODIES).then(|| FixedApart {
+            still,
             moving,
             statics: None,
             still_pairs: None,
@@ -115,11 +116,11 @@ impl Stepper {
                 // queried (not both fixed); the moving bodies' boxes each
                 // step, paired among themselves and against the still ones.
                 let statics = apart.statics.get_or_insert_with(|| {
-                    let boxes: Vec<SweptBox> = apart.fixed.iter().map(|&i| swept(i)).collect();
+                    let boxes: Vec<SweptBox> = apart.still.iter().map(|&i| swept(i)).collect();
                     StaticBoxes::new(&boxes)
                 });
                 if apart.still_pairs.is_none() {
-                    let still = &apart.fixed;
+                    let still = &apart.still;
                     let pairs = statics.pairs_among(|i, j| !(fixed(still[i]) && fixed(still[j])));
                     apart.still_pairs = Some(pairs.iter().map(|&(i, j)| (still[i], still[j])).collect());
                 }
@@ -127,7 +128,7 @@ impl Stepper {
                 let threads = boxes_of(Some(moving), boxes);
                 broad.pairs_into_on(boxes, &mut apart.among, threads);
                 statics.overlaps_into_on(boxes, &mut apart.across, threads);
-                let still = &apart.fixed;
+                let still = &apart.still;
                 candidates.clear();
                 candidates.extend(apart.among.iter().map(|&(i, j)| (moving[i], moving[j])));
                 candidates.extend(apart.across.iter().map(|&(k, s)| {

@@ -19,8 +19,7 @@ use crate::scene::{Body, BodyMotion, Model};
 /// bodies: its next state, the angular velocity of the motion between the
 /// two (the rest of the motion is a subtraction away), and whether the
 /// solve converged. (Its energy, when checked, is found from its state
-/// where it is checked: kept a body, it was a twentieth of a run's memory
-/// at 100,000 bodies.)
+/// where it is checked, not kept in every body's slot.)
 #[derive(Copy, Clone, Debug)]
 pub(crate) struct Advance {
     step: IntegratorStep,
@@ -106,12 +105,13 @@ impl Stepper {
             }
         };
         advanced.resize(model.bodies.len(), None);
-        // A fixed body is not stepped: its slot stays `None`, and neither
-        // its body nor its state is read (in a scene of many fixed bodies,
-        // reading them was most of this stage).
-        let fixed = &self.fixed;
+        // A still body (fixed, or at rest in the stepper's own integration)
+        // is not stepped: its slot stays `None`, and neither its body nor its
+        // state is read (in a scene of many fixed bodies, reading them was
+        // most of this stage).
+        let still = &self.still;
         let fill = |i: usize, slot: &mut Option<Advance>, body: &Body, state: &Option<RigidState>| {
-            if fixed[i] {
+            if still[i] {
                 return Checked::default();
             }
             *slot = advance((body, state));
@@ -136,18 +136,18 @@ impl Stepper {
         // Every body's motion over the step (and an integrated body's state
         // at its end), each its own: on the threads with the integrations.
         let dt = model.dt;
-        let commit = |((((body, motion), state), step_of), &fixed): (_, &bool)| {
-            if !fixed {
+        let commit = |((((body, motion), state), step_of), &still): (_, &bool)| {
+            if !still {
                 commit_step(body, motion, state, step_of, step, t0, dt);
             }
         };
         if parallel {
             let bodies =
                 model.bodies.par_iter().zip(world.motions.par_iter_mut()).zip(world.states.par_iter_mut());
-            bodies.zip(advanced.par_iter()).zip(self.fixed.par_iter()).for_each(commit);
+            bodies.zip(advanced.par_iter()).zip(self.still.par_iter()).for_each(commit);
         } else {
             let bodies = model.bodies.iter().zip(world.motions.iter_mut()).zip(world.states.iter_mut());
-            bodies.zip(advanced.iter()).zip(self.fixed.iter()).for_each(commit);
+            bodies.zip(advanced.iter()).zip(self.still.iter()).for_each(commit);
         }
         Ok(())
     }

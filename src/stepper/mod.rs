@@ -103,7 +103,7 @@ impl Integrated {
             Stepper::with_response(Arc::new(scene.model.clone()), Some(&scene.run), options, response);
         // Its own integration never moves a body that stays put (fixed, or
         // free at rest): passed over in the integration, boxed once.
-        stepper.fixed = scene.model.bodies.iter().map(Body::stays_put).collect();
+        stepper.still = scene.model.bodies.iter().map(Body::stays_put).collect();
         stepper.fixed_apart = stepper.broad.as_ref().and_then(|_| broad::FixedApart::of(&scene.model));
         let world = stepper.new_world(stepper.response.stops_kinematic_bodies());
         Some(Integrated { stepper, world, name: scene.run.name.clone() })
@@ -123,10 +123,10 @@ pub(crate) struct Stepper {
     /// integration of a scene with many fixed bodies (under a guard, an
     /// engine may move a fixed body: every box is made each step).
     fixed_apart: Option<broad::FixedApart>,
-    /// Whether each body is fixed (in the stepper's own integration: stays
-    /// put, fixed or free at rest), which the integration passes over
-    /// without reading.
-    fixed: Vec<bool>,
+    /// Whether each body is still: fixed (under a guard), or one that stays
+    /// put (in the stepper's own integration: fixed, or free at rest). The
+    /// integration passes over them without reading them.
+    still: Vec<bool>,
     /// The trace, when the scene asks for one.
     trace: Option<TraceObserver>,
     /// The pose record, when the scene asks for one.
@@ -182,7 +182,7 @@ impl Stepper {
             response,
             broad: (options.broad_phase && model.bodies.len() > 2).then(BroadPhase::default),
             fixed_apart: None,
-            fixed: model.bodies.iter().map(|b| b.motion == BodyMotion::Fixed).collect(),
+            still: model.bodies.iter().map(|b| b.motion == BodyMotion::Fixed).collect(),
             trace: run.and_then(|run| {
                 TraceObserver::of(&model, run, options.parallel.then_some(options.parallel_trace_pairs))
             }),
