@@ -150,31 +150,23 @@ where
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let steps = value_of(&args, "--steps", "a step count").unwrap_or(240);
-    let simulate = args.iter().any(|a| a == "--simulate");
-    let trace = value_of(&args, "--trace", "a trace cadence");
-    let bunnies = args.iter().any(|a| a == "--bunnies");
-    if bunnies && !std::path::Path::new(BUNNY).exists() {
+    let flag = |name: &str| args.iter().any(|a| a == name);
+    let setup = Setup {
+        steps: value_of(&args, "--steps", "a step count").unwrap_or(240),
+        simulate: flag("--simulate"),
+        trace: value_of(&args, "--trace", "a trace cadence"),
+        bunnies: flag("--bunnies"),
+        near_misses: value_of(&args, "--near-misses", "a near-miss distance"),
+        near_miss_tolerance: value_of(&args, "--near-miss-tolerance", "a near-miss tolerance"),
+        fixed_percent: value_of(&args, "--fixed", "a percentage of fixed bodies").unwrap_or(0),
+        fixed_first: flag("--fixed-first"),
+        at_rest: flag("--at-rest"),
+    };
+    if setup.bunnies && !std::path::Path::new(BUNNY).exists() {
         eprintln!("--bunnies needs {BUNNY}: run scripts/fetch-bunny.sh");
         std::process::exit(2);
     }
-    let near_misses = value_of(&args, "--near-misses", "a near-miss distance");
-    let near_miss_tolerance = value_of(&args, "--near-miss-tolerance", "a near-miss tolerance");
-    let fixed_percent = value_of(&args, "--fixed", "a percentage of fixed bodies").unwrap_or(0);
-    let fixed_first = args.iter().any(|a| a == "--fixed-first");
-    let at_rest = args.iter().any(|a| a == "--at-rest");
-    let setup = Setup {
-        steps,
-        simulate,
-        trace,
-        bunnies,
-        near_misses,
-        near_miss_tolerance,
-        fixed_percent,
-        fixed_first,
-        at_rest,
-    };
-    if simulate {
+    if setup.simulate {
         return simulate_beside_rapier(&args, setup);
     }
     let counts = body_counts(&args);
