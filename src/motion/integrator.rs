@@ -245,6 +245,20 @@ pub fn integrate(
     (step.next, step.converged)
 }
 
+/// `q` turned by `exp(ω_b)` (`ω_b` a body-frame rotation vector), brought
+/// back to unit length. The product of two unit quaternions is one only to
+/// rounding: left alone, the orientation's norm walks away from 1 by a few
+/// ulps a step, and a body's angular velocity, turned into the body frame
+/// and back each step, is scaled by its square: on a tumbling handle
+/// (`scenes/stability/dzhanibekov_long.ron`, 100,000 steps) the energy
+/// drifted by 2.8e-9 that way, against 2.3e-11 renormalised. The
+/// first-order renormalisation is exact to rounding this close to 1.
+fn turned(q: &UnitQuaternion<Real>, rotation: &Vector) -> UnitQuaternion<Real> {
+    let mut orientation = q * UnitQuaternion::from_scaled_axis(*rotation);
+    orientation.renormalize_fast();
+    orientation
+}
+
 /// One integrator step ([`integrate_turning`]).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct IntegratorStep {
@@ -279,7 +293,7 @@ pub fn integrate_turning(
             let (acceleration, torque) =
                 dynamics.loads(&state.position, &q, &state.velocity, &state.angular_velocity);
             let omega_next = omega_body + dt * dynamics.angular_acceleration(&omega_body, &torque);
-            let orientation = q * UnitQuaternion::from_scaled_axis(omega_body * dt);
+            let orientation = turned(&q, &(omega_body * dt));
             let next = RigidState {
                 position: state.position + state.velocity * dt,
                 orientation,
@@ -313,7 +327,7 @@ pub fn integrate_turning(
                     (next, next, true)
                 }
             };
-            let orientation = q * UnitQuaternion::from_scaled_axis(turn * dt);
+            let orientation = turned(&q, &(turn * dt));
             let next = RigidState {
                 position: state.position + velocity * dt,
                 orientation,
