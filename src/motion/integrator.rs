@@ -12,9 +12,9 @@ use crate::math::{Point, Pose, Real, Vector};
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Integrator {
     /// Semi-implicit (symplectic) Euler: velocities first, then positions
-    /// with the new velocities; the rotation uses the [`Gyroscopic`] choice.
-    /// First order, but energy stays bounded for oscillators with
-    /// `ω dt < 2`. The default.
+    /// with the new velocities; the rotation uses the [`Gyroscopic`] choice
+    /// (the orientation renormalised after each step). First order, but
+    /// energy stays bounded for oscillators with `ω dt < 2`. The default.
     #[default]
     SymplecticEuler,
     /// Explicit Euler: positions and velocities from the old state. First
