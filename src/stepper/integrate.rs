@@ -259,11 +259,19 @@ fn commit_step(
     t0: Real,
     dt: Real,
 ) {
-    *motion = match (&body.motion, step_of) {
+    // An integrated body's step (only integrated bodies with a state have
+    // one): its body is not read (in a scene of many bodies, reading each
+    // body again was a good part of this pass).
+    if let Some(Advance { step: IntegratorStep { next, turn, .. } }) = step_of {
+        let before = state.replace(*next).map_or_else(|| body.pose, |s| s.pose());
+        *motion = StepMotion::between_turning(&before, &next.pose(), dt, *turn);
+        return;
+    }
+    *motion = match &body.motion {
         // A fixed body's motion is the world's from its start (nothing
         // stops or moves a fixed body): nothing to do.
-        (BodyMotion::Fixed, _) => return,
-        (BodyMotion::Free, _) => match state {
+        BodyMotion::Fixed => return,
+        BodyMotion::Free => match state {
             // Kinematic with a state (the response can stop it): from where
             // the last step left it.
             Some(state) => StepMotion::new(state.pose(), state.velocity, state.angular_velocity),
@@ -272,12 +280,7 @@ fn commit_step(
                 None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
             },
         },
-        (BodyMotion::Integrated { .. }, Some(Advance { step: IntegratorStep { next, turn, .. }, .. })) => {
-            // (An integrated body with a step had a state.)
-            let before = state.replace(*next).map_or(body.pose, |s| s.pose());
-            StepMotion::between_turning(&before, &next.pose(), dt, *turn)
-        }
-        (BodyMotion::Integrated { .. }, None) => return,
+        BodyMotion::Integrated { .. } => return,
     };
 }
 
