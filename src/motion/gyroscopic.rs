@@ -92,19 +92,29 @@ pub fn implicit_gyroscopic_step(
 }
 
 /// The inverse of a 3 × 3 matrix by its cofactors (the cross products of
-/// its rows over its determinant): `None` when the determinant is zero or
+/// its rows over its determinant): `None` when the matrix is singular or
 /// not finite. One division, where an LU solve divides once per row and
 /// twice more in its back substitution, each waiting on the last: the
 /// Newton step's Jacobian is close to the inertia, well conditioned, and
-/// Newton's iteration corrects a solve's rounding.
+/// Newton's iteration corrects a solve's rounding. Where the largest
+/// entry is beyond 1e±100 (so the determinant, a cube, may overflow or
+/// underflow) the inverse is found again on the matrix scaled to it.
 fn inverse3(m: &Matrix3<Real>) -> Option<Matrix3<Real>> {
-    let (r0, r1, r2) = (m.row(0).transpose(), m.row(1).transpose(), m.row(2).transpose());
-    let (c0, c1, c2) = (r1.cross(&r2), r2.cross(&r0), r0.cross(&r1));
-    let determinant = r0.dot(&c0);
-    if determinant == 0.0 || !determinant.is_finite() {
-        return None;
-    }
-    Some(Matrix3::from_columns(&[c0, c1, c2]) * (1.0 / determinant))
+    let by_cofactors = |m: &Matrix3<Real>| {
+        let (r0, r1, r2) = (m.row(0).transpose(), m.row(1).transpose(), m.row(2).transpose());
+        let (c0, c1, c2) = (r1.cross(&r2), r2.cross(&r0), r0.cross(&r1));
+        let determinant = r0.dot(&c0);
+        (determinant != 0.0 && determinant.is_finite())
+            .then(|| Matrix3::from_columns(&[c0, c1, c2]) * (1.0 / determinant))
+    };
+    by_cofactors(m).or_else(|| {
+        // Only where the cube of the entries is out of range: a matrix of
+        // ordinary entries with no determinant is singular.
+        let largest = m.amax();
+        let extreme = largest.is_finite() && largest > 0.0 && !(1e-100..=1e100).contains(&largest);
+        let inverse = by_cofactors(&(m / largest)).filter(|_| extreme)? / largest;
+        inverse.iter().all(|x| x.is_finite()).then_some(inverse)
+    })
 }
 
 #[cfg(test)]
@@ -151,14 +161,23 @@ mod tests {
             let error = (ours - theirs).norm() / theirs.norm();
             assert!(error <= 64.0 * Real::EPSILON * condition, "{m} {error:e} {condition:e}");
         }
-        for singular in [
+        for refused in [
             Matrix3::zeros(),
             Matrix3::from_diagonal(&Vector::new(1.0, 0.0, 1.0)),
             Matrix3::new(1.0, 2.0, 3.0, 2.0, 4.0, 6.0, 0.0, 1.0, 5.0),
             Matrix3::from_diagonal(&Vector::new(1.0, Real::NAN, 1.0)),
-            Matrix3::from_diagonal(&Vector::new(1e300, 1e300, 1e300)),
+            Matrix3::from_diagonal(&Vector::new(1.0, Real::INFINITY, 1.0)),
         ] {
-            assert_eq!(inverse3(&singular), None, "{singular}");
+            assert_eq!(inverse3(&refused), None, "{refused}");
+        }
+        // Determinants out of the doubles' range (a body's inertia in
+        // extreme units): inverted all the same.
+        for scale in [1e-120, 1e-300, 1e120, 1e300] {
+            let m = inertia * scale;
+            // (nalgebra's own inverse refuses these: its determinant is
+            // out of range too.)
+            let (ours, theirs) = (inverse3(&m).unwrap(), inertia.try_inverse().unwrap() / scale);
+            assert!((ours - theirs).norm() <= 1e-14 * theirs.norm(), "{scale:e}");
         }
     }
 
