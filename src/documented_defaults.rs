@@ -46,6 +46,7 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(crate::motion::classify::STEADY_SPIN_ULPS, 64.0);
     // motion/gyroscopic.rs: at most 20 Newton iterations.
     assert_eq!(crate::motion::GYROSCOPIC_MAX_ITERATIONS, 20);
+    assert_eq!(crate::motion::COFACTOR_UNSCALED_RANGE, 1e100);
     // ccd/mesh_pair.rs: "plus 8 ulps of an integrated body's coordinates".
     assert_eq!(crate::ccd::INTEGRATED_JUMP_ULPS, 8.0);
     // ccd/mesh_search.rs: the search's slack `0.1` and opening ratio `1.0`.

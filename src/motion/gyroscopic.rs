@@ -21,6 +21,13 @@ pub(crate) const GYROSCOPIC_MAX_ITERATIONS: usize = 20;
 /// Newton stops when the update is below this many ulps of `|ω|`.
 const GYROSCOPIC_TOLERANCE_ULPS: Real = 4.0;
 
+/// The cofactor inverse of the Newton step's Jacobian scales the matrix to
+/// its largest entry first when that entry is outside `1 / x ..= x` for
+/// this `x`: `1e100`. The determinant is a cube of the entries, so beyond
+/// it the determinant may overflow or underflow a double (whose range is
+/// about 1e±308); within it, a zero determinant is a singular matrix.
+pub(crate) const COFACTOR_UNSCALED_RANGE: Real = 1e100;
+
 /// The outcome of one implicit gyroscopic step.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct GyroscopicSolve {
@@ -97,8 +104,9 @@ pub fn implicit_gyroscopic_step(
 /// twice more in its back substitution, each waiting on the last: the
 /// Newton step's Jacobian is close to the inertia, well conditioned, and
 /// Newton's iteration corrects a solve's rounding. Where the largest
-/// entry is beyond 1e±100 (so the determinant, a cube, may overflow or
-/// underflow) the inverse is found again on the matrix scaled to it.
+/// entry is beyond [`COFACTOR_UNSCALED_RANGE`] (the determinant, a cube,
+/// may overflow or underflow) the inverse is found again on the matrix
+/// scaled to it.
 fn inverse3(m: &Matrix3<Real>) -> Option<Matrix3<Real>> {
     let by_cofactors = |m: &Matrix3<Real>| {
         let (r0, r1, r2) = (m.row(0).transpose(), m.row(1).transpose(), m.row(2).transpose());
@@ -111,7 +119,9 @@ fn inverse3(m: &Matrix3<Real>) -> Option<Matrix3<Real>> {
         // Only where the cube of the entries is out of range: a matrix of
         // ordinary entries with no determinant is singular.
         let largest = m.amax();
-        let extreme = largest.is_finite() && largest > 0.0 && !(1e-100..=1e100).contains(&largest);
+        let extreme = largest.is_finite()
+            && largest > 0.0
+            && !(1.0 / COFACTOR_UNSCALED_RANGE..=COFACTOR_UNSCALED_RANGE).contains(&largest);
         let inverse = by_cofactors(&(m / largest)).filter(|_| extreme)? / largest;
         inverse.iter().all(|x| x.is_finite()).then_some(inverse)
     })

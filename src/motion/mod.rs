@@ -23,7 +23,7 @@ mod step_motion;
 pub use gyroscopic::{implicit_gyroscopic_step, GyroscopicSolve};
 
 #[cfg(test)]
-pub(crate) use gyroscopic::GYROSCOPIC_MAX_ITERATIONS;
+pub(crate) use gyroscopic::{COFACTOR_UNSCALED_RANGE, GYROSCOPIC_MAX_ITERATIONS};
 pub use integrator::{
     integrate, integrate_turning, Dynamics, Gyroscopic, Integrator, IntegratorStep, RigidState, Spring,
 };
