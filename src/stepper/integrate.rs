@@ -1,6 +1,15 @@
 //! Stage 1, integrate: each body's motion over the step, from its state
 //! (fixed bodies stay, free ones move exactly, integrated ones take one
 //! integrator step), checked for divergence.
+//!
+//! An integrated body's step is committed in the pass that makes it: its
+//! state moves to the step's end and its motion over the step is written
+//! at once, so that each body is read and written once a step (a second
+//! pass over every body's step, kept apart until all were checked, was a
+//! good part of this stage's time). A step in which any body fails a check
+//! moves no body: it is undone from what the pass kept, each integrated
+//! body's velocities at the step's start ([`SavedVelocities`]), and from
+//! its new motion, which starts exactly at its pose at the step's start.
 
 use rayon::prelude::*;
 
@@ -9,19 +18,17 @@ use std::time::Instant;
 use super::result::{Counters, Termination};
 use super::world::World;
 use super::Stepper;
-use crate::math::Real;
+use crate::math::{Point, Real, Vector};
 use crate::motion::{
     integrate_turning, Dynamics, Integrator, IntegratorStep, RigidState, StepMotion, MAX_TURN_PER_STEP,
 };
 use crate::scene::{Body, BodyMotion, Model};
 
-/// A body's integrator step, made on rayon's threads when there are many
-/// bodies: its next state, the angular velocity of the motion between the
-/// two (the rest of the motion is a subtraction away), and whether the
-/// solve converged. (Its energy, when checked, is found from its state
-/// where it is checked, not kept in every body's slot.)
+/// A body's integrator step: its next state, the angular velocity of the
+/// motion between the two (the rest of the motion is a subtraction away),
+/// and whether the solve converged.
 #[derive(Copy, Clone, Debug)]
-pub(crate) struct Advance {
+struct Advance {
     step: IntegratorStep,
 }
 
@@ -43,17 +50,19 @@ impl EnergyCheck {
     }
 }
 
-/// The integrated bodies' steps (`None` for the others).
-pub(crate) type Advanced = Vec<Option<Advance>>;
+/// Each integrated body's velocity and angular velocity at the current
+/// step's start (a slot per body; the others' unused): with its motion's
+/// start, its state there, should the step be undone.
+pub(crate) type SavedVelocities = Vec<(Vector, Vector)>;
 
 impl Stepper {
     /// Moves every body's motion to the step starting at `t0` (step number
     /// `step`), checked for divergence.
     pub(super) fn integrate(&mut self, world: &mut World, step: u64, t0: Real) -> Result<(), Termination> {
         let clock = Instant::now();
-        let mut advanced = std::mem::take(&mut self.scratch.advanced);
-        let result = self.integrate_into(world, &mut advanced, step, t0);
-        self.scratch.advanced = advanced;
+        let mut saved = std::mem::take(&mut self.scratch.saved);
+        let result = self.integrate_into(world, &mut saved, step, t0);
+        self.scratch.saved = saved;
         self.counters.seconds.integrate += clock.elapsed().as_secs_f64();
         result
     }
@@ -61,96 +70,125 @@ impl Stepper {
     fn integrate_into(
         &mut self,
         world: &mut World,
-        advanced: &mut Advanced,
+        saved: &mut SavedVelocities,
         step: u64,
         t0: Real,
     ) -> Result<(), Termination> {
         let check_energy = self.checks_energy();
-        let (model, counters) = (&*self.model, &mut self.counters);
-        // The integrations (and the motions between the states) are
-        // independent: on the threads when there are many (each body's step
-        // is the same whatever the threads). The first body to fail a check
-        // is the one reported.
-        let advance =
-            |(body, state): (&Body, &Option<RigidState>)| match (body.dynamics(model.gravity), state) {
-                (Some(dynamics), Some(state)) => {
-                    let step =
-                        integrate_turning(state, &dynamics, model.integrator, model.gyroscopic, model.dt);
-                    Some(Advance { step })
-                }
-                _ => None,
-            };
+        let (model, counters, still) = (&*self.model, &mut self.counters, &self.still);
+        let dt = model.dt;
+        let World { states, motions, energies, .. } = world;
+        let energies = &*energies;
         let parallel =
             self.options.parallel && model.bodies.len() >= self.options.parallel_integration_bodies;
-        // Each body's step, and the checks of it made with it: whether it
-        // fails one (the earliest such body), how many gyroscopic solves did
-        // not converge, the largest energy drift. Combined by minimum, sum
-        // and maximum, so the same whatever the threads.
+        // An integrated body's step and the checks made with it: whether it
+        // fails one, whether its gyroscopic solve converged, its energy's
+        // drift. Combined over the bodies by minimum (the earliest body that
+        // fails one is the one reported), sum and maximum, so the same
+        // whatever the threads.
         let limit = model.parameters.divergence_energy_growth;
-        let energy_of = |i: usize, advance: &Advance| {
-            if !check_energy {
-                return None;
-            }
-            let dynamics = model.bodies[i].dynamics(model.gravity)?;
-            let (initial, scale) = world.energies[i];
-            Some(EnergyCheck { now: dynamics.energy(&advance.step.next), initial, scale, limit })
+        let energy_of = |i: usize, dynamics: &Dynamics, advance: &Advance| {
+            check_energy.then(|| {
+                let (initial, scale) = energies[i];
+                EnergyCheck { now: dynamics.energy(&advance.step.next), initial, scale, limit }
+            })
         };
-        let checked = |i: usize, step_of: &Option<Advance>| {
-            let Some(advance) = step_of else { return Checked::default() };
-            let energy = energy_of(i, advance);
+        let checked = |i: usize, dynamics: &Dynamics, advance: &Advance| {
+            let energy = energy_of(i, dynamics, advance);
             Checked {
-                first_failure: advance.failure(model.dt, energy).map(|_| i),
+                first_failure: advance.failure(dt, energy).map(|_| i),
                 unconverged: usize::from(!advance.step.converged),
                 max_drift: energy.map_or(0.0, EnergyCheck::drift),
             }
         };
-        advanced.resize(model.bodies.len(), None);
-        // A still body (fixed, or at rest in the stepper's own integration)
-        // is not stepped: its slot stays `None`, and neither its body nor its
-        // state is read (in a scene of many fixed bodies, reading them was
-        // most of this stage).
-        let still = &self.still;
-        let fill = |i: usize, slot: &mut Option<Advance>, body: &Body, state: &Option<RigidState>| {
-            if still[i] {
-                return Checked::default();
-            }
-            *slot = advance((body, state));
-            checked(i, slot)
+        // Each integrated body moves to its step's end as soon as its step
+        // is made (its velocities kept first). A still body (fixed, or at
+        // rest in the stepper's own integration) is not read (in a scene of
+        // many fixed bodies, reading them was most of this stage); the other
+        // bodies that are not integrated move below.
+        saved.resize(model.bodies.len(), (Vector::zeros(), Vector::zeros()));
+        let step_body = |i: usize,
+                         body: &Body,
+                         state: &mut Option<RigidState>,
+                         motion: &mut StepMotion,
+                         saved: &mut (Vector, Vector)| {
+            let Some(current) = state.as_mut().filter(|_| !still[i]) else { return Checked::default() };
+            let Some((dynamics, advance)) = advance(model, body, current) else { return Checked::default() };
+            let checks = checked(i, &dynamics, &advance);
+            *saved = (current.velocity, current.angular_velocity);
+            *motion = advance.motion_from(current, dt);
+            *current = advance.step.next;
+            checks
         };
         let checks = if parallel {
-            let bodies = advanced.par_iter_mut().zip(model.bodies.par_iter()).zip(&world.states);
-            let checks = bodies.enumerate().map(|(i, ((slot, body), state))| fill(i, slot, body, state));
+            let bodies = model.bodies.par_iter().zip(states.par_iter_mut()).zip(motions.par_iter_mut());
+            let bodies = bodies.zip(saved.par_iter_mut()).enumerate();
+            let checks =
+                bodies.map(|(i, (((body, state), motion), saved))| step_body(i, body, state, motion, saved));
             checks.reduce(Checked::default, Checked::and)
         } else {
-            let bodies = advanced.iter_mut().zip(model.bodies.iter()).zip(&world.states);
-            let checks = bodies.enumerate().map(|(i, ((slot, body), state))| fill(i, slot, body, state));
+            let bodies = model.bodies.iter().zip(states.iter_mut()).zip(motions.iter_mut());
+            let bodies = bodies.zip(saved.iter_mut()).enumerate();
+            let checks =
+                bodies.map(|(i, (((body, state), motion), saved))| step_body(i, body, state, motion, saved));
             checks.fold(Checked::default(), Checked::and)
         };
         if checks.first_failure.is_some() {
-            return Err(first_divergence(model, advanced, counters, &energy_of, step));
+            // The step is undone: each integrated body back at its start.
+            for (i, ((body, state), motion)) in
+                model.bodies.iter().zip(states.iter_mut()).zip(motions.iter()).enumerate()
+            {
+                let integrated = matches!(body.motion, BodyMotion::Integrated { .. });
+                if let Some(current) = state.as_mut().filter(|_| integrated && !still[i]) {
+                    let (velocity, angular_velocity) = saved[i];
+                    let start = &motion.reference;
+                    *current = RigidState {
+                        position: Point::from(start.translation.vector),
+                        orientation: start.rotation,
+                        velocity,
+                        angular_velocity,
+                    };
+                }
+            }
+            let redo = |i: usize, body: &Body| {
+                let state = states[i].as_ref().filter(|_| !still[i])?;
+                let (dynamics, advance) = advance(model, body, state)?;
+                Some((energy_of(i, &dynamics, &advance), advance))
+            };
+            return Err(first_divergence(model, counters, &redo, step));
         }
         counters.work.gyroscopic_unconverged += checks.unconverged;
         if check_energy {
             counters.work.max_energy_drift = counters.work.max_energy_drift.max(checks.max_drift);
         }
-        // Every body's motion over the step (and an integrated body's state
-        // at its end), each its own: on the threads with the integrations.
-        let dt = model.dt;
-        let commit = |((((body, motion), state), step_of), &still): (_, &bool)| {
-            if !still {
-                commit_step(body, motion, state, step_of, step, t0, dt);
-            }
-        };
-        if parallel {
-            let bodies =
-                model.bodies.par_iter().zip(world.motions.par_iter_mut()).zip(world.states.par_iter_mut());
-            bodies.zip(advanced.par_iter()).zip(self.still.par_iter()).for_each(commit);
+        // The bodies that move but are not integrated (free ones), each from
+        // its state or its own motion.
+        let movers = self.movers.get_or_insert_with(|| {
+            let moves = |i: &usize| !still[*i] && model.bodies[*i].motion == BodyMotion::Free;
+            (0..model.bodies.len()).filter(moves).collect()
+        });
+        if parallel && movers.len() >= self.options.parallel_integration_bodies {
+            let bodies = model.bodies.par_iter().zip(motions.par_iter_mut()).zip(states.par_iter());
+            bodies.zip(still.par_iter()).for_each(|(((body, motion), state), &still)| {
+                if !still && body.motion == BodyMotion::Free {
+                    move_free(body, motion, state, step, t0, dt);
+                }
+            });
         } else {
-            let bodies = model.bodies.iter().zip(world.motions.iter_mut()).zip(world.states.iter_mut());
-            bodies.zip(advanced.iter()).zip(self.still.iter()).for_each(commit);
+            for &i in movers.iter() {
+                move_free(&model.bodies[i], &mut motions[i], &states[i], step, t0, dt);
+            }
         }
         Ok(())
     }
+}
+
+/// Body `body`'s integrator step from `state`, with its dynamics (`None`
+/// for a body that is not integrated).
+fn advance<'a>(model: &'a Model, body: &'a Body, state: &RigidState) -> Option<(Dynamics<'a>, Advance)> {
+    let dynamics = body.dynamics(model.gravity)?;
+    let step = integrate_turning(state, &dynamics, model.integrator, model.gyroscopic, model.dt);
+    Some((dynamics, Advance { step }))
 }
 
 /// What the checks of the bodies' steps found (see `integrate_into`).
@@ -190,6 +228,11 @@ enum Failure {
 }
 
 impl Advance {
+    /// The motion over the step from state `before` to this step's end.
+    fn motion_from(&self, before: &RigidState, dt: Real) -> StepMotion {
+        StepMotion::between_turning(&before.pose(), &self.step.next.pose(), dt, self.step.turn)
+    }
+
     /// The first check the step fails, in order: a finite state, a turn
     /// under `MAX_TURN_PER_STEP` (the angle the integrator turned the body
     /// by, not folded to the short way: a turn of nearly 2π is not a small
@@ -208,32 +251,35 @@ impl Advance {
     }
 }
 
+/// A body's step made again, with its energy check when made.
+type Redone = (Option<EnergyCheck>, Advance);
+
 /// The divergence of the first body whose step fails a check, told body
 /// by body in order (the counters counted up to it, as far as its checks
 /// went): a step in which a body diverges moves no body (the run ends at
-/// that step's start). `energy_of`: a body's energy check, when made.
+/// that step's start). `redo(i, body)`: an integrated body's step again
+/// from its state at the step's start, and its energy check when made
+/// (`None` for a body that is not integrated or is still).
 fn first_divergence(
     model: &Model,
-    advanced: &Advanced,
     counters: &mut Counters,
-    energy_of: &dyn Fn(usize, &Advance) -> Option<EnergyCheck>,
+    redo: &dyn Fn(usize, &Body) -> Option<Redone>,
     step: u64,
 ) -> Termination {
-    for (i, step_of) in advanced.iter().enumerate() {
-        let Some(advance) = step_of else { continue };
+    for (i, body) in model.bodies.iter().enumerate() {
+        let Some((energy, advance)) = redo(i, body) else { continue };
         counters.work.gyroscopic_unconverged += usize::from(!advance.step.converged);
-        let energy = energy_of(i, advance);
         let failure = advance.failure(model.dt, energy);
         if let (None | Some(Failure::EnergyGrew), Some(check)) = (failure, energy) {
             counters.work.max_energy_drift = counters.work.max_energy_drift.max(check.drift());
         }
-        let name = &model.bodies[i].name;
+        let name = &body.name;
         let reason = match failure {
             None => continue,
             Some(Failure::NotFinite) => format!("the state of `{name}` is no longer finite (the integration diverged): lower `dt` or pick a more stable integrator"),
             Some(Failure::Turned(turn)) => format!("`{name}` turned {turn:.3} rad in one step (at most π/2 is allowed, so that the motion within a step is defined): lower `dt`"),
             Some(Failure::EnergyGrew) => {
-                let (Some(dynamics), Some(check)) = (model.bodies[i].dynamics(model.gravity), energy) else {
+                let (Some(dynamics), Some(check)) = (body.dynamics(model.gravity), energy) else {
                     continue;
                 };
                 let (initial, energy, time) = (check.initial, check.now, (step + 1) as Real * model.dt);
@@ -248,39 +294,23 @@ fn first_divergence(
     unreachable!("a body's step failed a check")
 }
 
-/// Body `body`'s motion over step `step` (starting at `t0`), and an
-/// integrated body's state at its end (`step_of`).
-fn commit_step(
+/// A free (not integrated) body's motion over step `step` (starting at
+/// `t0`): from its state where it has one (the response can stop it), else
+/// from its keyframe path or its constant velocities.
+fn move_free(
     body: &Body,
     motion: &mut StepMotion,
-    state: &mut Option<RigidState>,
-    step_of: &Option<Advance>,
+    state: &Option<RigidState>,
     step: u64,
     t0: Real,
     dt: Real,
 ) {
-    // An integrated body's step (only integrated bodies with a state have
-    // one): its body is not read (in a scene of many bodies, reading each
-    // body again was a good part of this pass).
-    if let Some(Advance { step: IntegratorStep { next, turn, .. } }) = step_of {
-        let before = state.replace(*next).map_or_else(|| body.pose, |s| s.pose());
-        *motion = StepMotion::between_turning(&before, &next.pose(), dt, *turn);
-        return;
-    }
-    *motion = match &body.motion {
-        // A fixed body's motion is the world's from its start (nothing
-        // stops or moves a fixed body): nothing to do.
-        BodyMotion::Fixed => return,
-        BodyMotion::Free => match state {
-            // Kinematic with a state (the response can stop it): from where
-            // the last step left it.
-            Some(state) => StepMotion::new(state.pose(), state.velocity, state.angular_velocity),
-            None => match &body.path {
-                Some(path) => path.motion(step, dt),
-                None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
-            },
+    *motion = match state {
+        Some(state) => StepMotion::new(state.pose(), state.velocity, state.angular_velocity),
+        None => match &body.path {
+            Some(path) => path.motion(step, dt),
+            None => StepMotion::free(&body.pose, body.velocity, body.angular_velocity, t0),
         },
-        BodyMotion::Integrated { .. } => return,
     };
 }
 

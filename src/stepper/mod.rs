@@ -127,6 +127,9 @@ pub(crate) struct Stepper {
     /// put (in the stepper's own integration: fixed, or free at rest). The
     /// integration passes over them without reading them.
     still: Vec<bool>,
+    /// The bodies that move in the stepper's own integration without being
+    /// integrated (free, not still), found at its first step.
+    movers: Option<Vec<usize>>,
     /// The trace, when the scene asks for one.
     trace: Option<TraceObserver>,
     /// The pose record, when the scene asks for one.
@@ -163,8 +166,8 @@ struct Scratch {
     found: Vec<Found>,
     /// The buffers of a response that stops bodies in time order.
     stops: respond::Stops,
-    /// The integrated states of a step.
-    advanced: integrate::Advanced,
+    /// The integrated bodies' velocities at the step's start.
+    saved: integrate::SavedVelocities,
 }
 
 impl Stepper {
@@ -183,6 +186,7 @@ impl Stepper {
             broad: (options.broad_phase && model.bodies.len() > 2).then(BroadPhase::default),
             fixed_apart: None,
             still: model.bodies.iter().map(|b| b.motion == BodyMotion::Fixed).collect(),
+            movers: None,
             trace: run.and_then(|run| {
                 TraceObserver::of(&model, run, options.parallel.then_some(options.parallel_trace_pairs))
             }),
@@ -416,12 +420,21 @@ impl Stepper {
             None => Vec::new(),
         };
         // The motions are those of the last step taken (after a divergence,
-        // the step before the one that failed: the bodies are at its end).
-        let at = match termination {
-            Termination::Diverged { .. } => model.dt,
-            _ => end_time - last_step_start,
-        };
-        let final_states = (0..model.bodies.len()).map(|i| world.state_at(i, at)).collect();
+        // the step before the one that failed: the bodies are at its end;
+        // an integrated body, whose motion was the failed step's, is its
+        // state, undone to the failed step's start).
+        let diverged = matches!(termination, Termination::Diverged { .. });
+        let at = if diverged { model.dt } else { end_time - last_step_start };
+        let final_states = (0..model.bodies.len())
+            .map(|i| match &world.states[i] {
+                Some(state)
+                    if diverged && matches!(model.bodies[i].motion, BodyMotion::Integrated { .. }) =>
+                {
+                    *state
+                }
+                _ => world.state_at(i, at),
+            })
+            .collect();
         // The step's buffers go before the result is built beside them (a
         // third of the run's peak at 100,000 bodies).
         (self.broad, self.scratch) = (None, Scratch::default());

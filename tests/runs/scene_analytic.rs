@@ -354,24 +354,32 @@ fn a_path_body_rests_after_its_last_keyframe() {
 /// A step in which one body diverges moves no body: the run ends at that
 /// step's start, every body where the step found it (a drifting body
 /// listed before the diverging one included: it is at `x0 + v t` of the
-/// failing step's start, not a step further).
+/// failing step's start, not a step further), and each as the same scene
+/// run only up to that start leaves it. Every body falls (integrated): the
+/// stage made and committed the steps of the two listed first before it
+/// met the failing one, and undid them.
 #[test]
 fn a_diverging_step_moves_no_body() {
     // Explicit Euler on an undamped spring (ω dt = 1) doubles the energy
     // every step.
-    let result = run_ron(
-        r#"Scene(name: "t", dt: 0.01, duration: 1.0, integrator: ExplicitEuler,
+    let scene = |duration: &str| {
+        format!(
+            r#"Scene(name: "t", dt: 0.01, duration: {duration}, integrator: ExplicitEuler, gravity: (0.0, 0.0, -1.0),
             springs: [(body: "bob", anchor: (0.0, 0.0, 0.0), stiffness: 1e4)],
             bodies: [
                 (name: "drifter", mesh: Box(half_extents: (0.1, 0.1, 0.1)), position: (0.0, 50.0, 0.0),
                  velocity: (1.0, 0.0, 0.0), mass: 1.0),
+                (name: "tumbler", mesh: Box(half_extents: (0.1, 0.2, 0.3)), position: (0.0, -50.0, 0.0),
+                 velocity: (0.0, 0.0, 1.0), angular_velocity: (0.0, 1.0, 2.0), mass: 1.0),
                 (name: "bob", mesh: Box(half_extents: (0.05, 0.05, 0.05)), position: (1.0, 0.0, 0.0), mass: 1.0),
-            ])"#,
-    );
+            ])"#
+        )
+    };
+    let result = run_ron(&scene("1.0"));
     let nearmiss::run::Termination::Diverged { body, step, .. } = result.termination else {
         panic!("the spring should diverge: {:?}", result.termination)
     };
-    assert_eq!((body, result.steps), (1, step + 1));
+    assert_eq!((body, result.steps), (2, step + 1));
     assert!(step >= 1, "it should diverge after a step or more, not at once");
     let start = step as f64 * 0.01;
     assert_eq!(result.end_time, start, "the run ends at the failing step's start");
@@ -380,4 +388,20 @@ fn a_diverging_step_moves_no_body() {
         (drifter.x - start).abs() <= 1e-12 && drifter.y == 50.0,
         "{drifter} at the failing step's start {start}"
     );
+    // The same scene run for `step` steps ends where the failing step began:
+    // the same velocities (each a body's state), the same poses (a state
+    // there, a motion's end here) to a few ulps.
+    let shorter = run_ron(&scene(&format!("{start:?}")));
+    assert_eq!((shorter.steps, shorter.end_time), (step, start));
+    for (diverged, stopped) in result.final_states.iter().zip(&shorter.final_states) {
+        assert_eq!(
+            (diverged.velocity, diverged.angular_velocity),
+            (stopped.velocity, stopped.angular_velocity)
+        );
+        assert!((diverged.position - stopped.position).norm() <= 1e-12, "{diverged:?} against {stopped:?}");
+        assert!(
+            diverged.orientation.angle_to(&stopped.orientation) <= 1e-12,
+            "{diverged:?} against {stopped:?}"
+        );
+    }
 }
