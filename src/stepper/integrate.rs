@@ -112,7 +112,10 @@ impl Stepper {
                          state: &mut Option<RigidState>,
                          motion: &mut StepMotion,
                          saved: &mut (Vector, Vector)| {
-            let Some(current) = state.as_mut().filter(|_| !still[i]) else { return Checked::default() };
+            if still[i] {
+                return Checked::default();
+            }
+            let Some(current) = state.as_mut() else { return Checked::default() };
             let Some((dynamics, advance)) = advance(model, body, current) else { return Checked::default() };
             let checks = checked(i, &dynamics, &advance);
             *saved = (current.velocity, current.angular_velocity);
@@ -138,8 +141,8 @@ impl Stepper {
             for (i, ((body, state), motion)) in
                 model.bodies.iter().zip(states.iter_mut()).zip(motions.iter()).enumerate()
             {
-                let integrated = matches!(body.motion, BodyMotion::Integrated { .. });
-                if let Some(current) = state.as_mut().filter(|_| integrated && !still[i]) {
+                let integrated = !still[i] && matches!(body.motion, BodyMotion::Integrated { .. });
+                if let Some(current) = state.as_mut().filter(|_| integrated) {
                     let (velocity, angular_velocity) = saved[i];
                     let start = &motion.reference;
                     *current = RigidState {
@@ -151,7 +154,7 @@ impl Stepper {
                 }
             }
             let redo = |i: usize, body: &Body| {
-                let state = states[i].as_ref().filter(|_| !still[i])?;
+                let state = if still[i] { None } else { states[i].as_ref() }?;
                 let (dynamics, advance) = advance(model, body, state)?;
                 Some((energy_of(i, &dynamics, &advance), advance))
             };
