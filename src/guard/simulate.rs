@@ -120,9 +120,11 @@ impl RapierScene {
         // The scene's gravity where it pulls an integrated body (rapier's
         // dynamic bodies of a scene with none, `--compare rapier` of a scene
         // under another response, keep their velocities).
-        let integrated = |b: &crate::scene::Body| matches!(b.motion, BodyMotion::Integrated { .. });
-        let gravity =
-            if scene.model.bodies.iter().any(integrated) { scene.model.gravity } else { Vector::zeros() };
+        let gravity = if scene.model.bodies.iter().any(crate::scene::Body::is_integrated) {
+            scene.model.gravity
+        } else {
+            Vector::zeros()
+        };
         // One collider shape per mesh asset (and shape kind): bodies of one
         // mesh share it, as they share the mesh (a thousand icospheres are
         // one convexity check and one hull).
@@ -337,8 +339,7 @@ pub(crate) fn driver(scene: &Scene, options: RunOptions) -> Result<Guarded, Guar
     let rapier = RapierScene::build(scene, false, true)?;
     // The guard's model: rapier moves the bodies, so none is integrated by
     // the stepper; the dynamic ones are those contacts stop.
-    let stoppable: Vec<bool> =
-        scene.model.bodies.iter().map(|b| matches!(b.motion, BodyMotion::Integrated { .. })).collect();
+    let stoppable: Vec<bool> = scene.model.bodies.iter().map(crate::scene::Body::is_integrated).collect();
     let mut guarded = scene.model.clone();
     for body in Arc::make_mut(&mut guarded.bodies) {
         if body.motion != BodyMotion::Fixed {

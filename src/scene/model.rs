@@ -215,6 +215,12 @@ impl Body {
         }
     }
 
+    /// Whether the body is integrated (moved by forces: gravity, springs,
+    /// contacts).
+    pub fn is_integrated(&self) -> bool {
+        matches!(self.motion, BodyMotion::Integrated { .. })
+    }
+
     /// What an integrated body's step needs (its mass properties, springs
     /// and `gravity`, the scene's), borrowed; `None` for a body that is not
     /// integrated.

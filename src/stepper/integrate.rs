@@ -141,7 +141,7 @@ impl Stepper {
             for (i, ((body, state), motion)) in
                 model.bodies.iter().zip(states.iter_mut()).zip(motions.iter()).enumerate()
             {
-                let integrated = !still[i] && matches!(body.motion, BodyMotion::Integrated { .. });
+                let integrated = !still[i] && body.is_integrated();
                 if let Some(current) = state.as_mut().filter(|_| integrated) {
                     let (velocity, angular_velocity) = saved[i];
                     let start = &motion.reference;

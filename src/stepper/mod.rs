@@ -427,11 +427,7 @@ impl Stepper {
         let at = if diverged { model.dt } else { end_time - last_step_start };
         let final_states = (0..model.bodies.len())
             .map(|i| match &world.states[i] {
-                Some(state)
-                    if diverged && matches!(model.bodies[i].motion, BodyMotion::Integrated { .. }) =>
-                {
-                    *state
-                }
+                Some(state) if diverged && model.bodies[i].is_integrated() => *state,
                 _ => world.state_at(i, at),
             })
             .collect();

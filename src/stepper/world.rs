@@ -199,7 +199,7 @@ impl World {
     pub fn impact_body(&self, model: &Model, i: usize, s: Real) -> ImpactBody {
         let body = &model.bodies[i];
         let state = self.state_at(i, s);
-        let pushable = matches!(body.motion, BodyMotion::Integrated { .. });
+        let pushable = body.is_integrated();
         let rotation = state.orientation.to_rotation_matrix().into_inner();
         let inverse_inertia = match body.inertia.and_then(|inertia| inertia.try_inverse()) {
             Some(inverse) if pushable => rotation * inverse * rotation.transpose(),
