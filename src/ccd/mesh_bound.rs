@@ -75,8 +75,13 @@
 //! `|n × ω| ρ` added to the rate, the box turning) along whichever of the
 //! centre line and the six box face axes separates the boxes most (a flat
 //! node such as a wall is separated along its thin axis, not along an
-//! oblique centre line). The longer of the two times is a lower bound for
-//! every triangle pair below the node.
+//! oblique centre line). Where that is still short and one node is a leaf
+//! more than [`LOPSIDED_RATIO`] times the other's radius, the box slab is
+//! also tried along the direction from the leaf's box's closest point to
+//! the small node's centre (a long sliver beside a small node off its
+//! edge: neither the centre line nor a face axis sees the gap there). The
+//! longer of the times is a lower bound for every triangle pair below the
+//! node.
 
 use crate::math::{Pose, Real, Vector};
 use crate::mesh::BvhNode;
@@ -161,6 +166,13 @@ pub(crate) const SPIN_SWEEP_MIN_TURN: Real = 1.0;
 /// rest of the interval (a spin-swept region is far larger than the node,
 /// so it helps only where the rates leave almost nothing). `1/64`.
 pub(crate) const SPIN_SWEEP_MAX_RATE_FRACTION: Real = 1.0 / 64.0;
+
+/// A node pair is bounded also along a box's closest-point direction to
+/// the other node's centre only where that box is a leaf's, more than this
+/// many times the other node's radius: `2`. Elsewhere opening the pair
+/// tightens its bound at least as well, and the bunnies' time of impact
+/// took 10–13% longer with the slabs from both boxes tried on every pair.
+pub(crate) const LOPSIDED_RATIO: Real = 2.0;
 
 /// ... and only in a query that has already taken this many advancement
 /// steps (a query that advances well needs no more; a fast spin takes
@@ -264,6 +276,35 @@ impl<'n> NodePair<'n> {
     fn box_axes(&self, k: usize) -> (Vector, Vector) {
         (self.na.axes.column(k).into_owned(), self.frame.rotation * self.nb.axes.column(k))
     }
+
+    /// Where one node is a leaf more than [`LOPSIDED_RATIO`] times the
+    /// other's radius, the direction (in a's frame, from a towards b) from
+    /// that leaf's box's closest point to the small node's centre; `None`
+    /// otherwise, or where the centre faces one of the box's faces (the
+    /// direction is then that face's axis, already tried) or lies inside
+    /// it. Along it the leaf's box lies wholly behind its closest point, so
+    /// the slab is the box's distance to the small node's centre less that
+    /// node's support: for a long thin leaf (a sliver of a gear's tooth)
+    /// beside a small node off its edge, far tighter than the centre line or
+    /// any face axis. Opening such a pair splits only the small node, which
+    /// leaves the leaf's slack as it is.
+    #[inline]
+    fn leaf_to_small_node(&self) -> Option<Vector> {
+        let (na, nb) = (self.na, self.nb);
+        let toward = |axes: &Matrix3<Real>, half: &Vector, from_box_centre: &Vector| {
+            let local = axes.tr_mul(from_box_centre);
+            let outside = local.zip_map(half, |x, h| x - x.clamp(-h, h));
+            let beyond = outside.iter().filter(|&&x| x != 0.0).count();
+            (beyond >= 2).then(|| (axes * outside).normalize())
+        };
+        if na.is_leaf() && na.radius > LOPSIDED_RATIO * nb.radius {
+            toward(&na.axes, &na.half_extents, &self.offset)
+        } else if nb.is_leaf() && nb.radius > LOPSIDED_RATIO * na.radius {
+            toward(&(self.frame.rotation * nb.axes), &nb.half_extents, &-self.offset).map(|u| -u)
+        } else {
+            None
+        }
+    }
 }
 
 #[inline]
@@ -319,7 +360,21 @@ fn node_pair_bounds(
             best = consider(best, axis_b);
         }
     }
-    let box_time = box_time(&best.1, best.0);
+    let (mut gap, mut box_direction) = best;
+    let mut slab_time = box_time(&box_direction, gap);
+    if sphere_time.max(slab_time) < needed {
+        // Still short: for a large leaf beside a small node, the slab along
+        // the leaf's closest-point direction, kept where it lasts longer.
+        if let Some(u) = pair.leaf_to_small_node() {
+            let along = box_gap(&u);
+            gap = gap.max(along);
+            let time = box_time(&u, along);
+            if time > slab_time {
+                (slab_time, box_direction) = (time, u);
+            }
+        }
+    }
+    let box_time = slab_time;
     let mut spin_time = 0.0;
     let rate_time = sphere_time.max(box_time);
     if rate_time < needed
@@ -331,7 +386,7 @@ fn node_pair_bounds(
             spin_time = horizon;
         }
     }
-    NodeBounds { sphere_time, box_time, box_direction: best.1, spin_time, gap: best.0.max(spheres) }
+    NodeBounds { sphere_time, box_time, box_direction, spin_time, gap: gap.max(spheres) }
 }
 
 /// The widest gap over the `horizon` between the spin-swept regions of
@@ -634,5 +689,62 @@ mod tests {
             }
         }
         assert!(spheres > 100 && boxes > 100, "{spheres} sphere and {boxes} box bounds checked");
+    }
+    #[test]
+    fn a_long_leaf_is_bounded_along_its_closest_point_to_a_small_node() {
+        // A gear tooth's sliver: a 6 × 0.17 strip of two triangles, one
+        // leaf, beside a small icosphere off its edges (outside its box in
+        // two or three axes), as the gear ring of `pybullet_data` meets a
+        // robot link. The node bound's gap must be the strip's distance to
+        // the sphere's centre less its radius (the strip is its own box):
+        // the centre line and the face axes give less off a corner. And the
+        // bound holds over its time along its direction.
+        let strip = TriMesh::new(
+            vec![
+                crate::math::Point::new(-3.0, -0.085, 0.0),
+                crate::math::Point::new(3.0, -0.085, 0.0),
+                crate::math::Point::new(3.0, 0.085, 0.0),
+                crate::math::Point::new(-3.0, 0.085, 0.0),
+            ],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .unwrap();
+        let small = icosphere(0.05, 1).unwrap();
+        let (leaf, node) = (strip.bvh().nodes()[0], small.bvh().nodes()[0]);
+        assert!(leaf.is_leaf() && leaf.radius > LOPSIDED_RATIO * node.radius);
+        let mut rng = Rng::new(11);
+        let target = 0.01;
+        for case in 0..500 {
+            // The sphere's centre 0.3–1 from the strip, beyond an end or a
+            // long side and above or below it.
+            let along = if case % 2 == 0 { 3.0 + rng.range(0.0, 0.7) } else { rng.range(-2.5, 2.5) };
+            let side = 0.085 + rng.range(0.2, 0.7);
+            let centre = Vector::new(along, side, rng.range(-0.7, 0.7));
+            let a = StepMotion::new(Pose::identity(), rng.in_unit_ball() * 0.3, rng.in_unit_ball() * 0.3);
+            // Closing on the strip, so that every bound is sought.
+            let closing = -centre.normalize() * rng.range(0.5, 2.0) + rng.in_unit_ball() * 0.2;
+            let b = StepMotion::new(Pose::new(centre, rng.in_unit_ball()), closing, rng.in_unit_ball());
+            let frame = frame_at_start(&a, &b);
+            let bounds = node_pair_bounds(&leaf, &node, &frame, target, (Real::INFINITY, 0.0));
+            let distance = (0..2)
+                .map(|t| {
+                    crate::kernels::point_triangle(&crate::math::Point::from(centre), &strip.triangle(t))
+                        .distance
+                })
+                .fold(Real::INFINITY, Real::min);
+            assert!(
+                bounds.gap >= distance - node.radius - 1e-12,
+                "case {case}: gap {} below the strip's distance {distance} less the radius {}",
+                bounds.gap,
+                node.radius
+            );
+            let (a_points, b_points) = (vertices_below(&strip, &leaf), vertices_below(&small, &node));
+            let time = bounds.box_time.min(1.0);
+            for k in 0..=40 {
+                let t = time * k as Real / 40.0;
+                let g = gap_at(&bounds.box_direction, &a_points, &a, &b_points, &b, t);
+                assert!(g >= target - 1e-12, "case {case}: gap {g} at {t} < target, bound {time}");
+            }
+        }
     }
 }
