@@ -194,6 +194,21 @@ pub(crate) fn mesh_time_of_impact_with(
     finish(&pair, kernel, reached, result, scratch, work)
 }
 
+/// The search starts again from the roots after a step at least
+/// [`FRONT_RESET_GROWTH`] times the one before whose search evaluated more
+/// than this many triangle pairs: `4096`. After a closest approach the
+/// front stays cut at the triangle pairs opened there, and on the way out
+/// each is bounded again every step (a KUKA base link passing the gear
+/// ring of `pybullet_data`: about 50,000 a step, a closest approach of
+/// 148 ms, 105 ms with the restart). 1,024 restarted too often while the
+/// pair still closed (47 → 66 ms on another pair); 4,096 and 16,384 (with
+/// a growth of 1.2) did no worse on any of 14 such pairs.
+pub(crate) const FRONT_RESET_TRIANGLE_PAIRS: usize = 4096;
+
+/// ... and the step grew by this factor: `1.5` (the distance above the
+/// target is widening).
+pub(crate) const FRONT_RESET_GROWTH: Real = 1.5;
+
 /// What the BVH search asks of a pair: its motion, contract, kernel and
 /// options, and the status of a contact found at its first iteration.
 #[derive(Copy, Clone)]
@@ -228,6 +243,7 @@ fn search(
     let min_step = if speed > 0.0 { (contact_distance - target) / speed } else { Real::INFINITY };
     let meshes = SearchMeshes { a: a.mesh, b: b.mesh, kernel };
     scratch.front.reset();
+    let mut last_step = Real::INFINITY;
     for iteration in 0..options.max_iterations.max(1) {
         if iteration == SPIN_SWEEP_AFTER_ITERATIONS {
             // The spin-swept bounds start now: from the roots again, so
@@ -250,6 +266,7 @@ fn search(
             spin_sweep: iteration >= SPIN_SWEEP_AFTER_ITERATIONS,
         };
         result.iterations += 1;
+        let evaluated_before = work.triangle_pairs;
         match scratch.front.advance(&meshes, &frame, &limits, hint, work) {
             StepOutcome::Contact { pair } => {
                 let status = if iteration == 0 { first_touch } else { CcdStatus::Converged };
@@ -264,6 +281,16 @@ fn search(
                     return None;
                 }
                 s += step;
+                if step > FRONT_RESET_GROWTH * last_step
+                    && work.triangle_pairs - evaluated_before > FRONT_RESET_TRIANGLE_PAIRS
+                {
+                    // Moving away from a close pass: the front is still cut
+                    // at the triangle pairs opened there, each bounded again
+                    // every step. From the roots, the next search opens
+                    // only what the wider distance above the target needs.
+                    scratch.front.reset();
+                }
+                last_step = step;
             }
         }
     }
