@@ -272,3 +272,33 @@ fn a_ball_through_a_turning_ring_is_bracketed() {
         assert!((there - approach.upper).abs() <= rounding, "{there} at the time vs {approach:?}");
     }
 }
+
+/// A comb of long thin strips in the plane `z = 0` (a gear ring's tooth
+/// flanks, as slivers 6 long and 0.17 wide, two to a BVH leaf) and a small
+/// cube passing over it diagonally with its bottom face `gap` above the
+/// plane: wherever the cube is over a strip its face is parallel to it, so
+/// the closest approach is `gap`. The node bounds here are those of long
+/// leaves beside a small node (session 38): the bracket must still hold.
+#[test]
+fn a_small_cube_over_a_comb_of_slivers_is_bracketed() {
+    let (mut vertices, mut triangles) = (Vec::new(), Vec::new());
+    for k in -10..=10 {
+        let y = 0.5 * k as Real;
+        let first = vertices.len() as u32;
+        for (x, dy) in [(-3.0, -0.085), (3.0, -0.085), (3.0, 0.085), (-3.0, 0.085)] {
+            vertices.push(nearmiss::math::Point::new(x, y + dy, 0.0));
+        }
+        triangles.extend([[first, first + 1, first + 2], [first, first + 2, first + 3]]);
+    }
+    let comb = TriMesh::new(vertices, triangles).unwrap();
+    let cube = box_mesh(&Vector::new(0.05, 0.05, 0.05)).unwrap();
+    let fixed = StepMotion::new(Pose::identity(), Vector::zeros(), Vector::zeros());
+    for gap in [1e-3, 0.1, 1.15] {
+        let start = Pose::translation(-4.0, -3.0, gap + 0.05);
+        let moving = StepMotion::new(start, Vector::new(4.0, 3.0, 0.0), Vector::zeros());
+        let approach = bracket(&comb, &fixed, &cube, &moving, 2.0, Real::INFINITY);
+        assert_eq!(approach.status, ApproachStatus::Bracketed, "gap {gap}: {approach:?}");
+        assert!(approach.lower <= gap && gap <= approach.upper * (1.0 + 1e-12), "gap {gap}: {approach:?}");
+        assert!(approach.upper - approach.lower <= 1e-6 * cube.radius(), "gap {gap}: {approach:?}");
+    }
+}
