@@ -690,6 +690,7 @@ mod tests {
         }
         assert!(spheres > 100 && boxes > 100, "{spheres} sphere and {boxes} box bounds checked");
     }
+
     #[test]
     fn a_long_leaf_is_bounded_along_its_closest_point_to_a_small_node() {
         // A gear tooth's sliver: a 6 × 0.17 strip of two triangles, one

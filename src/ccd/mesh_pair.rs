@@ -200,9 +200,11 @@ pub(crate) fn mesh_time_of_impact_with(
 /// front stays cut at the triangle pairs opened there, and on the way out
 /// each is bounded again every step (a KUKA base link passing the gear
 /// ring of `pybullet_data`: about 50,000 a step, a closest approach of
-/// 148 ms, 105 ms with the restart). 1,024 restarted too often while the
-/// pair still closed (47 → 66 ms on another pair); 4,096 and 16,384 (with
-/// a growth of 1.2) did no worse on any of 14 such pairs.
+/// 148 ms, 105 ms with the restart). 1,024 with any growth restarted
+/// while pairs still closed (47 → 66 ms on another pair); 4,096, 8,192 and
+/// 16,384 (with a growth of 1.2) were no slower beyond noise on the other
+/// 13 of the 14 slowest real-mesh pairs tried, and two were faster (44 →
+/// 21–23 ms, 21 → 13).
 pub(crate) const FRONT_RESET_TRIANGLE_PAIRS: usize = 4096;
 
 /// ... and the step grew by this factor: `1.5` (the distance above the
