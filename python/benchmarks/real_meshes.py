@@ -32,7 +32,8 @@ library gets the same vertices and faces.
 Usage: ``python python/benchmarks/real_meshes.py [--poses N] [--pairs N]
 [--seed S] [--dump DIR]`` with ``pip install pybullet coal python-fcl trimesh`` beside
 nearmiss. ``--dump DIR`` also writes the meshes (OBJ) and the distance
-queries with coal's answers and times (``queries.txt``) for ``tools``'
+queries with coal's answers and times (``queries.txt``), and the tumbling
+pairs with the times measured here (``motions.txt``), for ``tools``'
 ``real_mesh_replay``, which replays them in Rust with the search's counts.
 """
 
@@ -298,6 +299,17 @@ def dump(folder: Path, meshes, rows) -> None:
             out.write(f"{number[id(r['a'])]} {number[id(r['b'])]} {r['kind']} " + " ".join(repr(float(x)) for x in numbers) + "\n")
 
 
+def dump_motions(folder: Path, meshes, rows) -> None:
+    """One line a tumbling pair: the meshes' numbers, each pose as position
+    and row-major rotation, b's velocity and angular velocity, and the
+    times of impact and closest approach measured here (seconds)."""
+    number = {id(m): k for k, m in enumerate(meshes)}
+    with open(folder / "motions.txt", "w") as out:
+        for r in rows:
+            numbers = [*r["pose_a"][0], *r["pose_a"][1].ravel(), *r["pose_b"][0], *r["pose_b"][1].ravel(), *r["drift"], *r["spin"], r["t_toi"], r["t_ca"]]
+            out.write(f"{number[id(r['a'])]} {number[id(r['b'])]} " + " ".join(repr(float(x)) for x in numbers) + "\n")
+
+
 def motions(meshes, count, rng):
     rows = []
     for k in range(count):
@@ -344,7 +356,7 @@ def motions(meshes, count, rng):
             lambda: fcl.continuousCollide(oa, fcl.Transform(pose_a[1], pose_a[0]), ob, fcl.Transform(end_turn @ pose_b[1], pose_b[0] + drift), request, result), 1
         )
         rows.append(dict(a=a, b=b, toi=toi, ca=ca, least=least, t_toi=t_toi, t_ca=t_ca, t_coal=t_coal, t_fcl=t_fcl,
-                         first_toi=first_toi, first_ca=first_ca,
+                         first_toi=first_toi, first_ca=first_ca, pose_a=pose_a, pose_b=pose_b, drift=drift, spin=spin,
                          fcl_hit=result.is_collide, fcl_time=result.time_of_contact))
     return rows
 
@@ -401,7 +413,10 @@ def main() -> None:
     if args.dump:
         dump(args.dump, meshes, rows)
     if args.pairs:
-        report_motions(motions(meshes, args.pairs, rng))
+        tumbling = motions(meshes, args.pairs, rng)
+        report_motions(tumbling)
+        if args.dump:
+            dump_motions(args.dump, meshes, tumbling)
     print(f"\n({time.perf_counter() - started:.0f} s in all; {os.cpu_count()} CPUs)")
 
 

@@ -1,21 +1,37 @@
-//! Replays the distance queries `python/benchmarks/real_meshes.py --dump
-//! DIR` wrote, in Rust: nearmiss's mesh distance at each pose, both
-//! argument orders, with the search's work (node and triangle pairs) beside
-//! coal's distance and time from the Python run. A development aid for the
-//! search's choices (the comparison of record is the Python run, where coal
-//! is measured in the same process).
+//! Replays the queries `python/benchmarks/real_meshes.py --dump DIR`
+//! wrote, in Rust. A development aid for the search's choices (the
+//! comparison of record is the Python run, where coal is measured in the
+//! same process).
 //!
-//! `cargo run --release -p nearmiss-tools --bin real_mesh_replay -- DIR`;
-//! with `HINTED=1` in the environment it also prints, for queries of more
-//! than 5,000 triangle pairs, how many the search takes when started from
-//! its own answer (what a perfect first bound would save).
+//! - **Distances** (`queries.txt`): nearmiss's mesh distance at each pose,
+//!   both argument orders, with the search's work (node and triangle pairs)
+//!   beside coal's distance and time from the Python run. With `HINTED=1`
+//!   in the environment it also prints, for queries of more than 5,000
+//!   triangle pairs, how many the search takes when started from its own
+//!   answer (what a perfect first bound would save).
+//! - **Tumbling pairs** (`motions.txt`): each pair's time of impact and
+//!   closest approach with their defaults, as the Python run calls them (a
+//!   still, b tumbling over one unit of time, a new scratch a call), the
+//!   least of three calls after a first, with the closest approach's runs
+//!   and the pairs whose closest approach takes longest beside their time
+//!   of impact, and the exact distance at the interval's ends (what a
+//!   closest approach over the whole interval measures first). `PAIRS=3,17`
+//!   replays only those pairs (their line numbers from 0); `REPEAT=n` runs
+//!   each closest approach `n` more times first (for a profiler).
+//!
+//! `cargo run --release -p nearmiss-tools --bin real_mesh_replay -- DIR`
 
 use std::path::Path;
 use std::time::Instant;
 
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion};
+use nearmiss::ccd::{
+    closest_approach, mesh_time_of_impact, CcdOptions, ClosestApproachQuery, MeshCcdQuery, MovingMesh,
+    WarmStart,
+};
 use nearmiss::math::{Pose, Real, Vector};
 use nearmiss::mesh::{load_obj, mesh_distance, DistanceSearch, MeshDistanceScratch, TriMesh};
+use nearmiss::motion::StepMotion;
 
 struct Query {
     a: usize,
@@ -45,6 +61,115 @@ fn main() {
     let meshes: Vec<TriMesh> = files.iter().map(|p| load_obj(p).expect("a dumped mesh")).collect();
     let names: Vec<String> =
         files.iter().map(|p| p.file_stem().unwrap().to_string_lossy()[3..].to_string()).collect();
+    if dir.join("queries.txt").exists() {
+        replay_distances(dir, &meshes, &names);
+    }
+    if dir.join("motions.txt").exists() {
+        replay_motions(dir, &meshes, &names);
+    }
+}
+
+/// The least of three timed calls of `call` after a first, and its answer.
+fn least_of_three<T>(mut call: impl FnMut() -> T) -> (Real, T) {
+    let mut answer = call();
+    let mut best = Real::INFINITY;
+    for _ in 0..3 {
+        let start = Instant::now();
+        answer = call();
+        best = best.min(start.elapsed().as_secs_f64());
+    }
+    (best, answer)
+}
+
+/// The tumbling pairs of `motions.txt` (see the module).
+fn replay_motions(dir: &Path, meshes: &[TriMesh], names: &[String]) {
+    let text = std::fs::read_to_string(dir.join("motions.txt")).expect("motions.txt");
+    let only: Option<Vec<usize>> = std::env::var("PAIRS")
+        .ok()
+        .map(|v| v.split(',').map(|k| k.trim().parse().expect("PAIRS: numbers")).collect());
+    let repeat = std::env::var("REPEAT").map_or(0, |v| v.parse::<usize>().expect("REPEAT: a number"));
+    let mut rows = Vec::new();
+    for (k, line) in text.lines().enumerate() {
+        if only.as_ref().is_some_and(|only| !only.contains(&k)) {
+            continue;
+        }
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let v: Vec<Real> = words[2..].iter().map(|w| w.parse().unwrap()).collect();
+        let (a, b) =
+            (&meshes[words[0].parse::<usize>().unwrap()], &meshes[words[1].parse::<usize>().unwrap()]);
+        let still = StepMotion::new(pose(&v[0..12]), Vector::zeros(), Vector::zeros());
+        let tumbling = StepMotion::new(
+            pose(&v[12..24]),
+            Vector::new(v[24], v[25], v[26]),
+            Vector::new(v[27], v[28], v[29]),
+        );
+        let (moving_a, moving_b) =
+            (MovingMesh { mesh: a, motion: &still }, MovingMesh { mesh: b, motion: &tumbling });
+        let (toi_seconds, toi) = least_of_three(|| {
+            mesh_time_of_impact(
+                &MeshCcdQuery::new(moving_a, moving_b, 1.0, CcdOptions::default()),
+                WarmStart::default(),
+                &mut Default::default(),
+            )
+        });
+        for _ in 0..repeat {
+            closest_approach(&ClosestApproachQuery::new(moving_a, moving_b, 1.0), &mut Default::default());
+        }
+        let (ca_seconds, ca) = least_of_three(|| {
+            closest_approach(&ClosestApproachQuery::new(moving_a, moving_b, 1.0), &mut Default::default())
+        });
+        // The exact distance at both ends, as a closest approach over the
+        // whole interval measures first: a floor of its time.
+        let mut distance_scratch = MeshDistanceScratch::default();
+        let (ends_seconds, _) = least_of_three(|| {
+            [0.0, 1.0].map(|s| {
+                let (pose_a, pose_b) = (still.pose_at(s), tumbling.pose_at(s));
+                mesh_distance(a, &pose_a, b, &pose_b, &DistanceSearch::default(), &mut distance_scratch)
+                    .distance
+            })
+        });
+        let pair = format!(
+            "{} / {}",
+            names[words[0].parse::<usize>().unwrap()],
+            names[words[1].parse::<usize>().unwrap()]
+        );
+        println!(
+            "{k:3} {pair:32} time of impact {:9.3} ms ({:?}, {} steps, {} triangle pairs; Python {:.3} ms)  closest approach {:9.3} ms ({:?}, {} runs, [{:.6e}, {:.6e}] at {:.4}; Python {:.3} ms; the ends' distances {:.3} ms)  ×{:.0}",
+            toi_seconds * 1e3,
+            toi.status,
+            toi.iterations,
+            toi.triangle_pairs,
+            v[30] * 1e3,
+            ca_seconds * 1e3,
+            ca.status,
+            ca.runs,
+            ca.lower,
+            ca.upper,
+            ca.time,
+            v[31] * 1e3,
+            ends_seconds * 1e3,
+            ca_seconds / toi_seconds
+        );
+        rows.push((ca_seconds / toi_seconds, ca_seconds, k, pair));
+    }
+    let mut ratios: Vec<Real> = rows.iter().map(|r| r.0).collect();
+    let mut times: Vec<Real> = rows.iter().map(|r| r.1).collect();
+    ratios.sort_by(Real::total_cmp);
+    times.sort_by(Real::total_cmp);
+    if let (Some(ratio), Some(time)) = (ratios.get(ratios.len() / 2), times.get(times.len() / 2)) {
+        println!(
+            "{} pairs: closest approach median {:.3} ms, worst {:.3} ms; ÷ time of impact median {ratio:.1}, worst {:.1}; over 100×: {}",
+            rows.len(),
+            time * 1e3,
+            times[times.len() - 1] * 1e3,
+            ratios[ratios.len() - 1],
+            ratios.iter().filter(|&&r| r > 100.0).count()
+        );
+    }
+}
+
+/// The distance queries of `queries.txt` (see the module).
+fn replay_distances(dir: &Path, meshes: &[TriMesh], names: &[String]) {
     let text = std::fs::read_to_string(dir.join("queries.txt")).expect("queries.txt");
     let queries: Vec<Query> = text
         .lines()
