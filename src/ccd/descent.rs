@@ -1,11 +1,12 @@
-//! The descent of one run's bracket: GJK or exact distance probes along the
-//! step, stepping down to the nearest time by parabolic steps.
+//! The descent of one run's bracket: GJK probes, walks over the meshes'
+//! triangles or exact distances along the step, stepping down to the
+//! nearest time by parabolic steps.
 
 use super::convex_measure::{certificate_slack, measure};
 use super::hull_gap::{convex_distance, ConvexDistance, WarmSimplex};
 use super::query::{MeshCcdScratch, MovingMesh};
 use crate::math::Real;
-use crate::mesh::MeshDistance;
+use crate::mesh::{walk_to_closer_pair, MeshDistance};
 use crate::motion::StepMotion;
 
 /// The descent's first step, a fraction of the rest of the interval:
@@ -25,38 +26,77 @@ pub(super) const DESCENT_STEPS: usize = 48;
 /// distance cannot change by `precision` across it (the distance moves at
 /// most at the head-on speed `|v_a − v_b| + |ω_a| r_a + |ω_b| r_b`), a
 /// parabola's step gains less than `precision`, or [`DESCENT_STEPS`]
-/// steps. The probes are [`Probe`]'s (for two convex meshes, GJK on their
-/// hulls, warm from probe to probe); the best time is measured exactly at
-/// the end. Any measured distance is reached, so this only makes the upper
-/// bound good, never wrong (a minimum missed by more than the proof's
-/// margin is found by the next proving run).
+/// steps. The probes are [`Probe`]'s: for two convex meshes, GJK on their
+/// hulls, warm from probe to probe; otherwise a walk from the closest pair
+/// of the best time so far to a closer one (a few dozen triangle pairs
+/// where an exact distance searches thousands), and the exact distance
+/// where a walk would end the march (over a long step the closest pair may
+/// have moved out of a walk's reach, to a gear's next tooth). The best time
+/// is measured exactly at the end; where that is below what the walks saw
+/// there by more than `precision`, they lost the closest pair, and the
+/// descent is made again on exact distances. Any measured distance is
+/// reached, so this only makes the upper bound good, never wrong (a
+/// minimum missed by more than the proof's margin is found by the next
+/// proving run).
 pub(super) fn descend(
     a: &MovingMesh<'_>,
     b: &MovingMesh<'_>,
-    (start, duration): (Real, Real),
+    interval: (Real, Real),
     precision: Real,
     hint: Option<(usize, usize)>,
     scratch: &mut MeshCcdScratch,
 ) -> (Real, MeshDistance) {
+    let mut probe = Probe::new(a, b, hint, true);
+    let (at, probed, found) = descend_with(&mut probe, interval, precision, scratch);
+    if !probe.walks() || found.distance >= probed - precision {
+        return (at, found);
+    }
+    // The walks lost the closest pair (the best time's distance is below
+    // what they saw there): the descent again, on exact distances.
+    let mut probe = Probe::new(a, b, Some((found.triangle_a, found.triangle_b)), false);
+    let (again_at, _, again) = descend_with(&mut probe, interval, precision, scratch);
+    if again.distance < found.distance {
+        (again_at, again)
+    } else {
+        (at, found)
+    }
+}
+
+/// [`descend`] with `probe`: the best time, its probed distance, and its
+/// exact distance.
+fn descend_with(
+    probe: &mut Probe<'_, '_>,
+    (start, duration): (Real, Real),
+    precision: Real,
+    scratch: &mut MeshCcdScratch,
+) -> (Real, Real, MeshDistance) {
+    let (a, b) = (probe.a, probe.b);
     let speed = (a.motion.velocity - b.motion.velocity).norm()
         + a.motion.angular_velocity.norm() * a.mesh.radius()
         + b.motion.angular_velocity.norm() * b.mesh.radius();
-    let mut probe = Probe::new(a, b, hint);
     let mut best = (start, probe.at(start, scratch));
+    let mut best_pair = probe.hint;
     // March: (previous, best, next) with the distance falling to best.
     let mut previous = start;
     let mut step = (duration - start) * DESCENT_FIRST_STEP_FRACTION;
     let mut next = start;
     while step > 0.0 {
         next = (best.0 + step).min(duration);
-        let found = probe.at(next, scratch);
+        let mut found = probe.at(next, scratch);
+        if found >= best.1 && probe.walks() {
+            // The march would end here: a walk may have lost the closest
+            // pair over the long step (a gear's next tooth), so the exact
+            // distance decides.
+            found = probe.measure(next, scratch).distance;
+        }
         if found >= best.1 {
             break;
         }
         previous = best.0;
         best = (next, found);
+        best_pair = probe.hint;
         if next >= duration {
-            return (best.0, probe.measure(best.0, scratch));
+            return (best.0, best.1, probe.measure(best.0, scratch));
         }
         step *= 2.0;
     }
@@ -91,6 +131,8 @@ pub(super) fn descend(
         };
         step_before_last = last_step;
         last_step = (probe_time - best.0).abs();
+        // A walk starts from the best time's pair, the nearest known one.
+        probe.hint = best_pair;
         let found = probe.at(probe_time, scratch);
         let gain = best.1 - found;
         if found < best.1 {
@@ -102,6 +144,7 @@ pub(super) fn descend(
             third = second;
             second = best;
             best = (probe_time, found);
+            best_pair = probe.hint;
         } else {
             if probe_time < best.0 {
                 lo = probe_time;
@@ -121,34 +164,53 @@ pub(super) fn descend(
             break;
         }
     }
-    (best.0, probe.measure(best.0, scratch))
+    (best.0, best.1, probe.measure(best.0, scratch))
 }
 
 /// The distance probes of a descent. For two convex meshes (exact kernel),
 /// GJK on their vertex hulls, warm from the last probe (the closest
 /// features move little between probes): certified to
 /// [`PROBE_CERTIFICATE_ULPS`](super::convex_measure::PROBE_CERTIFICATE_ULPS) ulps of the pair's scale, a few GJK
-/// iterations instead of a BVH search. Otherwise, or where GJK does not
-/// certify, the exact mesh distance. [`Probe::measure`] gives the exact
+/// iterations instead of a BVH search. For other meshes, when it walks, a
+/// walk from its pair ([`walk_to_closer_pair`]): an upper bound, the
+/// distance where the closest pair lies downhill of the pair. Otherwise,
+/// or where GJK does not certify, the exact mesh distance.
+/// [`Probe::measure`] gives the exact
 /// distance with its points and features (kept from the last exact probe
 /// when it was at that time).
 pub(super) struct Probe<'q, 'm> {
     a: &'q MovingMesh<'m>,
     b: &'q MovingMesh<'m>,
     convex: bool,
+    /// Whether the probes walk from `hint` (two meshes not both convex)
+    /// instead of searching.
+    walk: bool,
     warm: WarmSimplex,
+    /// Where the next walk or search starts: the last probe's closest pair,
+    /// or the one the descent sets.
     hint: Option<(usize, usize)>,
     /// The last exact probe and its time.
     last: Option<(Real, MeshDistance)>,
 }
 
 impl<'q, 'm> Probe<'q, 'm> {
-    fn new(a: &'q MovingMesh<'m>, b: &'q MovingMesh<'m>, hint: Option<(usize, usize)>) -> Probe<'q, 'm> {
+    fn new(
+        a: &'q MovingMesh<'m>,
+        b: &'q MovingMesh<'m>,
+        hint: Option<(usize, usize)>,
+        walk: bool,
+    ) -> Probe<'q, 'm> {
         let convex = a.mesh.is_convex() && b.mesh.is_convex();
-        Probe { a, b, convex, warm: WarmSimplex::default(), hint, last: None }
+        let hint = hint.filter(|&(i, j)| i < a.mesh.triangles().len() && j < b.mesh.triangles().len());
+        Probe { a, b, convex, walk: walk && !convex, warm: WarmSimplex::default(), hint, last: None }
     }
 
-    /// The distance at `s`.
+    /// Whether the probes are walks.
+    fn walks(&self) -> bool {
+        self.walk
+    }
+
+    /// The distance at `s` (a walk's upper bound where [`Probe::walks`]).
     fn at(&mut self, s: Real, scratch: &mut MeshCcdScratch) -> Real {
         if self.convex {
             let relative = StepMotion::relative_pose(self.a.motion, self.b.motion, s);
@@ -158,6 +220,12 @@ impl<'q, 'm> Probe<'q, 'm> {
             {
                 return upper;
             }
+        } else if let Some(start) = self.hint.filter(|_| self.walk) {
+            // From the hint, a walk to a closer pair.
+            let relative = StepMotion::relative_pose(self.a.motion, self.b.motion, s);
+            let (distance, pair) = walk_to_closer_pair(self.a.mesh, self.b.mesh, &relative, start);
+            self.hint = Some(pair);
+            return distance;
         }
         self.measure(s, scratch).distance
     }

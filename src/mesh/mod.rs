@@ -33,11 +33,11 @@ pub(crate) use bvh::BVH_LEAF_SIZE;
 pub(crate) use bvh::PRINCIPAL_BOX_GAIN;
 #[cfg(test)]
 pub(crate) use convex_features::FLAT_EDGE_TOLERANCE;
-pub(crate) use distance::triangle_pair_distance;
 pub use distance::{
     mesh_distance, mesh_distance_brute_force, mesh_distance_relative, DistanceKernel, DistanceSearch,
     MeshDistance, MeshDistanceScratch,
 };
+pub(crate) use distance::{triangle_pair_distance, walk_to_closer_pair};
 pub use files::{load_mesh, read_mesh, weld, MeshFileError, MeshFormat};
 pub use intersection::{
     mesh_intersection, mesh_intersection_brute_force, CrossingPair, MeshIntersection, MeshIntersectionScratch,
