@@ -372,6 +372,7 @@ def report_motions(rows) -> None:
     print(f"nearmiss closest approach: {statuses}; median {statistics.median(r['t_ca'] for r in rows) * 1e3:.2f} ms, "
           f"worst {max(r['t_ca'] for r in rows) * 1e3:.1f} ms; ÷ the same pair's time of impact: median "
           f"{statistics.median(x for x, _ in ratios):.1f}, worst {ratios[0][0]:.1f}")
+    print(f"  over 100× the time of impact: {sum(1 for x, _ in ratios if x > 100)} of {len(rows)}; over 1,000×: {sum(1 for x, _ in ratios if x > 1000)}")
     for ratio, r in ratios[:4]:
         print(f"  {r['a'].name} / {r['b'].name}: closest approach {r['ca'].status}, {r['ca'].runs} run{'' if r['ca'].runs == 1 else 's'}, {r['t_ca'] * 1e3:.2f} ms, "
               f"lower {r['ca'].lower:.6g}; time of impact {r['toi'].status} {r['t_toi'] * 1e3:.2f} ms ({ratio:.0f}×)")
