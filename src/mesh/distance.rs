@@ -345,8 +345,8 @@ fn pair_distance_relative(a: &TriMesh, i: usize, b: &TriMesh, j: usize, relative
 
 /// The most rounds of [`walk_to_closer_pair`]: `16`. Each round looks at
 /// the triangles around the pair's two triangles (those sharing a corner)
-/// and moves to the closest pair among them; a probe that tracks a closest
-/// pair from one time to a nearby one needs one to three.
+/// and moves to the closest pair among them, and the walk ends at the
+/// first round that finds none closer; the cap only bounds a walk's cost.
 pub(crate) const WALK_ROUNDS: usize = 16;
 
 /// From triangle pair `start`, a walk over the meshes' triangles to a
