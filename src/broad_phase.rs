@@ -28,6 +28,8 @@
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 
+use nalgebra::UnitQuaternion;
+
 use crate::math::{Point, Real, Vector};
 use crate::mesh::TriMesh;
 use crate::motion::StepMotion;
@@ -46,19 +48,39 @@ pub type SweptBox = (Point, Point);
 pub fn swept_box(mesh: &TriMesh, motion: &StepMotion, duration: Real, margin: Real) -> SweptBox {
     let (start, end) = (motion.center_at(0.0), motion.center_at(duration));
     let (mut low, mut high) = (start.inf(&end), start.sup(&end));
-    let rotation = motion.rotation_at(0.0).to_rotation_matrix();
+    let (below, above) = swept_reach(mesh, &motion.rotation_at(0.0), &motion.angular_velocity, duration);
+    for k in 0..3 {
+        high[k] += above[k] + margin;
+        low[k] -= below[k] + margin;
+    }
+    (low, high)
+}
+
+/// How far `mesh` reaches below and above its centre along each world
+/// axis over a step of length `duration` that starts turned by `rotation`
+/// and turns with `angular_velocity` (see the module: `min(r, h(0) +
+/// |e × ω| r dt)` per axis and side). [`swept_box`] is the centre's box
+/// over the step grown by these and its margin.
+pub fn swept_reach(
+    mesh: &TriMesh,
+    rotation: &UnitQuaternion<Real>,
+    angular_velocity: &Vector,
+    duration: Real,
+) -> (Vector, Vector) {
+    let rotation = rotation.to_rotation_matrix();
     let radius = mesh.radius();
     let (box_low, box_high) = mesh.bounds();
     let centre = rotation * (box_low.coords + box_high.coords) * 0.5;
     let half = (box_high - box_low) * 0.5;
+    let (mut below, mut above) = (Vector::zeros(), Vector::zeros());
     for k in 0..3 {
         let axis = Vector::ith(k, 1.0);
-        let turn = axis.cross(&motion.angular_velocity).norm() * radius * duration;
+        let turn = axis.cross(angular_velocity).norm() * radius * duration;
         let spread = (0..3).map(|j| rotation[(k, j)].abs() * half[j]).sum::<Real>();
-        high[k] += (centre[k] + spread + turn).min(radius) + margin;
-        low[k] -= (spread - centre[k] + turn).min(radius) + margin;
+        above[k] = (centre[k] + spread + turn).min(radius);
+        below[k] = (spread - centre[k] + turn).min(radius);
     }
-    (low, high)
+    (below, above)
 }
 
 /// Whether two boxes overlap (touching counts).
@@ -163,8 +185,9 @@ struct GridCells {
     /// (so that a cell's neighbours are read in order).
     entries: Vec<u32>,
     sorted: Vec<SweptBox>,
-    /// The large boxes.
+    /// The large boxes: their indices and the boxes.
     large: Vec<u32>,
+    large_boxes: Vec<SweptBox>,
     /// A sample of the boxes' extents (for the median).
     extents: Vec<Real>,
     /// The smallest corner of the grid's boxes' smallest corners, the
@@ -203,12 +226,11 @@ impl GridCells {
     /// Sorts `boxes` into the grid (the buffers are kept between calls):
     /// each box's cell found on rayon's threads when `threads` (the same
     /// grid either way; the sort itself on the calling thread).
-    fn fill(&mut self, boxes: &[SweptBox], threads: bool) {
+    fn fill(&mut self, n: usize, box_of: impl Fn(usize) -> SweptBox + Sync, threads: bool) {
         use rayon::prelude::*;
-        let n = boxes.len();
         let extent = |(low, high): &SweptBox| (high.x - low.x).max(high.y - low.y).max(high.z - low.z);
         self.extents.clear();
-        self.extents.extend(boxes.iter().step_by(EXTENT_SAMPLE_STRIDE).map(extent));
+        self.extents.extend((0..n).step_by(EXTENT_SAMPLE_STRIDE).map(|i| extent(&box_of(i))));
         let middle = self.extents.len() / 2;
         let median = *self.extents.select_nth_unstable_by(middle, |a, b| a.total_cmp(b)).1;
         let limit = LARGE_BOX_FACTOR * median;
@@ -232,9 +254,10 @@ impl GridCells {
             },
             false => span,
         };
+        let add = |span: GridSpan, i: usize| add(span, &box_of(i));
         let GridSpan { low, high, largest, count } = match threads {
-            true => boxes.par_iter().fold(none, add).reduce(none, GridSpan::join),
-            false => boxes.iter().fold(none(), add),
+            true => (0..n).into_par_iter().fold(none, add).reduce(none, GridSpan::join),
+            false => (0..n).fold(none(), add),
         };
         let grid = count > 0;
         let span = if grid { (high - low).max() } else { 0.0 };
@@ -251,21 +274,30 @@ impl GridCells {
         // Each box's cell (`u32::MAX`: large), then a counting sort of the
         // grid's boxes by cell.
         let mut cell_of_box = std::mem::take(&mut self.cell_of);
-        let cell_of = |b: &SweptBox| if in_grid(b) { self.index(&b.0) as u32 } else { u32::MAX };
+        let cell_of = |i: usize| {
+            let b = box_of(i);
+            if in_grid(&b) {
+                self.index(&b.0) as u32
+            } else {
+                u32::MAX
+            }
+        };
         match threads {
-            true => boxes.par_iter().map(cell_of).collect_into_vec(&mut cell_of_box),
+            true => (0..n).into_par_iter().map(cell_of).collect_into_vec(&mut cell_of_box),
             false => {
                 cell_of_box.clear();
-                cell_of_box.extend(boxes.iter().map(cell_of));
+                cell_of_box.extend((0..n).map(cell_of));
             }
         }
         self.cell_of = cell_of_box;
         self.large.clear();
+        self.large_boxes.clear();
         self.starts.clear();
         self.starts.resize(cells + 1, 0);
         for (i, &c) in self.cell_of.iter().enumerate() {
             if c == u32::MAX {
                 self.large.push(i as u32);
+                self.large_boxes.push(box_of(i));
             } else {
                 self.starts[c as usize + 1] += 1;
             }
@@ -282,7 +314,7 @@ impl GridCells {
         for (i, &c) in self.cell_of.iter().enumerate() {
             if c != u32::MAX {
                 let at = self.starts[c as usize] as usize;
-                (self.entries[at], self.sorted[at]) = (i as u32, boxes[i]);
+                (self.entries[at], self.sorted[at]) = (i as u32, box_of(i));
                 self.starts[c as usize] += 1;
             }
         }
@@ -360,13 +392,25 @@ impl GridBroadPhase {
     /// [`GridBroadPhase::pairs_into`], its cells searched on rayon's threads
     /// when `threads` (from [`PARALLEL_GRID_BOXES`] boxes): the same pairs.
     pub fn pairs_into_on(&mut self, boxes: &[SweptBox], pairs: &mut Vec<(usize, usize)>, threads: bool) {
+        self.pairs_of_into_on(boxes.len(), |i| boxes[i], pairs, threads);
+    }
+
+    /// [`GridBroadPhase::pairs_into_on`] of the `n` boxes `box_of(0..n)`
+    /// (read a few times each: made on the fly, they need no buffer).
+    pub fn pairs_of_into_on(
+        &mut self,
+        n: usize,
+        box_of: impl Fn(usize) -> SweptBox + Sync,
+        pairs: &mut Vec<(usize, usize)>,
+        threads: bool,
+    ) {
         pairs.clear();
-        let n = boxes.len();
         if n < 2 {
+            (self.cells.grid, self.cells.large, self.cells.large_boxes) = (false, Vec::new(), Vec::new());
             return;
         }
         let grid = &mut self.cells;
-        grid.fill(boxes, threads && n >= PARALLEL_GRID_BOXES);
+        grid.fill(n, box_of, threads && n >= PARALLEL_GRID_BOXES);
         let grid = &self.cells;
         let shape = grid.shape;
         let cells = shape.iter().product::<usize>();
@@ -408,32 +452,49 @@ impl GridBroadPhase {
         // The large boxes against the grid's boxes in the cells they reach
         // (a box overlapping one has its smallest corner at most a cell
         // below it), and against each other (each pair once).
-        for (k, &l) in grid.large.iter().enumerate() {
-            let (l, large_box) = (l as usize, &boxes[l as usize]);
+        for (k, (&l, large_box)) in grid.large.iter().zip(&grid.large_boxes).enumerate() {
+            let l = l as usize;
             grid.reach(large_box, |b| {
                 if boxes_overlap(large_box, &sorted[b]) {
                     let j = entries[b] as usize;
                     pairs.push((l.min(j), l.max(j)));
                 }
             });
-            for &other in &grid.large[k + 1..] {
-                if boxes_overlap(large_box, &boxes[other as usize]) {
+            for (&other, other_box) in grid.large[k + 1..].iter().zip(&grid.large_boxes[k + 1..]) {
+                if boxes_overlap(large_box, other_box) {
                     pairs.push((l.min(other as usize), l.max(other as usize)));
                 }
             }
         }
         pairs.sort_unstable();
     }
+
+    /// Each box of the last call that overlaps `query`: `visit(i)` with
+    /// its index, in no particular order (none for fewer than two boxes).
+    pub fn overlapping(&self, query: &SweptBox, mut visit: impl FnMut(usize)) {
+        let grid = &self.cells;
+        grid.reach(query, |b| {
+            if boxes_overlap(query, &grid.sorted[b]) {
+                visit(grid.entries[b] as usize);
+            }
+        });
+        for (&l, large_box) in grid.large.iter().zip(&grid.large_boxes) {
+            if boxes_overlap(query, large_box) {
+                visit(l as usize);
+            }
+        }
+    }
 }
 
-/// `find` over `0..count`, appending pairs in order: on rayon's threads
-/// when `threads`, as runs of about a quarter of a thread's share each
-/// (their pairs joined in the runs' order, so the same as on one thread).
-fn in_runs(
+/// `find` over `0..count`, appending what it finds (pairs) in order: on
+/// rayon's threads when `threads`, as runs of about a quarter of a
+/// thread's share each (what they find joined in the runs' order, so the
+/// same as on one thread).
+pub(crate) fn in_runs<T: Send + Copy>(
     count: usize,
     threads: bool,
-    pairs: &mut Vec<(usize, usize)>,
-    find: impl Fn(std::ops::Range<usize>, &mut Vec<(usize, usize)>) + Sync,
+    pairs: &mut Vec<T>,
+    find: impl Fn(std::ops::Range<usize>, &mut Vec<T>) + Sync,
 ) {
     if !threads {
         find(0..count, pairs);
@@ -441,7 +502,7 @@ fn in_runs(
     }
     use rayon::prelude::*;
     let run = count.div_ceil(4 * rayon::current_num_threads()).max(1);
-    let found: Vec<Vec<(usize, usize)>> = (0..count.div_ceil(run))
+    let found: Vec<Vec<T>> = (0..count.div_ceil(run))
         .into_par_iter()
         .map(|k| {
             let mut found = Vec::new();
@@ -579,12 +640,13 @@ impl StaticBoxes {
     pub fn new(boxes: &[SweptBox]) -> StaticBoxes {
         let mut cells = GridCells::default();
         if !boxes.is_empty() {
-            cells.fill(boxes, boxes.len() >= PARALLEL_GRID_BOXES);
+            cells.fill(boxes.len(), |i| boxes[i], boxes.len() >= PARALLEL_GRID_BOXES);
         }
         // The grid keeps its own copy of the boxes, in cell order; what only
         // the fill needs is let go.
-        let large = cells.large.iter().map(|&l| (l, boxes[l as usize])).collect();
-        (cells.cell_of, cells.extents, cells.large) = (Vec::new(), Vec::new(), Vec::new());
+        let large = cells.large.iter().copied().zip(cells.large_boxes.iter().copied()).collect();
+        (cells.cell_of, cells.extents) = (Vec::new(), Vec::new());
+        (cells.large, cells.large_boxes) = (Vec::new(), Vec::new());
         StaticBoxes { count: boxes.len(), cells, large }
     }
 

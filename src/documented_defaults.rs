@@ -87,6 +87,7 @@ fn scene_defaults_are_the_documented_ones() {
     assert_eq!(options.parallel_integration_bodies, 64);
     assert_eq!(options.parallel_narrow_phase_seconds, 1e-4);
     assert_eq!(options.parallel_trace_pairs, 64);
+    assert_eq!(options.kept_boxes_bodies, crate::broad_phase::GRID_BROAD_PHASE_BOXES);
     #[cfg(feature = "rapier")]
     assert_eq!(crate::guard::PARALLEL_NARROW_PHASE_SECONDS, 3e-4);
     assert_eq!(scene.model().parameters, parameters);

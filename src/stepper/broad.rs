@@ -2,7 +2,9 @@
 //! (scenes of more than two bodies; with two, the one pair is kept from
 //! the start). In a run of many bodies that stay put (fixed, or free and
 //! at rest: [`FIXED_APART_BODIES`]), their boxes are made once and kept in
-//! a static grid; each step boxes the moving bodies only. Each pair keeps
+//! a static grid; each step boxes the moving bodies only. Otherwise, from
+//! `RunOptions::kept_boxes_bodies` bodies, each body's box is kept between
+//! steps and made again only when the body leaves it (`kept.rs`). Each pair keeps
 //! its state from the previous step; a new pair starts fresh. A pair in
 //! contact stays in the set until the re-arm stage finds it separated
 //! (farther apart than its re-arm distance), whether or not its boxes
@@ -13,11 +15,13 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use super::kept::{Bodies, KeptBoxes};
 use super::world::{PairState, World};
 use super::Stepper;
 use crate::broad_phase::{swept_box, StaticBoxes, SweptBox};
-use crate::ccd::box_margin;
+use crate::ccd::{box_margin, CcdOptions};
 use crate::math::Real;
+use crate::motion::StepMotion;
 use crate::scene::{BodyMotion, Model};
 
 /// The swept boxes are computed, and parry's tree of them refitted and
@@ -72,6 +76,27 @@ impl FixedApart {
     }
 }
 
+/// The margin of a body's swept box: at least its share of any pair's
+/// contact distance (the contract's box margin), the run's `extra` margin,
+/// and `rounding` times how far the body reaches from the origin over the
+/// step.
+#[derive(Copy, Clone)]
+pub(super) struct BoxMargin<'a> {
+    pub ccd: &'a CcdOptions,
+    pub extra: Real,
+    pub rounding: Real,
+}
+
+impl BoxMargin<'_> {
+    /// The margin of a body of this radius with this motion over a step of
+    /// length `dt`.
+    #[inline]
+    pub(super) fn of(&self, motion: &StepMotion, radius: Real, dt: Real) -> Real {
+        let reach = motion.center_at(0.0).coords.amax() + motion.travel(dt) + radius;
+        box_margin(self.ccd, radius) + self.extra + self.rounding * reach
+    }
+}
+
 impl Stepper {
     /// Replaces `world.pairs` by the pairs of this step's swept boxes.
     pub(super) fn broad_phase(&mut self, world: &mut World) {
@@ -81,16 +106,15 @@ impl Stepper {
             let model = &*model;
             let boxes = &mut self.scratch.boxes;
             let extra_box_margin = self.extra_box_margin;
+            let margin = BoxMargin {
+                ccd: &model.ccd,
+                extra: extra_box_margin,
+                rounding: model.parameters.broad_phase_rounding_ulps * Real::EPSILON,
+            };
+            let mesh = |i: usize| &*model.bodies[i].mesh;
             let swept = |i: usize| {
-                let (body, motion) = (&model.bodies[i], &world.motions[i]);
-                let radius = body.mesh.radius();
-                // Each box grows by at least its share of any pair's contact
-                // distance (the contract's box margin) and a rounding margin.
-                let reach = motion.center_at(0.0).coords.amax() + motion.travel(model.dt) + radius;
-                let margin = box_margin(&model.ccd, radius)
-                    + extra_box_margin
-                    + model.parameters.broad_phase_rounding_ulps * Real::EPSILON * reach;
-                swept_box(&body.mesh, motion, model.dt, margin)
+                let (mesh, motion) = (mesh(i), &world.motions[i]);
+                swept_box(mesh, motion, model.dt, margin.of(motion, mesh.radius(), model.dt))
             };
             // The boxes of the bodies `only` lists (all of them for `None`),
             // each its own: on the threads when there are many (and the
@@ -137,6 +161,10 @@ impl Stepper {
                 }));
                 candidates.extend(apart.still_pairs.iter().flatten());
                 candidates.sort_unstable();
+            } else if model.bodies.len() >= self.options.kept_boxes_bodies {
+                let bodies = Bodies { motions: &world.motions, mesh, margin, dt: model.dt };
+                let kept = self.kept.get_or_insert_with(KeptBoxes::default);
+                kept.pairs_into(&bodies, candidates, parallel);
             } else {
                 let threads = boxes_of(None, boxes);
                 broad.pairs_into_on(boxes, candidates, threads);

@@ -35,6 +35,7 @@ mod broad;
 mod driver;
 mod found;
 mod integrate;
+mod kept;
 mod narrow;
 pub(crate) mod observe;
 mod options;
@@ -123,6 +124,8 @@ pub(crate) struct Stepper {
     /// integration of a scene with many fixed bodies (under a guard, an
     /// engine may move a fixed body: every box is made each step).
     fixed_apart: Option<broad::FixedApart>,
+    /// The bodies' kept boxes, in a run of many bodies (`kept.rs`).
+    kept: Option<kept::KeptBoxes>,
     /// Whether each body is still: fixed (under a guard), or one that stays
     /// put (in the stepper's own integration: fixed, or free at rest). The
     /// integration passes over them without reading them.
@@ -185,6 +188,7 @@ impl Stepper {
             response,
             broad: (options.broad_phase && model.bodies.len() > 2).then(BroadPhase::default),
             fixed_apart: None,
+            kept: None,
             still: model.bodies.iter().map(|b| b.motion == BodyMotion::Fixed).collect(),
             movers: None,
             trace: run.and_then(|run| {
@@ -433,7 +437,7 @@ impl Stepper {
             .collect();
         // The step's buffers go before the result is built beside them (a
         // third of the run's peak at 100,000 bodies).
-        (self.broad, self.scratch) = (None, Scratch::default());
+        (self.broad, self.kept, self.scratch) = (None, None, Scratch::default());
         world.release_buffers();
         let near_misses = match self.near_misses.take() {
             Some(observer) => {

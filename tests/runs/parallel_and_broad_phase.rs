@@ -58,6 +58,28 @@ fn threads_and_broad_phase_change_nothing() {
     assert!(pairs >= RunOptions::default().parallel_trace_pairs && threaded.trace.len() > pairs);
 }
 
+/// Boxes kept between steps (`RunOptions::kept_boxes_bodies`, the broad
+/// phase of many bodies, here from three): the contacts of the run that
+/// queries every pair each step, and the same on the threads as on one.
+#[test]
+fn kept_boxes_change_nothing() {
+    let quiet = &mut |_| {};
+    for (bodies, seed) in [(40, 9), (120, 21)] {
+        let scene = random_scene(bodies, seed);
+        let reference = run_with(
+            &scene,
+            RunOptions { parallel: false, broad_phase: false, ..RunOptions::default() },
+            quiet,
+        );
+        assert!(reference.contacts.len() >= 5, "{} contacts", reference.contacts.len());
+        let kept = RunOptions { kept_boxes_bodies: 3, ..RunOptions::default() };
+        let one = run_with(&scene, RunOptions { parallel: false, ..kept }, quiet);
+        same_contacts(&reference, &one);
+        assert!(one.counters.work.candidate_pairs < reference.counters.work.candidate_pairs / 4);
+        same_outcome(&one, &run_with(&scene, kept, quiet));
+    }
+}
+
 /// A crowd among many fixed bodies (posts on a lattice through the cube):
 /// a run keeps the fixed bodies' boxes in a grid made once (from
 /// `FIXED_APART_BODIES`, 64, of them) and pairs only the moving bodies each
