@@ -161,13 +161,14 @@ impl Stepper {
                 }));
                 candidates.extend(apart.still_pairs.iter().flatten());
                 candidates.sort_unstable();
-            } else if model.bodies.len() >= self.options.kept_boxes_bodies {
-                let bodies = Bodies { motions: &world.motions, mesh, margin, dt: model.dt };
-                let kept = self.kept.get_or_insert_with(KeptBoxes::default);
-                kept.pairs_into(&bodies, candidates, parallel);
             } else {
-                let threads = boxes_of(None, boxes);
-                broad.pairs_into_on(boxes, candidates, threads);
+                let bodies = Bodies { motions: &world.motions, mesh, margin, dt: model.dt };
+                let kept = (model.bodies.len() >= self.options.kept_boxes_bodies)
+                    .then(|| self.kept.get_or_insert_with(KeptBoxes::default));
+                if !kept.is_some_and(|kept| kept.pairs_into(&bodies, candidates, parallel)) {
+                    let threads = boxes_of(None, boxes);
+                    broad.pairs_into_on(boxes, candidates, threads);
+                }
             }
             // The new pairs go into the previous step's spare buffer.
             let mut old = std::mem::replace(&mut world.pairs, std::mem::take(&mut self.scratch.spare_pairs));

@@ -52,6 +52,16 @@ pub(crate) const KEPT_SLACK_RADII: Real = 0.5;
 /// escaped its box: `8`.
 pub(crate) const REBUILD_ESCAPED_DIVISOR: usize = 8;
 
+/// Kept boxes that last fewer steps than this are not worth keeping: `4`
+/// (fast bodies leave them at once; making them costs a little more than
+/// boxing every body in a step, measured at 20 and 100 times
+/// `many_bodies`' speeds: `docs/benchmarks-history.md`, session 40).
+pub(crate) const KEPT_MIN_STEPS: u64 = 4;
+
+/// ... and the broad phase then boxes every body at each step for this
+/// many steps before it tries kept boxes again: `32`.
+pub(crate) const KEPT_PAUSE_STEPS: u64 = 32;
+
 /// `Kept::turn` of a turning body (its kept box is its bounding sphere's).
 const TURNING: u32 = u32::MAX;
 
@@ -119,19 +129,29 @@ pub(crate) struct KeptBoxes {
     /// escaped theirs in the last step (before any new build).
     pub(crate) builds: u64,
     pub(crate) escaped_last: usize,
+    /// Steps since the kept boxes were made, and steps left in which they
+    /// are not used (see [`KEPT_MIN_STEPS`]).
+    lasted: u64,
+    paused: u64,
 }
 
 impl KeptBoxes {
     /// The pairs `(i, j)`, `i < j`, sorted, of the bodies whose swept boxes
     /// over the step overlap, into `pairs` (cleared first); on rayon's
-    /// threads when `threads` (the same pairs).
+    /// threads when `threads` (the same pairs). False, and no pairs, when
+    /// kept boxes are not worth keeping (see [`KEPT_MIN_STEPS`]): the
+    /// caller then boxes every body.
     pub(super) fn pairs_into<'a, M: Fn(usize) -> &'a TriMesh + Sync>(
         &mut self,
         bodies: &Bodies<'a, M>,
         pairs: &mut Vec<(usize, usize)>,
         threads: bool,
-    ) {
+    ) -> bool {
         pairs.clear();
+        if self.paused > 0 {
+            self.paused -= 1;
+            return false;
+        }
         let n = bodies.motions.len();
         let many = threads && n >= PARALLEL_BOX_BODIES;
         self.escapees.clear();
@@ -142,9 +162,18 @@ impl KeptBoxes {
             });
         }
         self.escaped_last = self.escapees.len();
+        self.lasted += 1;
         if self.kept.len() != n || self.escapees.len() * REBUILD_ESCAPED_DIVISOR > n {
+            // Boxes that lasted too few steps, or bodies so fast that more
+            // than one in eight would leave theirs within as few: none.
+            let short = self.kept.len() == n && self.lasted < KEPT_MIN_STEPS;
+            if short || too_fast(bodies, many) {
+                self.paused = KEPT_PAUSE_STEPS;
+                return false;
+            }
             self.build(bodies, many);
             self.escapees.clear();
+            self.lasted = 0;
         }
         let escaped = &mut self.escaped;
         for &e in &self.escapees {
@@ -228,6 +257,7 @@ impl KeptBoxes {
                 self.escaped[e] = false;
             }
         }
+        true
     }
 
     /// Makes every body's kept box, their grid and their pairs.
@@ -325,6 +355,26 @@ fn bound<'a, M: Fn(usize) -> &'a TriMesh + Sync>(
     }
 }
 
+/// Whether more than one body in [`REBUILD_ESCAPED_DIVISOR`] would leave
+/// its kept box within [`KEPT_MIN_STEPS`] steps at its present speed (its
+/// slack, at most [`KEPT_SLACK_RADII`] of its radius, is less than that
+/// many steps of its travel).
+fn too_fast<'a, M: Fn(usize) -> &'a TriMesh + Sync>(bodies: &Bodies<'a, M>, many: bool) -> bool {
+    let n = bodies.motions.len();
+    let fast = |i: usize| {
+        let travel = (bodies.motions[i].velocity * bodies.dt).norm();
+        KEPT_MIN_STEPS as Real * travel > KEPT_SLACK_RADII * (bodies.mesh)(i).radius()
+    };
+    let count = match many {
+        true => {
+            use rayon::prelude::*;
+            (0..n).into_par_iter().filter(|&i| fast(i)).count()
+        }
+        false => (0..n).filter(|&i| fast(i)).count(),
+    };
+    count * REBUILD_ESCAPED_DIVISOR > n
+}
+
 /// Whether the swept box of the body with this motion over the step is
 /// within its kept box (its [`bound`] is).
 #[inline]
@@ -357,9 +407,9 @@ mod tests {
     #[test]
     fn kept_boxes_give_the_pairs_of_brute_force_at_every_step() {
         let meshes = [
-            crate::mesh::icosphere(0.3, 1).expect("an icosphere"),
+            crate::mesh::icosphere(0.6, 1).expect("an icosphere"),
             crate::mesh::box_mesh(&Vector::new(0.8, 0.05, 0.05)).expect("a rod"),
-            crate::mesh::box_mesh(&Vector::new(0.2, 0.3, 0.1)).expect("a box"),
+            crate::mesh::box_mesh(&Vector::new(0.4, 0.5, 0.2)).expect("a box"),
         ];
         let n = 5000;
         let dt = 1.0 / 60.0;
@@ -387,7 +437,7 @@ mod tests {
             let expected = brute_force_pairs(&boxes);
             for (kept, threads) in [(&mut single, false), (&mut threaded, true)] {
                 let mut pairs = vec![(7, 7)];
-                kept.pairs_into(&bodies, &mut pairs, threads);
+                assert!(kept.pairs_into(&bodies, &mut pairs, threads), "step {step}: kept boxes in use");
                 assert_eq!(pairs, expected, "step {step}, threads {threads}");
             }
             escapes += single.escaped_last;
@@ -446,11 +496,48 @@ mod tests {
             let mesh = |i: usize| if i == 0 { &rod } else { &ball };
             let bodies = Bodies { motions: &motions, mesh, margin, dt };
             let mut pairs = Vec::new();
-            kept.pairs_into(&bodies, &mut pairs, false);
+            assert!(kept.pairs_into(&bodies, &mut pairs, false));
             let expected = if step == 0 { vec![] } else { vec![(0, 1)] };
             assert_eq!(pairs, expected, "step {step}");
             poses[0] = motions[0].pose_at(dt);
         }
         assert_eq!(kept.builds, 1, "one body in a hundred escaping makes no new build");
+    }
+
+    /// Bodies so fast that they would leave their kept boxes within a few
+    /// steps get none: the kept boxes give no pairs (the caller boxes every
+    /// body) for `KEPT_PAUSE_STEPS` steps, then try again; slowed down,
+    /// they are kept.
+    #[test]
+    fn fast_bodies_are_boxed_at_every_step_instead() {
+        let ball = crate::mesh::icosphere(0.2, 1).expect("a ball");
+        let dt = 0.01;
+        let ccd = CcdOptions::default();
+        let margin = BoxMargin { ccd: &ccd, extra: 0.0, rounding: 4.0 * Real::EPSILON };
+        let poses: Vec<Pose> =
+            (0..64).map(|k| Pose::new(Vector::new(k as Real, 0.0, 0.0), Vector::zeros())).collect();
+        // 4 steps of travel against half the radius: 0.1 / 4 per step.
+        let motions = |speed: Real| -> Vec<StepMotion> {
+            poses
+                .iter()
+                .map(|&pose| StepMotion::new(pose, Vector::new(0.0, speed, 0.0), Vector::zeros()))
+                .collect()
+        };
+        let (fast, slow) = (motions(0.026 / dt), motions(0.024 / dt));
+        let mut kept = KeptBoxes::default();
+        let mut pairs = vec![(7, 7)];
+        for step in 0..=KEPT_PAUSE_STEPS {
+            let bodies = Bodies { motions: &fast, mesh: |_| &ball, margin, dt };
+            assert!(!kept.pairs_into(&bodies, &mut pairs, false), "step {step}");
+            assert!(pairs.is_empty() && kept.builds == 0);
+        }
+        let bodies = Bodies { motions: &fast, mesh: |_| &ball, margin, dt };
+        assert!(!kept.pairs_into(&bodies, &mut pairs, false), "still too fast after the pause");
+        for _ in 0..KEPT_PAUSE_STEPS {
+            assert!(!kept.pairs_into(&bodies, &mut pairs, false));
+        }
+        let bodies = Bodies { motions: &slow, mesh: |_| &ball, margin, dt };
+        assert!(kept.pairs_into(&bodies, &mut pairs, false), "slower, the boxes are kept");
+        assert_eq!(kept.builds, 1);
     }
 }
