@@ -27,6 +27,7 @@
 //! velocity instead (obstacles at rest, not declared fixed).
 //! With `--final-states PREFIX`: every body's final state and every
 //! contact written to `PREFIX<N>.txt` (to compare two builds).
+//! With `--speed K`: velocities up to `2 K` instead of 2 (fast bodies).
 //! With `--bunnies`: every fifth body (those that were icospheres of 320
 //! triangles) is the Stanford bunny (3,674 triangles, scaled to radius
 //! 0.29; `scripts/fetch-bunny.sh` fetches it).
@@ -52,6 +53,8 @@ struct Setup {
     fixed_first: bool,
     /// `--at-rest`: those bodies kinematic and still, not fixed.
     at_rest: bool,
+    /// `--speed K`: velocities up to `2 K` instead of 2.
+    speed: f64,
 }
 
 /// The bunny's OBJ file (see `scripts/fetch-bunny.sh`).
@@ -68,6 +71,7 @@ fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
         fixed_percent,
         fixed_first,
         at_rest,
+        speed,
     } = setup;
     let mut rng = Rng::new(seed);
     let per_side = (bodies as f64).cbrt().ceil() as usize;
@@ -120,7 +124,7 @@ fn box_scene(bodies: usize, seed: u64, setup: Setup) -> Scene {
             }
             n => format!("mesh: Icosphere(radius: 0.3, subdivisions: {}), density: 1.0", n - 1),
         };
-        let (velocity, spin) = (v(&mut rng, 2.0), v(&mut rng, 8.0));
+        let (velocity, spin) = (v(&mut rng, 2.0 * speed), v(&mut rng, 8.0));
         // `--fixed P`: P in every 100 bodies, spread through the box, or the
         // first P% (the others move as without it).
         let fixed = if fixed_first { k * 100 < fixed_percent * bodies } else { k * 37 % 100 < fixed_percent };
@@ -159,6 +163,7 @@ fn main() {
         near_misses: value_of(&args, "--near-misses", "a near-miss distance"),
         near_miss_tolerance: value_of(&args, "--near-miss-tolerance", "a near-miss tolerance"),
         fixed_percent: value_of(&args, "--fixed", "a percentage of fixed bodies").unwrap_or(0),
+        speed: value_of(&args, "--speed", "a speed factor").unwrap_or(1.0),
         fixed_first: flag("--fixed-first"),
         at_rest: flag("--at-rest"),
     };
@@ -372,8 +377,8 @@ fn simulate_beside_rapier(args: &[String], setup: Setup) {
 }
 
 /// The flags followed by a value (a number among them is not a body count).
-const VALUE_FLAGS: [&str; 6] =
-    ["--steps", "--trace", "--near-misses", "--near-miss-tolerance", "--fixed", "--final-states"];
+const VALUE_FLAGS: [&str; 7] =
+    ["--steps", "--trace", "--near-misses", "--near-miss-tolerance", "--fixed", "--final-states", "--speed"];
 
 /// The body counts among the arguments (the numbers that are not a flag's
 /// value).
