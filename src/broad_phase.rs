@@ -949,6 +949,38 @@ mod tests {
         assert_eq!(on_threads, brute_force_pairs(&boxes));
     }
 
+    /// A query box against the grid's last boxes gives the boxes brute
+    /// force finds overlapping it, the room's large walls among them, and
+    /// queries far outside the grid or as large as it too.
+    #[test]
+    fn grid_overlapping_a_query_equals_brute_force() {
+        let mut rng = Rng::new(71);
+        let boxes = room(&mut rng, 3000);
+        let mut grid = GridBroadPhase::default();
+        let mut pairs = Vec::new();
+        grid.pairs_into(&boxes, &mut pairs);
+        let mut queries: Vec<SweptBox> = (0..200)
+            .map(|_| {
+                let c = Point::from(rng.in_unit_ball() * 9.0);
+                let h = Vector::repeat(rng.range(0.01, 3.0));
+                (c - h, c + h)
+            })
+            .collect();
+        queries.push((Point::new(-200.0, 0.0, 0.0), Point::new(-199.0, 1.0, 1.0)));
+        queries.push((Point::from([-100.0; 3]), Point::from([100.0; 3])));
+        let mut walls_met = 0;
+        for query in &queries {
+            let mut found = Vec::new();
+            grid.overlapping(query, |i| found.push(i));
+            found.sort_unstable();
+            let expected: Vec<usize> =
+                (0..boxes.len()).filter(|&i| boxes_overlap(query, &boxes[i])).collect();
+            assert_eq!(found, expected);
+            walls_met += found.iter().filter(|&&i| i >= 3000).count();
+        }
+        assert!(walls_met > 6, "the walls are met: {walls_met}");
+    }
+
     #[test]
     fn many_boxes_go_through_the_grid_with_the_pairs_of_brute_force() {
         let mut rng = Rng::new(67);
