@@ -4,8 +4,8 @@
 //! at rest: [`FIXED_APART_BODIES`]), their boxes are made once and kept in
 //! a static grid; each step boxes the moving bodies only. Otherwise, from
 //! `RunOptions::kept_boxes_bodies` bodies, each body's box is kept between
-//! steps and made again only when the body leaves it (`kept.rs`). Each pair keeps
-//! its state from the previous step; a new pair starts fresh. A pair in
+//! steps and made again only when the body leaves it (`kept.rs`). Each
+//! pair keeps its state from the previous step; a new pair starts fresh. A pair in
 //! contact stays in the set until the re-arm stage finds it separated
 //! (farther apart than its re-arm distance), whether or not its boxes
 //! still overlap: boxes that fit the meshes part as soon as the meshes are
@@ -18,7 +18,7 @@ use std::time::Instant;
 use super::kept::{Bodies, KeptBoxes};
 use super::world::{PairState, World};
 use super::Stepper;
-use crate::broad_phase::{swept_box, StaticBoxes, SweptBox};
+use crate::broad_phase::{StaticBoxes, SweptBox};
 use crate::ccd::{box_margin, CcdOptions};
 use crate::math::Real;
 use crate::motion::StepMotion;
@@ -112,10 +112,8 @@ impl Stepper {
                 rounding: model.parameters.broad_phase_rounding_ulps * Real::EPSILON,
             };
             let mesh = |i: usize| &*model.bodies[i].mesh;
-            let swept = |i: usize| {
-                let (mesh, motion) = (mesh(i), &world.motions[i]);
-                swept_box(mesh, motion, model.dt, margin.of(motion, mesh.radius(), model.dt))
-            };
+            let bodies = Bodies { motions: &world.motions, mesh, margin, dt: model.dt };
+            let swept = |i: usize| bodies.swept(i);
             // The boxes of the bodies `only` lists (all of them for `None`),
             // each its own: on the threads when there are many (and the
             // tree's refit and traversal with them).
@@ -162,7 +160,6 @@ impl Stepper {
                 candidates.extend(apart.still_pairs.iter().flatten());
                 candidates.sort_unstable();
             } else {
-                let bodies = Bodies { motions: &world.motions, mesh, margin, dt: model.dt };
                 let kept = (model.bodies.len() >= self.options.kept_boxes_bodies)
                     .then(|| self.kept.get_or_insert_with(KeptBoxes::default));
                 if !kept.is_some_and(|kept| kept.pairs_into(&bodies, candidates, parallel)) {

@@ -28,7 +28,9 @@
 //! the pairs are those of brute force over every swept box, sorted (the
 //! same as [`GridBroadPhase`] on them), and so are the same whatever the
 //! threads. The kept boxes are made again when more than one body in
-//! [`REBUILD_ESCAPED_DIVISOR`] has escaped.
+//! [`REBUILD_ESCAPED_DIVISOR`] has escaped. Bodies so fast that boxes
+//! would not last [`KEPT_MIN_STEPS`] steps get none: the broad phase boxes
+//! every body for [`KEPT_PAUSE_STEPS`] steps, then tries again.
 
 use nalgebra::UnitQuaternion;
 
@@ -39,9 +41,9 @@ use crate::mesh::TriMesh;
 use crate::motion::StepMotion;
 
 /// A body's kept box allows its centre this many steps of its travel in
-/// the step it was made: `16` (the three constants here measured on the
-/// `many_bodies` box at 100,000 bodies against 8 and 32, 0.25 and 1, 4 and
-/// 16: `docs/benchmarks-history.md`, session 40).
+/// the step it was made: `16` (this and the next two constants measured
+/// on the `many_bodies` box at 100,000 bodies against 8 and 32, 0.25 and
+/// 1, 4 and 16: `docs/benchmarks-history.md`, session 40).
 pub(crate) const KEPT_SLACK_STEPS: Real = 16.0;
 
 /// ... and at most this part of its radius: `0.5` (a fast body escapes its
@@ -54,12 +56,12 @@ pub(crate) const REBUILD_ESCAPED_DIVISOR: usize = 8;
 
 /// Kept boxes that last fewer steps than this are not worth keeping: `4`
 /// (fast bodies leave them at once; making them costs a little more than
-/// boxing every body in a step, measured at 20 and 100 times
+/// boxing every body in a step, measured at 10 and 20 times
 /// `many_bodies`' speeds: `docs/benchmarks-history.md`, session 40).
 pub(crate) const KEPT_MIN_STEPS: u64 = 4;
 
 /// ... and the broad phase then boxes every body at each step for this
-/// many steps before it tries kept boxes again: `32`.
+/// many steps before it tries kept boxes again: `32` (not tuned).
 pub(crate) const KEPT_PAUSE_STEPS: u64 = 32;
 
 /// `Kept::turn` of a turning body (its kept box is its bounding sphere's).
@@ -96,7 +98,7 @@ pub(super) struct Bodies<'a, M: Fn(usize) -> &'a TriMesh + Sync> {
 
 impl<'a, M: Fn(usize) -> &'a TriMesh + Sync> Bodies<'a, M> {
     /// Body `i`'s swept box.
-    fn swept(&self, i: usize) -> SweptBox {
+    pub(super) fn swept(&self, i: usize) -> SweptBox {
         let (mesh, motion) = ((self.mesh)(i), &self.motions[i]);
         swept_box(mesh, motion, self.dt, self.margin.of(motion, mesh.radius(), self.dt))
     }
