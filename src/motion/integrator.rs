@@ -5,6 +5,7 @@ use nalgebra::{Matrix3, Quaternion, Translation3, UnitQuaternion};
 use serde::{Deserialize, Serialize};
 
 use super::classify::inertia_is_isotropic;
+use super::exponential::turn_exponential;
 use super::gyroscopic::implicit_gyroscopic_step;
 use crate::math::{Point, Pose, Real, Vector};
 
@@ -55,12 +56,18 @@ impl RigidState {
         Pose::from_parts(Translation3::from(self.position.coords), self.orientation)
     }
 
-    /// Whether every component is finite.
+    /// Whether every component is finite: `x × 0` is 0 for a finite `x`
+    /// and NaN otherwise, so the sum of the components' is 0 exactly when
+    /// all are finite (checked every step of every body: no branch per
+    /// component).
+    #[inline]
     pub fn is_finite(&self) -> bool {
-        self.position.coords.iter().all(|c| c.is_finite())
-            && self.orientation.coords.iter().all(|c| c.is_finite())
-            && self.velocity.iter().all(|c| c.is_finite())
-            && self.angular_velocity.iter().all(|c| c.is_finite())
+        let zeros = |xs: &[Real]| xs.iter().map(|x| x * 0.0).sum::<Real>();
+        let sum = zeros(self.position.coords.as_slice())
+            + zeros(self.orientation.coords.as_slice())
+            + zeros(self.velocity.as_slice())
+            + zeros(self.angular_velocity.as_slice());
+        sum == 0.0
     }
 }
 
@@ -261,10 +268,49 @@ pub fn integrate(
 /// within a few ulps of 1 rather than walking.
 #[inline]
 fn turned(q: &UnitQuaternion<Real>, rotation: &Vector) -> UnitQuaternion<Real> {
-    let exponential = UnitQuaternion::from_scaled_axis(*rotation);
+    let exponential = turn_exponential(rotation);
     let size = q.as_ref().norm_squared() * exponential.as_ref().norm_squared();
     let product = q.quaternion() * exponential.quaternion();
     UnitQuaternion::new_unchecked(product * (0.5 * (3.0 - size)))
+}
+
+/// `q` turned by `exp(ω)` (`ω` a world-frame rotation vector), brought
+/// back to unit length as [`turned`] does.
+#[inline]
+fn turned_world(q: &UnitQuaternion<Real>, rotation: &Vector) -> UnitQuaternion<Real> {
+    let exponential = turn_exponential(rotation);
+    let size = q.as_ref().norm_squared() * exponential.as_ref().norm_squared();
+    let product = exponential.quaternion() * q.quaternion();
+    UnitQuaternion::new_unchecked(product * (0.5 * (3.0 - size)))
+}
+
+/// Whether a body's angular velocity stays what it is through a semi-
+/// implicit Euler step: no spring can turn it (gravity acts at the centre
+/// of mass) and it feels no gyroscopic torque (no inertia, or an isotropic
+/// one under the implicit rule, which drops the torque of such a body).
+#[inline]
+fn spins_steadily(dynamics: &Dynamics, gyroscopic: Gyroscopic) -> bool {
+    dynamics.springs.is_empty()
+        && dynamics
+            .inertia
+            .is_none_or(|inertia| gyroscopic == Gyroscopic::Implicit && inertia_is_isotropic(inertia))
+}
+
+/// A semi-implicit Euler step of a body whose angular velocity `ω` stays
+/// (see [`spins_steadily`]): it turns by `exp(ω dt)` in the world frame,
+/// which is the body-frame `q exp(ω_b dt)` of the general step without
+/// taking `ω` into the body frame and back (whose rounding walked `ω` by
+/// an ulp or so a step, where it now stays as it is).
+fn steady_spin_step(state: &RigidState, dynamics: &Dynamics, dt: Real) -> IntegratorStep {
+    let velocity = state.velocity + dynamics.gravity * dt;
+    let omega = state.angular_velocity;
+    let next = RigidState {
+        position: state.position + velocity * dt,
+        orientation: turned_world(&state.orientation, &(omega * dt)),
+        velocity,
+        angular_velocity: omega,
+    };
+    IntegratorStep { next, turn: omega, converged: true }
 }
 
 /// One integrator step ([`integrate_turning`]).
@@ -287,6 +333,7 @@ pub struct IntegratorStep {
 /// exp(ω_b dt)` (`ω_b` body frame), which is the world-frame `q ω_b` over
 /// `dt`; RK4's turn is read back from the two orientations
 /// ([`StepMotion::turn_between`](super::StepMotion::turn_between)).
+#[inline]
 pub fn integrate_turning(
     state: &RigidState,
     dynamics: &Dynamics,
@@ -295,6 +342,9 @@ pub fn integrate_turning(
     dt: Real,
 ) -> IntegratorStep {
     let q = state.orientation;
+    if integrator == Integrator::SymplecticEuler && spins_steadily(dynamics, gyroscopic) {
+        return steady_spin_step(state, dynamics, dt);
+    }
     let omega_body = q.inverse_transform_vector(&state.angular_velocity);
     match integrator {
         Integrator::ExplicitEuler => {
@@ -487,9 +537,8 @@ mod tests {
     }
 
     /// A body whose inertia is isotropic to rounding (an icosphere's) keeps a
-    /// torque-free spin (to the rounding of turning it into the body's frame
-    /// and back), and with a torque turns as the full gyroscopic solve does,
-    /// to that solve's tolerance.
+    /// torque-free spin exactly, turning by it, and with a torque turns as
+    /// the full gyroscopic solve does, to that solve's tolerance.
     #[test]
     fn an_isotropic_body_needs_no_gyroscopic_solve() {
         // An icosphere's inertia, within an ulp or two of isotropic.
@@ -516,8 +565,7 @@ mod tests {
             let step =
                 integrate_turning(&state, &free, Integrator::SymplecticEuler, Gyroscopic::Implicit, 0.01);
             let spin = state.angular_velocity;
-            let drift = (step.next.angular_velocity - spin).norm() / (Real::EPSILON * spin.norm());
-            assert!(drift <= 16.0, "{drift}");
+            assert_eq!((step.next.angular_velocity, step.turn), (spin, spin));
             let omega_body = state.orientation.inverse_transform_vector(&spin);
             // With a spring's torque: beside the full solve.
             let spring = Spring {
@@ -544,6 +592,39 @@ mod tests {
                 "{turned} {}",
                 full.angular_velocity
             );
+        }
+    }
+
+    /// A torque-free spin of an isotropic body over 10,000 steps (a
+    /// hundred seconds at 8 rad/s, 127 turns) against its exact motion,
+    /// `exp(ω t) q₀`: within 1e-11 rad, the steps' rounding.
+    #[test]
+    fn an_isotropic_spin_follows_its_exact_motion() {
+        let inertia = Matrix3::from_diagonal_element(0.004);
+        let dynamics = held(Some(&inertia), &[]);
+        let mut rng = crate::samples::Rng::new(11);
+        for _ in 0..4 {
+            let start = RigidState {
+                position: Point::origin(),
+                orientation: UnitQuaternion::from_scaled_axis(rng.in_unit_ball() * 3.0),
+                velocity: Vector::zeros(),
+                angular_velocity: rng.in_unit_ball().normalize() * 8.0,
+            };
+            let mut state = start;
+            for _ in 0..10_000 {
+                state = integrate_turning(
+                    &state,
+                    &dynamics,
+                    Integrator::SymplecticEuler,
+                    Gyroscopic::Implicit,
+                    0.01,
+                )
+                .next;
+            }
+            let exact = UnitQuaternion::from_scaled_axis(start.angular_velocity * 100.0) * start.orientation;
+            let gap = exact.angle_to(&state.orientation);
+            assert!(gap < 1e-11, "{gap:e}");
+            assert!((state.orientation.norm() - 1.0).abs() < 4.0 * Real::EPSILON);
         }
     }
 

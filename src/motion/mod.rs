@@ -16,10 +16,12 @@
 //! start of the step to the integrator's pose at its end ([`StepMotion`]).
 
 pub(crate) mod classify;
+mod exponential;
 mod gyroscopic;
 mod integrator;
 mod step_motion;
 
+pub use exponential::turn_exponential;
 pub use gyroscopic::{implicit_gyroscopic_step, GyroscopicSolve};
 
 #[cfg(test)]

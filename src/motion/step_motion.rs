@@ -2,6 +2,7 @@
 
 use nalgebra::{Translation3, UnitQuaternion};
 
+use super::exponential::turn_exponential;
 use crate::math::{Point, Pose, Real, Vector};
 
 /// The largest rotation of an integrated body within one step (radians):
@@ -157,7 +158,7 @@ impl StepMotion {
             // at the reference's time, or not turning).
             return self.reference.rotation;
         }
-        UnitQuaternion::from_scaled_axis(turn) * self.reference.rotation
+        turn_exponential(&turn) * self.reference.rotation
     }
 
     /// The pose at time `s` after the step's start.
