@@ -86,7 +86,15 @@ impl Driver for Integrated {
     }
 
     fn step(&mut self, step: u64) -> Result<StepEnd, Termination> {
-        self.stepper.step(&mut self.world, step)
+        let Integrated { stepper, world, .. } = self;
+        if stepper.options.parallel && rayon::current_thread_index().is_none() {
+            // The step is handed to rayon's threads once: made from here,
+            // each of its parallel stages would hand its work over and
+            // wait for it (a wake-up and a sleep of two threads each).
+            rayon::scope(|_| stepper.step(world, step))
+        } else {
+            stepper.step(world, step)
+        }
     }
 
     fn finish(self: Box<Self>, steps: u64, termination: Termination, start: Instant) -> RunResult {

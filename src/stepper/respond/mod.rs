@@ -48,7 +48,7 @@ pub(crate) struct StepContext<'a> {
 }
 
 /// A collision response (see the module).
-pub(crate) trait Response: Sync {
+pub(crate) trait Response: Send + Sync {
     /// Whether the narrow phase sweeps `pair` in this step. Default: pairs
     /// not in contact (`Bounce` sweeps those in contact too, for coming
     /// closer again; the guard every pair rapier solves).
