@@ -24,7 +24,7 @@ pub(crate) const SERIES_SQUARED_ANGLE: Real = 1.0 / 16.0;
 /// The rotation by the rotation vector `rotation` (angle `|rotation|`
 /// about its direction), as [`UnitQuaternion::from_scaled_axis`] makes it,
 /// to an ulp or two of each coordinate: summed from the series up to a
-/// quarter radian ([`SERIES_SQUARED_ANGLE`]), `from_scaled_axis` beyond
+/// quarter radian (a squared angle of 1/16), `from_scaled_axis` beyond
 /// (and for a vector that is not finite). The identity for the zero
 /// vector. Unlike `from_scaled_axis`, which returns the identity for any
 /// turn below 2 ulps of a radian (4.4e-16), a smaller turn is kept: a body
