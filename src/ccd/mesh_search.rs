@@ -37,7 +37,7 @@
 //! and the contact distance without ever closing to `target` (a resting
 //! pair, a receding one) need not be reported.
 
-use super::mesh_bound::{node_pair_time, PairFrame};
+use super::mesh_bound::{node_pair_time, PairFrame, LOPSIDED_RATIO};
 use super::posed_pair::PosedPair;
 use crate::math::Real;
 use crate::mesh::{BvhNode, DistanceKernel, TriMesh};
@@ -113,8 +113,44 @@ impl Items<'_> {
         let (na, nb) = (&self.meshes.a.bvh().nodes()[i as usize], &self.meshes.b.bvh().nodes()[j as usize]);
         let limits = self.limits;
         let sweep_horizon = if limits.spin_sweep { limits.horizon } else { 0.0 };
-        let bound = node_pair_time(na, nb, self.frame, limits.target, (needed, sweep_horizon));
+        let mut bound = node_pair_time(na, nb, self.frame, limits.target, (needed, sweep_horizon));
+        if bound.0 < needed {
+            if let Some(balls) = self.ball_bound(na, nb) {
+                bound = (bound.0.max(balls.0), bound.1.max(balls.1));
+            }
+        }
         self.item(bound, i, j, ItemKind::Nodes)
+    }
+
+    /// Where one node is a leaf more than [`LOPSIDED_RATIO`] times the
+    /// other's radius: the other node as its bounding ball against each
+    /// of the leaf's triangles ([`PosedPair::ball_time`]), the least time
+    /// and gap. A node's box turns with its body, and the box of a long
+    /// leaf (a sliver of a spinning gear ring) sweeps its length times the
+    /// spin in a world slab; a ball against the leaf's own triangles, in
+    /// the frame turning with them, loses only what the distance does.
+    fn ball_bound(&self, na: &BvhNode, nb: &BvhNode) -> Option<(Real, Real)> {
+        let (leaf, ball, ball_on_a, leaf_mesh) = if na.is_leaf() && na.radius > LOPSIDED_RATIO * nb.radius {
+            (na, nb, false, self.meshes.a)
+        } else if nb.is_leaf() && nb.radius > LOPSIDED_RATIO * na.radius {
+            (nb, na, true, self.meshes.b)
+        } else {
+            return None;
+        };
+        let limits = self.limits;
+        let mut bound = (Real::INFINITY, Real::INFINITY);
+        for t in leaf.first..leaf.first + leaf.count {
+            let (time, gap) = PosedPair::ball_time(
+                ball.center,
+                ball.radius,
+                leaf_mesh.triangle(t as usize),
+                ball_on_a,
+                self.frame,
+                (limits.target, limits.horizon),
+            );
+            bound = (bound.0.min(time), bound.1.min(gap));
+        }
+        Some(bound)
     }
 
     /// Triangle pair `(i, j)` with the cheap bound.

@@ -2,8 +2,8 @@
 //! of its rate over the step.
 
 use super::mesh_bound::{first_root, PairFrame};
-use crate::kernels::{dyop_distance, triangle_distance, Feature, TriangleDistance};
-use crate::math::{Real, Triangle, Vector};
+use crate::kernels::{dyop_distance, point_triangle, triangle_distance, Feature, TriangleDistance};
+use crate::math::{Point, Real, Triangle, Vector};
 use crate::mesh::{DistanceKernel, TriMesh};
 
 /// Two edges closer to parallel than this (the squared sine of their
@@ -24,8 +24,13 @@ pub(crate) struct PosedPair {
 impl PosedPair {
     #[inline]
     pub(crate) fn new(a: &TriMesh, ta: usize, b: &TriMesh, tb: usize, frame: &PairFrame) -> PosedPair {
-        let local_a = a.triangle(ta);
-        let offsets_b: Triangle = b.triangle(tb).map(|p| (frame.rotation * p.coords).into());
+        PosedPair::of(a.triangle(ta), b.triangle(tb), frame)
+    }
+
+    /// The pair of triangles given in their own meshes' frames.
+    #[inline]
+    pub(super) fn of(local_a: Triangle, local_b: Triangle, frame: &PairFrame) -> PosedPair {
+        let offsets_b: Triangle = local_b.map(|p| (frame.rotation * p.coords).into());
         let moved_b: Triangle = offsets_b.map(|q| q + frame.pos_ab.translation.vector);
         let reach = |t: &Triangle| t.iter().map(|p| p.coords.norm_squared()).fold(0.0, Real::max).sqrt();
         PosedPair { reach_a: reach(&local_a), reach_b: reach(&offsets_b), a: local_a, offsets_b, b: moved_b }
@@ -113,32 +118,93 @@ impl PosedPair {
         kernel: DistanceKernel,
         horizon: Real,
     ) -> (Real, Real) {
-        let head_on = |d: Real| {
-            let speed = frame.head_on_speed(self.reach_a, self.reach_b);
-            if speed > 0.0 {
-                (d - target) / speed
-            } else {
-                Real::INFINITY
-            }
-        };
         let closest = match kernel {
             DistanceKernel::Exact => triangle_distance(&self.a, &self.b),
             DistanceKernel::Dyop(formula) => {
                 let d = dyop_distance(&self.a, &self.b, formula);
-                return (head_on(d), d);
+                return (self.head_on_time(d, frame, target), d);
             }
         };
+        (self.time_from(&closest, frame, target, horizon), closest.distance)
+    }
+
+    /// The full bound of a ball against a triangle: everything within
+    /// `radius` of the point `centre` of one body (a small BVH node's
+    /// sphere, `centre` in its mesh's frame) against `triangle` of the
+    /// other body (in its mesh's frame); `ball_on_a` says which body the
+    /// ball is on. A ball keeps its shape however its body turns, so its
+    /// gap is its centre's less `radius`: the bound is the full bound of
+    /// the centre as a point (a triangle of three equal vertices) against
+    /// the triangle, to `target + radius`. Where the triangle is a long
+    /// sliver of a fast spinning body, its turning slab (the frame turning
+    /// with the triangle) is far longer than any slab fixed in the world,
+    /// which the sliver's tilt sweeps at its length times the spin. The
+    /// bound and a lower bound on the distance now.
+    #[inline]
+    pub(crate) fn ball_time(
+        centre: Point,
+        radius: Real,
+        triangle: Triangle,
+        ball_on_a: bool,
+        frame: &PairFrame,
+        (target, horizon): (Real, Real),
+    ) -> (Real, Real) {
+        let point = [centre; 3];
+        let pair = if ball_on_a {
+            PosedPair::of(point, triangle, frame)
+        } else {
+            PosedPair::of(triangle, point, frame)
+        };
+        // The point's closest point on the triangle, as a triangle pair's
+        // closest points: the point's feature is a vertex.
+        let (ball, face) = if ball_on_a { (&pair.a, &pair.b) } else { (&pair.b, &pair.a) };
+        let found = point_triangle(&ball[0], face);
+        let (point_a, point_b, feature_a, feature_b) = if ball_on_a {
+            (ball[0], found.point, Feature::Vertex(0), found.feature)
+        } else {
+            (found.point, ball[0], found.feature, Feature::Vertex(0))
+        };
+        let closest = TriangleDistance {
+            distance: found.distance,
+            point_a,
+            point_b,
+            feature_a,
+            feature_b,
+            within_range: true,
+        };
+        let time = pair.time_from(&closest, frame, target + radius, horizon);
+        (time, found.distance - radius)
+    }
+
+    /// The head-on bound: `(d − target)` over the fastest closing of any
+    /// two points of the pair.
+    #[inline]
+    fn head_on_time(&self, d: Real, frame: &PairFrame, target: Real) -> Real {
+        let speed = frame.head_on_speed(self.reach_a, self.reach_b);
+        if speed > 0.0 {
+            (d - target) / speed
+        } else {
+            Real::INFINITY
+        }
+    }
+
+    /// The full bound from the pair's closest points: the vertex slab along
+    /// their direction, the head-on bound and the turning slab, the longest.
+    /// The gaps are the vertices' own (the closest points only choose the
+    /// direction and the turning frame), so a rounded closest point costs
+    /// tightness, never validity.
+    #[inline]
+    fn time_from(&self, closest: &TriangleDistance, frame: &PairFrame, target: Real, horizon: Real) -> Real {
         let d = closest.distance;
         if d <= target {
-            return (0.0, d);
+            return 0.0;
         }
         let n = (closest.point_b - closest.point_a) / d;
-        let time = self.vertex_slab_time(&n, frame, target).max(head_on(d));
+        let time = self.vertex_slab_time(&n, frame, target).max(self.head_on_time(d, frame, target));
         if time >= horizon || frame.spin_a + frame.spin_b == 0.0 {
-            return (time, d);
+            return time;
         }
-        let turning = self.turning_slab_time(&closest, &n, frame, target, horizon);
-        (time.max(turning), d)
+        time.max(self.turning_slab_time(closest, &n, frame, target, horizon))
     }
 
     /// The slab along `n` in a frame that turns with the closest features
