@@ -28,7 +28,7 @@
 //! `within`) asks that first, with one run at separation 0.
 
 use super::contact::{ContactRule, TARGET_FRACTION};
-use super::convex_measure::measure;
+use super::convex_measure::{measure, measure_below};
 use super::descent::descend;
 use super::mesh_pair::mesh_time_of_impact_with;
 use super::options::{CcdOptions, CcdStatus};
@@ -223,9 +223,11 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
         runs: 0,
     };
     if !query.within.is_finite() {
-        // Every approach is wanted: the interval's ends are a first upper bound.
-        for s in [0.0, query.duration] {
-            answer.keep(measure(&a, &b, s, None, scratch), s);
+        // Every approach is wanted: the interval's ends are a first upper
+        // bound; the end only where it is the closer one.
+        answer.keep(measure(&a, &b, 0.0, None, scratch), 0.0);
+        if let Some(found) = measure_below(&a, &b, query.duration, answer.upper, scratch) {
+            answer.keep(found, query.duration);
         }
     }
     if let Some((s, found)) = query.reached.filter(|(_, found)| found.distance <= query.within) {

@@ -5,6 +5,7 @@
 use super::hull_gap::{convex_distance, ConvexDistance, WarmSimplex};
 use super::query::{MeshCcdScratch, MovingMesh};
 use crate::math::{Pose, Real};
+use crate::mesh::distance::mesh_distance_below;
 use crate::mesh::distance::triangle_pair_distance;
 use crate::mesh::{mesh_distance_relative, DistanceKernel, DistanceSearch, MeshDistance, TriMesh};
 use crate::motion::StepMotion;
@@ -55,10 +56,37 @@ pub(crate) fn measure(
     scratch: &mut MeshCcdScratch,
 ) -> MeshDistance {
     let relative = StepMotion::relative_pose(a.motion, b.motion, s);
-    let mut found = convex_measure(a.mesh, b.mesh, &relative).unwrap_or_else(|| {
+    let found = convex_measure(a.mesh, b.mesh, &relative).unwrap_or_else(|| {
         let search = DistanceSearch::new(DistanceKernel::Exact, hint);
         mesh_distance_relative(a.mesh, b.mesh, &relative, &search, &mut scratch.distance)
     });
+    in_world(a, s, found)
+}
+
+/// [`measure`] where the meshes are closer than `ceiling` at time `s`;
+/// `None` where they are not. The search starts with `ceiling` as its
+/// best, so a pose where the meshes are well beyond it costs a few node
+/// pairs instead of a search down to the closest triangles.
+pub(crate) fn measure_below(
+    a: &MovingMesh<'_>,
+    b: &MovingMesh<'_>,
+    s: Real,
+    ceiling: Real,
+    scratch: &mut MeshCcdScratch,
+) -> Option<MeshDistance> {
+    let relative = StepMotion::relative_pose(a.motion, b.motion, s);
+    let found = match convex_measure(a.mesh, b.mesh, &relative) {
+        Some(found) => (found.distance < ceiling).then_some(found)?,
+        None => {
+            let search = DistanceSearch::new(DistanceKernel::Exact, None);
+            mesh_distance_below(a.mesh, b.mesh, &relative, &search, ceiling, &mut scratch.distance)?
+        }
+    };
+    Some(in_world(a, s, found))
+}
+
+/// `found` (points in `a`'s frame at time `s`) with its points in the world.
+fn in_world(a: &MovingMesh<'_>, s: Real, mut found: MeshDistance) -> MeshDistance {
     let pose_a = a.motion.pose_at(s);
     found.point_a = pose_a * found.point_a;
     found.point_b = pose_a * found.point_b;

@@ -144,7 +144,8 @@ pub fn mesh_distance(
         rotation: pose_a.rotation.tr_mul(&pose_b.rotation),
         shift: pose_a.rotation.tr_mul(&(pose_b.translation - pose_a.translation)),
     };
-    let (best, (i, j)) = search_relative(a, b, &relative, search, scratch);
+    let (best, (i, j)) =
+        search_relative(a, b, &relative, search, Real::INFINITY, scratch).unwrap_or((Real::INFINITY, (0, 0)));
     let world = posed_triangle_distance(&a.triangle(i), &pose_a, &b.triangle(j), &pose_b);
     MeshDistance {
         // DyOP's value stays DyOP's.
@@ -197,22 +198,43 @@ pub fn mesh_distance_relative(
     scratch: &mut MeshDistanceScratch,
 ) -> MeshDistance {
     let relative = Relative::of(pos_ab);
-    let (best, (i, j)) = search_relative(a, b, &relative, search, scratch);
+    let (best, (i, j)) =
+        search_relative(a, b, &relative, search, Real::INFINITY, scratch).unwrap_or((Real::INFINITY, (0, 0)));
     // The kernel's value (DyOP's, if chosen), points and features exact.
     MeshDistance { distance: best, ..pair_distance_relative(a, i, b, j, &relative) }
+}
+
+/// [`mesh_distance_relative`] where the meshes are closer than `ceiling`;
+/// `None` where they are not (the search prunes every node pair bounded at
+/// or beyond `ceiling` from the start, so a pair well beyond it costs a
+/// few node pairs).
+pub(crate) fn mesh_distance_below(
+    a: &TriMesh,
+    b: &TriMesh,
+    pos_ab: &Pose,
+    search: &DistanceSearch,
+    ceiling: Real,
+    scratch: &mut MeshDistanceScratch,
+) -> Option<MeshDistance> {
+    let relative = Relative::of(pos_ab);
+    let (best, (i, j)) = search_relative(a, b, &relative, search, ceiling, scratch)?;
+    Some(MeshDistance { distance: best, ..pair_distance_relative(a, i, b, j, &relative) })
 }
 
 /// The search of [`mesh_distance_relative`] and [`mesh_distance`], b's
 /// frame in a's given as a matrix and a shift: the least distance by the
 /// search's kernel and the triangle pair that has it (each caller measures
-/// that pair in its own frame).
+/// that pair in its own frame). Only pairs closer than `ceiling` are
+/// looked for: `None` if there is none (with an infinite ceiling, only if
+/// no distance is a number).
 fn search_relative(
     a: &TriMesh,
     b: &TriMesh,
     relative: &Relative,
     search: &DistanceSearch,
+    ceiling: Real,
     scratch: &mut MeshDistanceScratch,
-) -> (Real, (usize, usize)) {
+) -> Option<(Real, (usize, usize))> {
     let DistanceSearch { kernel, hint, enough } = *search;
     let Relative { rotation, shift } = *relative;
     let slack = PRUNE_SLACK_ULPS * Real::EPSILON * (shift.norm() + a.radius() + b.radius());
@@ -226,7 +248,7 @@ fn search_relative(
         DistanceKernel::Dyop(formula) => dyop_distance(ta, tb, formula),
     };
 
-    let mut search = Search { best: Real::INFINITY, best_pair: (0, 0), evaluated: 0 };
+    let mut search = Search { best: ceiling, best_pair: None, evaluated: 0 };
     if let Some((i, j)) = hint.filter(|&(i, j)| i < a.triangles().len() && j < b.triangles().len()) {
         search.offer(pair_distance(&a.triangle(i), &triangle_b(j)), (i as u32, j as u32));
     }
@@ -314,7 +336,8 @@ fn search_relative(
     flush(scratch, kernel, &mut search);
 
     scratch.triangle_pairs = search.evaluated;
-    (search.best, (search.best_pair.0 as usize, search.best_pair.1 as usize))
+    let (i, j) = search.best_pair?;
+    Some((search.best, (i as usize, j as usize)))
 }
 
 /// Triangle `i` of `a` and triangle `j` of `b` (posed by `pos_ab` in `a`'s
@@ -473,7 +496,7 @@ fn leaf_sphere_gap(mesh: &TriMesh, leaf: &super::BvhNode, centre: &Point, radius
 /// The best pair so far.
 struct Search {
     best: Real,
-    best_pair: (u32, u32),
+    best_pair: Option<(u32, u32)>,
     evaluated: usize,
 }
 
@@ -483,7 +506,7 @@ impl Search {
         self.evaluated += 1;
         if distance < self.best {
             self.best = distance;
-            self.best_pair = pair;
+            self.best_pair = Some(pair);
         }
     }
 }
@@ -621,6 +644,35 @@ mod tests {
             let (walked, (i, j)) = walk_to_closer_pair(&a, &b, &pos_ab, anywhere);
             assert!(walked >= scan - 1e-13, "case {case}: walked {walked} below the scan's {scan}");
             assert_eq!(walked, triangle_pair_distance(&a, i, &b, j, &pos_ab).distance);
+        }
+    }
+
+    #[test]
+    fn a_search_below_a_ceiling_finds_only_what_is_closer() {
+        // An icosphere and a box 1e-4 to 1 apart, the ceiling just above or
+        // at or below their distance (the brute-force scan's): above, the
+        // distance and pair the plain search gives; at or below, none, for
+        // fewer triangle pairs than the plain search measures.
+        let a = icosphere(1.0, 2).unwrap();
+        let b = box_mesh(&Vector::new(0.3, 1.2, 0.5)).unwrap();
+        let mut rng = Rng::new(29);
+        let mut scratch = MeshDistanceScratch::default();
+        let search = DistanceSearch::default();
+        for case in 0..60 {
+            let gap = rng.log_range(1e-4, 1.0);
+            let pos_ab = Pose::new(rng.unit_vector() * (2.5 + gap), rng.in_unit_ball() * 3.0);
+            let plain = mesh_distance_relative(&a, &b, &pos_ab, &search, &mut scratch);
+            let searched = scratch.triangle_pairs();
+            let scan = mesh_distance_brute_force(&a, &Pose::identity(), &b, &pos_ab);
+            assert!((plain.distance - scan).abs() <= 1e-13, "case {case}: {} vs {scan}", plain.distance);
+            let above = plain.distance * (1.0 + 1e-9);
+            let found = mesh_distance_below(&a, &b, &pos_ab, &search, above, &mut scratch);
+            assert_eq!(found, Some(plain), "case {case}: below {above}");
+            for ceiling in [plain.distance, plain.distance * 0.999, plain.distance * 0.5] {
+                let found = mesh_distance_below(&a, &b, &pos_ab, &search, ceiling, &mut scratch);
+                assert_eq!(found, None, "case {case}: below {ceiling}");
+                assert!(scratch.triangle_pairs() <= searched, "case {case}");
+            }
         }
     }
 }
