@@ -779,8 +779,8 @@ mod tests {
         for case in 0..1000 {
             let ball_on_a = case % 2 == 0;
             let radius = rng.range(0.001, 0.05);
-            // The ball's body: the ball's centre 0.5–3 from the sliver's
-            // body's centre, the bodies' centres 1–6 apart.
+            // The ball's centre within 0.5 of its body's centre, the
+            // bodies' centres 1–6 apart.
             let spin = |rng: &mut Rng, top: Real| rng.in_unit_ball() * top;
             let sliver_motion = StepMotion::new(
                 Pose::new(Vector::zeros(), rng.in_unit_ball() * 3.0),
