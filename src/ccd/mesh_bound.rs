@@ -304,13 +304,30 @@ impl<'n> NodePair<'n> {
             let beyond = outside.iter().filter(|&&x| x != 0.0).count();
             (beyond >= 2).then(|| (axes * outside).normalize())
         };
-        if na.is_leaf() && na.radius > LOPSIDED_RATIO * nb.radius {
-            toward(&na.axes, &na.half_extents, &self.offset)
-        } else if nb.is_leaf() && nb.radius > LOPSIDED_RATIO * na.radius {
-            toward(&(self.frame.rotation * nb.axes), &nb.half_extents, &-self.offset).map(|u| -u)
-        } else {
-            None
+        match lopsided_leaf(na, nb)? {
+            Side::A => toward(&na.axes, &na.half_extents, &self.offset),
+            Side::B => toward(&(self.frame.rotation * nb.axes), &nb.half_extents, &-self.offset).map(|u| -u),
         }
+    }
+}
+
+/// One body of a node pair.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum Side {
+    A,
+    B,
+}
+
+/// Which node of the pair is a leaf more than [`LOPSIDED_RATIO`] times the
+/// other's radius, if either is (a's where both are).
+#[inline]
+pub(crate) fn lopsided_leaf(na: &BvhNode, nb: &BvhNode) -> Option<Side> {
+    if na.is_leaf() && na.radius > LOPSIDED_RATIO * nb.radius {
+        Some(Side::A)
+    } else if nb.is_leaf() && nb.radius > LOPSIDED_RATIO * na.radius {
+        Some(Side::B)
+    } else {
+        None
     }
 }
 

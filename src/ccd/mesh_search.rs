@@ -37,7 +37,7 @@
 //! and the contact distance without ever closing to `target` (a resting
 //! pair, a receding one) need not be reported.
 
-use super::mesh_bound::{node_pair_time, PairFrame, LOPSIDED_RATIO};
+use super::mesh_bound::{lopsided_leaf, node_pair_time, PairFrame, Side};
 use super::posed_pair::PosedPair;
 use crate::math::Real;
 use crate::mesh::{BvhNode, DistanceKernel, TriMesh};
@@ -122,7 +122,8 @@ impl Items<'_> {
         self.item(bound, i, j, ItemKind::Nodes)
     }
 
-    /// Where one node is a leaf more than [`LOPSIDED_RATIO`] times the
+    /// Where one node is a leaf more than
+    /// [`LOPSIDED_RATIO`](super::mesh_bound::LOPSIDED_RATIO) times the
     /// other's radius: the other node as its bounding ball against each
     /// of the leaf's triangles ([`PosedPair::ball_time`]), the least time
     /// and gap. A node's box turns with its body, and the box of a long
@@ -130,12 +131,9 @@ impl Items<'_> {
     /// spin in a world slab; a ball against the leaf's own triangles, in
     /// the frame turning with them, loses only what the distance does.
     fn ball_bound(&self, na: &BvhNode, nb: &BvhNode) -> Option<(Real, Real)> {
-        let (leaf, ball, ball_on_a, leaf_mesh) = if na.is_leaf() && na.radius > LOPSIDED_RATIO * nb.radius {
-            (na, nb, false, self.meshes.a)
-        } else if nb.is_leaf() && nb.radius > LOPSIDED_RATIO * na.radius {
-            (nb, na, true, self.meshes.b)
-        } else {
-            return None;
+        let (leaf, ball, ball_on_a, leaf_mesh) = match lopsided_leaf(na, nb)? {
+            Side::A => (na, nb, false, self.meshes.a),
+            Side::B => (nb, na, true, self.meshes.b),
         };
         let limits = self.limits;
         let mut bound = (Real::INFINITY, Real::INFINITY);

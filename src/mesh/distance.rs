@@ -649,10 +649,11 @@ mod tests {
 
     #[test]
     fn a_search_below_a_ceiling_finds_only_what_is_closer() {
-        // An icosphere and a box 1e-4 to 1 apart, the ceiling just above or
-        // at or below their distance (the brute-force scan's): above, the
-        // distance and pair the plain search gives; at or below, none, for
-        // fewer triangle pairs than the plain search measures.
+        // An icosphere and a box apart (their centres 2.5 plus 1e-4 to 1
+        // apart), the ceiling just above or at or below their distance (the
+        // brute-force scan's): above, the distance and pair the plain search
+        // gives; at or below, none, for no more triangle pairs than the
+        // plain search measures.
         let a = icosphere(1.0, 2).unwrap();
         let b = box_mesh(&Vector::new(0.3, 1.2, 0.5)).unwrap();
         let mut rng = Rng::new(29);
