@@ -21,6 +21,14 @@
 //!   shrink are small against its distance above the target
 //!   ([`OPEN_RATIO`]): then the children would be bounded no better and
 //!   the search stops there;
+//! - two leaves are first bounded together, with the exact kernel
+//!   ([`PosedPair::leaves_time`]: one triangle pair's turning slab over
+//!   every vertex of both): where that reaches far enough, the pair of
+//!   leaves enters the front instead of its triangle pairs, and is bounded
+//!   again the same way when it limits a later step; where it falls short
+//!   now, it is opened into its triangle pairs. Two flat patches passing
+//!   each other (a closest approach's proof, a hair below their distance)
+//!   are then bounded a leaf pair at a time, not a triangle pair;
 //! - a triangle pair with only the cheap bound (the slab along the line
 //!   between its centroids) or one evaluated earlier is evaluated in full
 //!   now, and a triangle pair within the contact distance ends the search
@@ -151,6 +159,21 @@ impl Items<'_> {
         Some(bound)
     }
 
+    /// Leaf pair `(i, j)` (node indices) with the leaves' own bound
+    /// ([`PosedPair::leaves_time`]); `None` where it cannot give one.
+    fn leaves(&self, i: u32, j: u32, work: &mut StepWork) -> Option<FrontItem> {
+        work.node_pairs += 1;
+        let (na, nb) = (&self.meshes.a.bvh().nodes()[i as usize], &self.meshes.b.bvh().nodes()[j as usize]);
+        let limits = self.limits;
+        let bound = PosedPair::leaves_time(
+            (self.meshes.a, na),
+            (self.meshes.b, nb),
+            self.frame,
+            (limits.target, limits.horizon),
+        )?;
+        Some(self.item(bound, i, j, ItemKind::Leaves))
+    }
+
     /// Triangle pair `(i, j)` with the cheap bound.
     fn quick(&self, i: u32, j: u32) -> FrontItem {
         let pair = PosedPair::new(self.meshes.a, i as usize, self.meshes.b, j as usize, self.frame);
@@ -237,6 +260,8 @@ impl Ord for FrontItem {
 enum ItemKind {
     /// A pair of BVH nodes.
     Nodes,
+    /// A pair of BVH leaves bounded together (`PosedPair::leaves_time`).
+    Leaves,
     /// A pair of triangles with the cheap bound only.
     TrianglesQuick,
     /// A pair of triangles with the full bound (and its distance as `gap`).
@@ -323,6 +348,21 @@ impl Front {
                     }
                     self.heap.push(item);
                 }
+                ItemKind::Leaves if !fresh => {
+                    self.heap.pop();
+                    match items.leaves(top.i, top.j, work) {
+                        Some(mut item) => {
+                            item.safe_until = item.safe_until.max(top.safe_until);
+                            self.heap.push(item);
+                        }
+                        None => self.open_leaves(&items, &top),
+                    }
+                }
+                ItemKind::Leaves => {
+                    // Bounded now and still short: pair by pair.
+                    self.heap.pop();
+                    self.open_leaves(&items, &top);
+                }
                 ItemKind::Nodes if !fresh => {
                     self.heap.pop();
                     let mut item = items.nodes(top.i, top.j, needed(best), work);
@@ -357,10 +397,15 @@ impl Front {
         };
         let (na, nb) = (&items.meshes.a.bvh().nodes()[i as usize], &items.meshes.b.bvh().nodes()[j as usize]);
         if na.is_leaf() && nb.is_leaf() {
-            for tb in nb.first..nb.first + nb.count {
-                for ta in na.first..na.first + na.count {
-                    self.heap.push(inherit(items.quick(ta, tb)));
-                }
+            // Both leaves at once where that bound is long enough (with
+            // the exact kernel only: a DyOP search evaluates its own
+            // kernel and nothing else).
+            let exact = items.meshes.kernel == DistanceKernel::Exact;
+            let leaves = exact.then(|| items.leaves(i, j, work)).flatten();
+            let leaves = leaves.filter(|item| item.safe_until - items.limits.start >= needed);
+            match leaves {
+                Some(item) => self.heap.push(inherit(item)),
+                None => self.open_leaves(items, parent),
             }
             return;
         }
@@ -369,6 +414,20 @@ impl Front {
             if split_a { [(na.first, j), (na.first + 1, j)] } else { [(i, nb.first), (i, nb.first + 1)] };
         for (ci, cj) in children {
             self.heap.push(inherit(items.nodes(ci, cj, needed, work)));
+        }
+    }
+
+    /// Replaces leaf pair `parent` by its triangle pairs, with their cheap
+    /// bounds (never shorter than the parent's, which still holds).
+    fn open_leaves(&mut self, items: &Items<'_>, parent: &FrontItem) {
+        let nodes = (items.meshes.a.bvh().nodes(), items.meshes.b.bvh().nodes());
+        let (na, nb) = (&nodes.0[parent.i as usize], &nodes.1[parent.j as usize]);
+        for tb in nb.first..nb.first + nb.count {
+            for ta in na.first..na.first + na.count {
+                let mut item = items.quick(ta, tb);
+                item.safe_until = item.safe_until.max(parent.safe_until);
+                self.heap.push(item);
+            }
         }
     }
 

@@ -4,7 +4,8 @@
 use super::mesh_bound::{first_root, PairFrame};
 use crate::kernels::{dyop_distance, point_triangle, triangle_distance, Feature, TriangleDistance};
 use crate::math::{Point, Real, Triangle, Vector};
-use crate::mesh::{DistanceKernel, TriMesh};
+use crate::mesh::BVH_LEAF_SIZE;
+use crate::mesh::{BvhNode, DistanceKernel, TriMesh};
 
 /// Two edges closer to parallel than this (the squared sine of their
 /// angle) have no turning frame of their own: `1e-6`.
@@ -176,6 +177,66 @@ impl PosedPair {
         (time, found.distance - radius)
     }
 
+    /// The full bound of two BVH leaves at once: the turning slab (see
+    /// [`TurningSlab`]) of the triangle pair whose centroids are nearest,
+    /// its direction and frame taken over every vertex of both leaves, and
+    /// the head-on bound of that slab's gap. Where both leaves are flat
+    /// patches facing each other (a link's face passing another's nearly
+    /// parallel, a small link beside a gear's tooth), this bounds the
+    /// leaves' sixteen triangle pairs about as well as each one's own
+    /// bound, for one kernel call. `None` where that pair is within
+    /// `target` (the leaves are then bounded pair by pair). The bound and a
+    /// lower bound on the leaves' distance now.
+    pub(crate) fn leaves_time(
+        (a, leaf_a): (&TriMesh, &BvhNode),
+        (b, leaf_b): (&TriMesh, &BvhNode),
+        frame: &PairFrame,
+        (target, horizon): (Real, Real),
+    ) -> Option<(Real, Real)> {
+        let range = |leaf: &BvhNode| leaf.first as usize..(leaf.first + leaf.count) as usize;
+        let centroid = |t: &Triangle| (t[0].coords + t[1].coords + t[2].coords) / 3.0;
+        let mut nearest = (Real::INFINITY, leaf_a.first as usize, leaf_b.first as usize);
+        for tb in range(leaf_b) {
+            let cb = frame.rotation * centroid(&b.triangle(tb)) + frame.pos_ab.translation.vector;
+            for ta in range(leaf_a) {
+                let d2 = (cb - centroid(&a.triangle(ta))).norm_squared();
+                if d2 < nearest.0 {
+                    nearest = (d2, ta, tb);
+                }
+            }
+        }
+        let pair = PosedPair::new(a, nearest.1, b, nearest.2, frame);
+        let closest = triangle_distance(&pair.a, &pair.b);
+        let d = closest.distance;
+        // (Also where the distance is not a number.)
+        if d.partial_cmp(&target) != Some(std::cmp::Ordering::Greater) {
+            return None;
+        }
+        let n = (closest.point_b - closest.point_a) / d;
+        let spin = pair.frame_spin(&closest, &n, frame).unwrap_or_else(Vector::zeros);
+        let turning = TurningSlab::new(&closest, &n, spin, frame, horizon);
+        let mut heights_a = [[0.0; 3]; 3 * BVH_LEAF_SIZE];
+        let mut reach_a: Real = 0.0;
+        let count_a = each_vertex(a, leaf_a, |k, p| {
+            heights_a[k] = turning.height_a(p);
+            reach_a = reach_a.max(p.coords.norm());
+        });
+        let mut heights_b = [[0.0; 3]; 3 * BVH_LEAF_SIZE];
+        let mut reach_b: Real = 0.0;
+        let count_b = each_vertex(b, leaf_b, |k, p| {
+            let offset = Point::from(frame.rotation * p.coords);
+            heights_b[k] = turning.height_b(&offset, &(offset + frame.pos_ab.translation.vector));
+            reach_b = reach_b.max(offset.coords.norm());
+        });
+        let (heights_a, heights_b) = (&heights_a[..count_a], &heights_b[..count_b]);
+        let high_a = heights_a.iter().map(|h| h[0]).fold(Real::NEG_INFINITY, Real::max);
+        let low_b = heights_b.iter().map(|h| h[0]).fold(Real::INFINITY, Real::min);
+        let gap = low_b - high_a;
+        let speed = frame.head_on_speed(reach_a, reach_b);
+        let head_on = if speed > 0.0 { (gap - target) / speed } else { Real::INFINITY };
+        Some((turning.time(heights_a, heights_b, target).max(head_on).max(0.0), gap))
+    }
+
     /// The head-on bound: `(d − target)` over the fastest closing of any
     /// two points of the pair.
     #[inline]
@@ -221,39 +282,10 @@ impl PosedPair {
         horizon: Real,
     ) -> Real {
         let Some(spin) = self.frame_spin(closest, n, frame) else { return 0.0 };
-        let centre_b = frame.pos_ab.translation.vector;
-        // The bodies' velocities: a's centre is the origin, at rest (a
-        // constant velocity shared by everything changes no distance).
-        let velocity_a = |x: &Vector| frame.omega_a.cross(x);
-        let velocity_b = |x: &Vector| frame.velocity + frame.omega_b.cross(&(x - centre_b));
-        let origin = (closest.point_a.coords + closest.point_b.coords) / 2.0;
-        let origin_velocity =
-            (velocity_a(&closest.point_a.coords) + velocity_b(&closest.point_b.coords)) / 2.0;
-        let spin_norm = spin.norm();
-        // A vertex's height along n in the turning frame, its rate, and the
-        // bound of its second derivative over the horizon.
-        let vertex =
-            |x: &Vector, offset: &Vector, velocity: Vector, centre_velocity: &Vector, omega: Real| {
-                let (q, dq) = (x - origin, velocity - origin_velocity);
-                let reach = offset.norm();
-                let speed = (centre_velocity - origin_velocity).norm() + omega * reach;
-                let curvature = omega * omega * reach
-                    + 2.0 * spin_norm * speed
-                    + spin_norm * spin_norm * (q.norm() + horizon * speed);
-                (n.dot(&q), n.dot(&(dq - spin.cross(&q))), curvature)
-            };
-        let zero = Vector::zeros();
-        let a = self.a.map(|p| vertex(&p.coords, &p.coords, velocity_a(&p.coords), &zero, frame.spin_a));
-        let mut time = horizon;
-        for (q, p) in self.offsets_b.iter().zip(&self.b) {
-            let (height, rate, curvature) =
-                vertex(&p.coords, &q.coords, velocity_b(&p.coords), &frame.velocity, frame.spin_b);
-            for &(height_a, rate_a, curvature_a) in &a {
-                time =
-                    time.min(first_root(height - height_a - target, rate - rate_a, curvature + curvature_a));
-            }
-        }
-        time
+        let turning = TurningSlab::new(closest, n, spin, frame, horizon);
+        let heights_a = self.a.map(|p| turning.height_a(&p));
+        let heights_b = [0, 1, 2].map(|k| turning.height_b(&self.offsets_b[k], &self.b[k]));
+        turning.time(&heights_a, &heights_b, target)
     }
 
     /// The turning frame's angular velocity for the closest features:
@@ -261,7 +293,12 @@ impl PosedPair {
     /// that side's (the gap's direction then turns with it); for two edges
     /// the least spin that keeps both from tilting across `n` (`None` for
     /// two vertices, or parallel edges: the fixed slab is as good).
-    fn frame_spin(&self, closest: &TriangleDistance, n: &Vector, frame: &PairFrame) -> Option<Vector> {
+    pub(super) fn frame_spin(
+        &self,
+        closest: &TriangleDistance,
+        n: &Vector,
+        frame: &PairFrame,
+    ) -> Option<Vector> {
         let rank = |feature: Feature| match feature {
             Feature::Vertex(_) => 0,
             Feature::Edge(_) => 1,
@@ -292,4 +329,115 @@ impl PosedPair {
             _ => None,
         }
     }
+}
+
+/// The slab along `n` in a frame turning at `spin` about the midpoint of
+/// two closest points (see the module's "A turning slab" in
+/// `mesh_bound.rs`): any such frame gives a valid slab, and one that turns
+/// with the closest features bounds the distance to second order. Its
+/// bound holds for any two vertex sets, a triangle pair's or a leaf
+/// pair's: each vertex pair's height difference along `n` stays above
+/// `target` until its own first root.
+pub(super) struct TurningSlab<'f> {
+    frame: &'f PairFrame,
+    n: Vector,
+    spin: Vector,
+    spin_norm: Real,
+    origin: Vector,
+    origin_velocity: Vector,
+    horizon: Real,
+}
+
+impl<'f> TurningSlab<'f> {
+    #[inline]
+    pub(super) fn new(
+        closest: &TriangleDistance,
+        n: &Vector,
+        spin: Vector,
+        frame: &'f PairFrame,
+        horizon: Real,
+    ) -> TurningSlab<'f> {
+        let origin = (closest.point_a.coords + closest.point_b.coords) / 2.0;
+        let origin_velocity =
+            (frame.omega_a.cross(&closest.point_a.coords) + velocity_b(frame, &closest.point_b.coords)) / 2.0;
+        TurningSlab { frame, n: *n, spin, spin_norm: spin.norm(), origin, origin_velocity, horizon }
+    }
+
+    /// A vertex's height along `n` in the turning frame, its rate, and the
+    /// bound of its second derivative over the horizon: `x` the vertex (a's
+    /// frame), `offset` its offset from its body's centre, `velocity` its
+    /// velocity, `centre_velocity` its body centre's, `omega` its body's spin.
+    #[inline]
+    fn height(
+        &self,
+        x: &Vector,
+        offset: &Vector,
+        velocity: Vector,
+        centre_velocity: &Vector,
+        omega: Real,
+    ) -> [Real; 3] {
+        let (q, dq) = (x - self.origin, velocity - self.origin_velocity);
+        let reach = offset.norm();
+        let speed = (centre_velocity - self.origin_velocity).norm() + omega * reach;
+        let spin_norm = self.spin_norm;
+        let curvature = omega * omega * reach
+            + 2.0 * spin_norm * speed
+            + spin_norm * spin_norm * (q.norm() + self.horizon * speed);
+        [self.n.dot(&q), self.n.dot(&(dq - self.spin.cross(&q))), curvature]
+    }
+
+    /// The height, rate and curvature of a vertex of `a` (in a's frame,
+    /// its offset from a's centre).
+    #[inline]
+    pub(super) fn height_a(&self, p: &Point) -> [Real; 3] {
+        let frame = self.frame;
+        self.height(&p.coords, &p.coords, frame.omega_a.cross(&p.coords), &Vector::zeros(), frame.spin_a)
+    }
+
+    /// ... of a vertex of `b`: `offset` from b's centre and the point, both
+    /// in a's frame.
+    #[inline]
+    pub(super) fn height_b(&self, offset: &Point, p: &Point) -> [Real; 3] {
+        let frame = self.frame;
+        self.height(&p.coords, &offset.coords, velocity_b(frame, &p.coords), &frame.velocity, frame.spin_b)
+    }
+
+    /// The least first root over the vertex pairs, from their heights
+    /// ([`Self::height_a`], [`Self::height_b`]), at most the horizon.
+    #[inline]
+    pub(super) fn time(&self, heights_a: &[[Real; 3]], heights_b: &[[Real; 3]], target: Real) -> Real {
+        let mut time = self.horizon;
+        for &[height, rate, curvature] in heights_b {
+            for &[height_a, rate_a, curvature_a] in heights_a {
+                time =
+                    time.min(first_root(height - height_a - target, rate - rate_a, curvature + curvature_a));
+            }
+        }
+        time
+    }
+}
+
+/// The velocity of the point `x` of `b` (a's frame; a's centre is the
+/// origin, at rest: a velocity shared by everything changes no distance).
+#[inline]
+fn velocity_b(frame: &PairFrame, x: &Vector) -> Vector {
+    frame.velocity + frame.omega_b.cross(&(x - frame.pos_ab.translation.vector))
+}
+
+/// Calls `visit` with each vertex of `leaf`'s triangles once (its index
+/// among them and the point, in `mesh`'s frame); how many there were.
+#[inline]
+fn each_vertex(mesh: &TriMesh, leaf: &BvhNode, mut visit: impl FnMut(usize, &Point)) -> usize {
+    let mut seen = [u32::MAX; 3 * BVH_LEAF_SIZE];
+    let mut count = 0;
+    for t in leaf.first..leaf.first + leaf.count {
+        for v in mesh.triangles()[t as usize] {
+            if !seen[..count].contains(&v) {
+                seen[count] = v;
+                visit(count, &mesh.vertices()[v as usize]);
+                count += 1;
+            }
+        }
+    }
+    count
 }
