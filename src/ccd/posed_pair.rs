@@ -183,7 +183,7 @@ impl PosedPair {
     /// the head-on bound of that slab's gap. Where both leaves are flat
     /// patches facing each other (a link's face passing another's nearly
     /// parallel, a small link beside a gear's tooth), this bounds the
-    /// leaves' sixteen triangle pairs about as well as each one's own
+    /// leaves' triangle pairs (up to sixteen) about as well as each one's own
     /// bound, for one kernel call. `None` where that pair is within
     /// `target` (the leaves are then bounded pair by pair). The bound and a
     /// lower bound on the leaves' distance now.
