@@ -502,6 +502,30 @@ mod tests {
         (a, b, frame)
     }
 
+    /// Two bodies moving (up to 2) and spinning (up to 20 rad/s), `a` at
+    /// the origin and `b` at `least` to `least + spread` times the sum of
+    /// the meshes' radii from it in a random direction, and the frame at 0.
+    fn near_each_other(
+        rng: &mut Rng,
+        mesh_a: &TriMesh,
+        mesh_b: &TriMesh,
+        (least, spread): (Real, Real),
+    ) -> (StepMotion, StepMotion, PairFrame) {
+        let ma = StepMotion::new(
+            Pose::new(Vector::zeros(), rng.in_unit_ball() * 3.0),
+            rng.in_unit_ball() * 2.0,
+            rng.in_unit_ball() * 20.0,
+        );
+        let reach = mesh_a.radius() + mesh_b.radius();
+        let mb = StepMotion::new(
+            Pose::new(rng.unit_vector() * reach * (least + spread * rng.uniform()), rng.in_unit_ball() * 3.0),
+            rng.in_unit_ball() * 2.0,
+            rng.in_unit_ball() * 20.0,
+        );
+        let frame = frame_at_start(&ma, &mb);
+        (ma, mb, frame)
+    }
+
     /// The gap along the world direction `n` between two vertex sets at time `t`.
     fn gap_at(
         n: &Vector,
@@ -580,18 +604,7 @@ mod tests {
         let mut features = std::collections::BTreeMap::new();
         for case in 0..600 {
             let (mesh_a, mesh_b) = (&meshes[case % 2], &meshes[(case / 2) % 2]);
-            let ma = StepMotion::new(
-                Pose::new(Vector::zeros(), rng.in_unit_ball() * 3.0),
-                rng.in_unit_ball() * 2.0,
-                rng.in_unit_ball() * 20.0,
-            );
-            let reach = mesh_a.radius() + mesh_b.radius();
-            let mb = StepMotion::new(
-                Pose::new(rng.unit_vector() * reach * (0.8 + 0.4 * rng.uniform()), rng.in_unit_ball() * 3.0),
-                rng.in_unit_ball() * 2.0,
-                rng.in_unit_ball() * 20.0,
-            );
-            let frame = frame_at_start(&ma, &mb);
+            let (ma, mb, frame) = near_each_other(&mut rng, mesh_a, mesh_b, (0.8, 0.4));
             let posed = |ta: usize, tb: usize| PosedPair::new(mesh_a, ta, mesh_b, tb, &frame);
             let (mut best, mut d) = ((0, 0), Real::INFINITY);
             for ta in 0..mesh_a.triangles().len() {
@@ -664,18 +677,7 @@ mod tests {
         let (mut bounded, mut flat, mut flat_reaching) = (0, 0, 0);
         for case in 0..300 {
             let (mesh_a, mesh_b) = (&meshes[case % 3], &meshes[(case / 3) % 3]);
-            let ma = StepMotion::new(
-                Pose::new(Vector::zeros(), rng.in_unit_ball() * 3.0),
-                rng.in_unit_ball() * 2.0,
-                rng.in_unit_ball() * 20.0,
-            );
-            let reach = mesh_a.radius() + mesh_b.radius();
-            let mb = StepMotion::new(
-                Pose::new(rng.unit_vector() * reach * (0.6 + 0.6 * rng.uniform()), rng.in_unit_ball() * 3.0),
-                rng.in_unit_ball() * 2.0,
-                rng.in_unit_ball() * 20.0,
-            );
-            let frame = frame_at_start(&ma, &mb);
+            let (ma, mb, frame) = near_each_other(&mut rng, mesh_a, mesh_b, (0.6, 0.6));
             // The closest leaf pair, and its closest triangle pair.
             let (mut best, mut d) = ((leaves(mesh_a)[0], leaves(mesh_b)[0], 0, 0), Real::INFINITY);
             for la in leaves(mesh_a) {

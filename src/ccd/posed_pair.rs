@@ -345,6 +345,8 @@ pub(super) struct TurningSlab<'f> {
     spin_norm: Real,
     origin: Vector,
     origin_velocity: Vector,
+    /// Each body's centre's speed relative to the origin (a's, b's).
+    centre_speeds: (Real, Real),
     horizon: Real,
 }
 
@@ -360,25 +362,36 @@ impl<'f> TurningSlab<'f> {
         let origin = (closest.point_a.coords + closest.point_b.coords) / 2.0;
         let origin_velocity =
             (frame.omega_a.cross(&closest.point_a.coords) + velocity_b(frame, &closest.point_b.coords)) / 2.0;
-        TurningSlab { frame, n: *n, spin, spin_norm: spin.norm(), origin, origin_velocity, horizon }
+        let centre_speeds = (origin_velocity.norm(), (frame.velocity - origin_velocity).norm());
+        TurningSlab {
+            frame,
+            n: *n,
+            spin,
+            spin_norm: spin.norm(),
+            origin,
+            origin_velocity,
+            centre_speeds,
+            horizon,
+        }
     }
 
     /// A vertex's height along `n` in the turning frame, its rate, and the
     /// bound of its second derivative over the horizon: `x` the vertex (a's
     /// frame), `offset` its offset from its body's centre, `velocity` its
-    /// velocity, `centre_velocity` its body centre's, `omega` its body's spin.
+    /// velocity, `centre_speed` its body centre's speed relative to the
+    /// origin, `omega` its body's spin.
     #[inline]
     fn height(
         &self,
         x: &Vector,
         offset: &Vector,
         velocity: Vector,
-        centre_velocity: &Vector,
+        centre_speed: Real,
         omega: Real,
     ) -> [Real; 3] {
         let (q, dq) = (x - self.origin, velocity - self.origin_velocity);
         let reach = offset.norm();
-        let speed = (centre_velocity - self.origin_velocity).norm() + omega * reach;
+        let speed = centre_speed + omega * reach;
         let spin_norm = self.spin_norm;
         let curvature = omega * omega * reach
             + 2.0 * spin_norm * speed
@@ -391,7 +404,7 @@ impl<'f> TurningSlab<'f> {
     #[inline]
     pub(super) fn height_a(&self, p: &Point) -> [Real; 3] {
         let frame = self.frame;
-        self.height(&p.coords, &p.coords, frame.omega_a.cross(&p.coords), &Vector::zeros(), frame.spin_a)
+        self.height(&p.coords, &p.coords, frame.omega_a.cross(&p.coords), self.centre_speeds.0, frame.spin_a)
     }
 
     /// ... of a vertex of `b`: `offset` from b's centre and the point, both
@@ -399,7 +412,13 @@ impl<'f> TurningSlab<'f> {
     #[inline]
     pub(super) fn height_b(&self, offset: &Point, p: &Point) -> [Real; 3] {
         let frame = self.frame;
-        self.height(&p.coords, &offset.coords, velocity_b(frame, &p.coords), &frame.velocity, frame.spin_b)
+        self.height(
+            &p.coords,
+            &offset.coords,
+            velocity_b(frame, &p.coords),
+            self.centre_speeds.1,
+            frame.spin_b,
+        )
     }
 
     /// The least first root over the vertex pairs, from their heights
