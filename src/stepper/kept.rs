@@ -32,6 +32,8 @@
 //! would not last [`KEPT_MIN_STEPS`] steps get none: the broad phase boxes
 //! every body for [`KEPT_PAUSE_STEPS`] steps, then tries again.
 
+use std::ops::Range;
+
 use nalgebra::UnitQuaternion;
 
 use super::broad::{BoxMargin, PARALLEL_BOX_BODIES};
@@ -157,11 +159,11 @@ impl KeptBoxes {
         let n = bodies.motions.len();
         let many = threads && n >= PARALLEL_BOX_BODIES;
         self.escapees.clear();
+        // Whether the paired bodies' first boxes were made with the check.
+        let mut first_boxes = false;
         if self.kept.len() == n {
-            let (kept, turns) = (&self.kept, &self.turns);
-            in_runs(n, many, &mut self.escapees, |range, out| {
-                out.extend(range.filter(|&i| !fits(&kept[i], turns, &bodies.motions[i], bodies)));
-            });
+            self.check(bodies, many);
+            first_boxes = true;
         }
         self.escaped_last = self.escapees.len();
         self.lasted += 1;
@@ -176,6 +178,7 @@ impl KeptBoxes {
             self.build(bodies, many);
             self.escapees.clear();
             self.lasted = 0;
+            first_boxes = false;
         }
         let escaped = &mut self.escaped;
         for &e in &self.escapees {
@@ -187,19 +190,18 @@ impl KeptBoxes {
         // bodies in a pair that passed (each body boxed once, in order).
         let (kept, turns, paired) = (&self.kept, &self.turns, &self.paired);
         let threads_for = |count: usize| threads && count >= PARALLEL_BOX_BODIES;
-        // (An escaped body's first box is empty: it meets no box.)
-        let outside = (Point::from([Real::INFINITY; 3]), Point::from([Real::NEG_INFINITY; 3]));
-        let rough = |&i: &u32| match escaped[i as usize] {
-            true => outside,
-            false => bound(&kept[i as usize], turns, &bodies.motions[i as usize], bodies).unwrap_or(outside),
-        };
         let boxes = &mut self.paired_boxes;
-        if threads_for(paired.len()) {
-            use rayon::prelude::*;
-            paired.par_iter().map(rough).collect_into_vec(boxes);
-        } else {
-            boxes.clear();
-            boxes.extend(paired.iter().map(rough));
+        if !first_boxes {
+            // Just made: every body is within its kept box.
+            let first = |&i: &u32| bound(&kept[i as usize], turns, &bodies.motions[i as usize], bodies);
+            let first = |i: &u32| first(i).unwrap_or_else(outside);
+            if threads_for(paired.len()) {
+                use rayon::prelude::*;
+                paired.par_iter().map(first).collect_into_vec(boxes);
+            } else {
+                boxes.clear();
+                boxes.extend(paired.iter().map(first));
+            }
         }
         let (near, kept_pairs, rough_boxes) = (&mut self.near_pairs, &self.kept_pairs, &*boxes);
         near.clear();
@@ -260,6 +262,57 @@ impl KeptBoxes {
             }
         }
         true
+    }
+
+    /// Each body's first box (its [`bound`]) against its kept box, in one
+    /// pass over the bodies: the bodies that escaped go to `escapees` (in
+    /// order), and the first box of each paired body to its place in
+    /// `paired_boxes` (an empty box for one that escaped: it meets none).
+    /// On rayon's threads when `many`, as runs of bodies, each with the
+    /// places of its paired bodies (the same boxes and escapees).
+    fn check<'a, M: Fn(usize) -> &'a TriMesh + Sync>(&mut self, bodies: &Bodies<'a, M>, many: bool) {
+        let (kept, turns, paired) = (&self.kept, &self.turns, &self.paired);
+        let n = kept.len();
+        let check = |range: Range<usize>, ids: &[u32], boxes: &mut [SweptBox], escapees: &mut Vec<usize>| {
+            let mut place = 0;
+            for i in range {
+                let first =
+                    bound(&kept[i], turns, &bodies.motions[i], bodies).filter(|b| within(b, &kept[i].fat));
+                if first.is_none() {
+                    escapees.push(i);
+                }
+                if ids.get(place) == Some(&(i as u32)) {
+                    boxes[place] = first.unwrap_or_else(outside);
+                    place += 1;
+                }
+            }
+        };
+        self.paired_boxes.resize(paired.len(), outside());
+        if !many {
+            check(0..n, paired, &mut self.paired_boxes, &mut self.escapees);
+            return;
+        }
+        // Runs of about a quarter of a thread's share, as `in_runs` makes.
+        let run = n.div_ceil(4 * rayon::current_num_threads()).max(1);
+        let mut runs = Vec::with_capacity(n.div_ceil(run));
+        let (mut boxes, mut placed) = (&mut self.paired_boxes[..], 0);
+        for start in (0..n).step_by(run) {
+            let range = start..(start + run).min(n);
+            let end = paired.partition_point(|&p| (p as usize) < range.end);
+            let (these, rest) = boxes.split_at_mut(end - placed);
+            runs.push((range, &paired[placed..end], these));
+            (boxes, placed) = (rest, end);
+        }
+        use rayon::prelude::*;
+        let found: Vec<Vec<usize>> = runs
+            .into_par_iter()
+            .map(|(range, ids, boxes)| {
+                let mut escapees = Vec::new();
+                check(range, ids, boxes, &mut escapees);
+                escapees
+            })
+            .collect();
+        found.iter().for_each(|part| self.escapees.extend_from_slice(part));
     }
 
     /// Makes every body's kept box, their grid and their pairs.
@@ -377,18 +430,15 @@ fn too_fast<'a, M: Fn(usize) -> &'a TriMesh + Sync>(bodies: &Bodies<'a, M>, many
     count * REBUILD_ESCAPED_DIVISOR > n
 }
 
-/// Whether the swept box of the body with this motion over the step is
-/// within its kept box (its [`bound`] is).
+/// Whether the first box is within the second.
 #[inline]
-fn fits<'a, M: Fn(usize) -> &'a TriMesh + Sync>(
-    kept: &Kept,
-    turns: &[FixedTurn],
-    motion: &StepMotion,
-    bodies: &Bodies<'a, M>,
-) -> bool {
-    let (fat_low, fat_high) = &kept.fat;
-    bound(kept, turns, motion, bodies)
-        .is_some_and(|(low, high)| (0..3).all(|k| low[k] >= fat_low[k] && high[k] <= fat_high[k]))
+fn within((low, high): &SweptBox, (outer_low, outer_high): &SweptBox) -> bool {
+    (0..3).all(|k| low[k] >= outer_low[k] && high[k] <= outer_high[k])
+}
+
+/// The empty box (it meets no box).
+fn outside() -> SweptBox {
+    (Point::from([Real::INFINITY; 3]), Point::from([Real::NEG_INFINITY; 3]))
 }
 
 #[cfg(test)]
