@@ -90,10 +90,13 @@ impl Driver for Integrated {
         if stepper.options.parallel && rayon::current_thread_index().is_none() {
             // The step is handed to rayon's threads once: made from here,
             // each of its parallel stages would hand its work over and
-            // wait for it (a wake-up and a sleep of two threads each).
-            rayon::scope(|_| stepper.step(world, step))
+            // wait for it (a wake-up and a sleep of two threads each). A
+            // step of many bodies keeps the other threads awake as well;
+            // a caller stepping from rayon's own threads schedules them.
+            let awake = stepper.model.bodies.len() >= threads::AWAKE_STEP_BODIES;
+            rayon::scope(|_| stepper.step(world, step, awake))
         } else {
-            stepper.step(world, step)
+            stepper.step(world, step, false)
         }
     }
 
@@ -256,10 +259,17 @@ impl Stepper {
     /// One step (0-based `step`) of the stepper's own integration: the
     /// stages in order. (Under a guard, rapier makes the motions and the
     /// guard calls [`Stepper::sweep`] and [`Stepper::observe_step_end`].)
-    fn step(&mut self, world: &mut World, step: u64) -> Result<StepEnd, Termination> {
+    /// With `awake`, rayon's other threads keep looking for work during
+    /// stages 1 to 5 ([`threads::awake_while`]); the observers (whose
+    /// near-miss brackets may run on another thread while the next step
+    /// does) come after.
+    fn step(&mut self, world: &mut World, step: u64, awake: bool) -> Result<StepEnd, Termination> {
         let t0 = step as Real * self.model.dt;
-        self.integrate(world, step, t0)?;
-        let end = self.sweep(world, step)?;
+        let mut stages = || {
+            self.integrate(world, step, t0)?;
+            self.sweep(world, step)
+        };
+        let end = if awake { threads::awake_while(stages)? } else { stages()? };
         if let StepEnd::Continue = end {
             self.observe_step_end(world, step);
         }

@@ -1,9 +1,11 @@
-//! When work goes to rayon's threads: each thread's CCD scratch, and the
-//! rule that hands a batch over only when it gains from the threads (the
-//! narrow phase's and the near misses' batches alike).
+//! When work goes to rayon's threads: each thread's CCD scratch, the rule
+//! that hands a batch over only when it gains from the threads (the narrow
+//! phase's and the near misses' batches alike), and the other threads kept
+//! looking for work through a step of many bodies.
 
 use std::cell::RefCell;
-use std::time::Instant;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
@@ -107,5 +109,118 @@ impl Batches {
         }
         let seconds = clock.elapsed().as_secs_f64();
         self.account(one_thread_seconds(seconds, parallel, self.threads, self.handing_over), jobs.len());
+    }
+}
+
+/// A step of this many bodies or more keeps rayon's other threads looking
+/// for work while it runs ([`awake_while`]): `4096`, where the broad
+/// phase's stages go on the threads too (`PARALLEL_BOX_BODIES`). A
+/// shorter step has too few parallel stages to gain from it.
+pub(crate) const AWAKE_STEP_BODIES: usize = 4096;
+
+/// A thread kept looking for work goes back to sleep after finding none
+/// for this long: `200 µs`, longer than the serial stretches of a step of
+/// many bodies (a narrow phase on one thread, the response) and short
+/// enough that a thread held by a step of another run (two runs stepping
+/// at once from two threads of the caller, each keeping the pool's other
+/// thread) is let go soon.
+pub(crate) const AWAKE_IDLE_LIMIT: Duration = Duration::from_micros(200);
+
+/// The spin-loop pauses between two looks for work: `16`.
+const AWAKE_PAUSES: usize = 16;
+
+/// `f` on this thread of rayon's pool while each of the pool's other
+/// threads keeps looking for work instead of going to sleep between the
+/// step's parallel stages. A sleeping thread woken by the next stage
+/// started 25–45 µs late on this machine's two cores, stage after stage
+/// (`BENCHMARKS.md`); a thread that keeps looking burns its core while the
+/// step runs serial stages, which is the price. Called from outside the
+/// pool, `f` simply runs.
+pub(crate) fn awake_while<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    let Some(home) = rayon::current_thread_index() else { return f() };
+    if rayon::current_num_threads() < 2 {
+        return f();
+    }
+    let done = AtomicBool::new(false);
+    let done = &done;
+    rayon::scope(|scope| {
+        scope.spawn_broadcast(move |_, context| {
+            // This thread's own copy returns at once (it runs `f`).
+            if context.index() != home {
+                look_for_work(done);
+            }
+        });
+        let result = f();
+        done.store(true, Ordering::Release);
+        result
+    })
+}
+
+/// Runs what work this thread finds until `done`, or until it has found
+/// none for [`AWAKE_IDLE_LIMIT`].
+fn look_for_work(done: &AtomicBool) {
+    let mut idle_since = Instant::now();
+    while !done.load(Ordering::Acquire) {
+        match rayon::yield_now() {
+            Some(rayon::Yield::Executed) => idle_since = Instant::now(),
+            _ if idle_since.elapsed() > AWAKE_IDLE_LIMIT => return,
+            // A pause between looks (about a microsecond), which leaves the
+            // core's resources to a sibling thread.
+            _ => (0..AWAKE_PAUSES).for_each(|_| std::hint::spin_loop()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::mpsc::channel;
+    use std::time::Duration;
+
+    /// A sum on the pool's threads, as a step's parallel stage makes one.
+    fn stage() -> u64 {
+        (0..200_000u64).into_par_iter().map(|k| k % 7).sum()
+    }
+
+    /// Stages with serial stretches between them, kept awake: the answers
+    /// of the same stages on one thread.
+    fn stages() -> u64 {
+        awake_while(|| {
+            let mut total = 0;
+            for _ in 0..20 {
+                total += stage();
+                let clock = Instant::now();
+                while clock.elapsed() < Duration::from_micros(50) {}
+            }
+            total
+        })
+    }
+
+    /// Two runs stepping at once from two threads of the caller, in a pool
+    /// of two: each keeps the pool's other thread (which the other run's
+    /// step holds) looking for work. Both finish, let go after
+    /// `AWAKE_IDLE_LIMIT`, with the answers of one thread; and outside
+    /// the pool the stages simply run.
+    #[test]
+    fn two_steps_at_once_each_keeping_the_other_thread_awake_both_finish() {
+        let expected: u64 = 20 * (0..200_000u64).map(|k| k % 7).sum::<u64>();
+        assert_eq!(stages(), expected, "outside the pool");
+        let pool =
+            std::sync::Arc::new(rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("a pool"));
+        let (sender, receiver) = channel();
+        for _ in 0..2 {
+            let (pool, sender) = (pool.clone(), sender.clone());
+            std::thread::spawn(move || {
+                for _ in 0..400 {
+                    let sum = pool.install(stages);
+                    sender.send(sum).expect("the test waits");
+                }
+            });
+        }
+        for k in 0..800 {
+            let sum =
+                receiver.recv_timeout(Duration::from_secs(20)).unwrap_or_else(|_| panic!("run {k} hangs"));
+            assert_eq!(sum, expected);
+        }
     }
 }
