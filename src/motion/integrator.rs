@@ -292,7 +292,7 @@ fn unit_product(a: &UnitQuaternion<Real>, b: &UnitQuaternion<Real>) -> UnitQuate
 /// of mass) and it feels no gyroscopic torque (no inertia, or an isotropic
 /// one under the implicit rule, which drops the torque of such a body).
 #[inline]
-fn spins_steadily(dynamics: &Dynamics, gyroscopic: Gyroscopic) -> bool {
+pub(crate) fn spins_steadily(dynamics: &Dynamics, gyroscopic: Gyroscopic) -> bool {
     dynamics.springs.is_empty()
         && dynamics
             .inertia
@@ -305,8 +305,8 @@ fn spins_steadily(dynamics: &Dynamics, gyroscopic: Gyroscopic) -> bool {
 /// taking `ω` into the body frame and back (whose rounding walked `ω` by
 /// an ulp or so a step, where it now stays as it is).
 #[inline(always)]
-fn steady_spin_step(state: &RigidState, dynamics: &Dynamics, dt: Real) -> IntegratorStep {
-    let velocity = state.velocity + dynamics.gravity * dt;
+pub(crate) fn steady_spin_step(state: &RigidState, gravity: &Vector, dt: Real) -> IntegratorStep {
+    let velocity = state.velocity + gravity * dt;
     let omega = state.angular_velocity;
     let next = RigidState {
         position: state.position + velocity * dt,
@@ -352,7 +352,7 @@ pub fn integrate_turning(
 ) -> IntegratorStep {
     let q = state.orientation;
     if integrator == Integrator::SymplecticEuler && spins_steadily(dynamics, gyroscopic) {
-        return steady_spin_step(state, dynamics, dt);
+        return steady_spin_step(state, &dynamics.gravity, dt);
     }
     let omega_body = q.inverse_transform_vector(&state.angular_velocity);
     match integrator {

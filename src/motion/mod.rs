@@ -29,6 +29,7 @@ pub(crate) use gyroscopic::{COFACTOR_UNSCALED_RANGE, GYROSCOPIC_MAX_ITERATIONS};
 pub use integrator::{
     integrate, integrate_turning, Dynamics, Gyroscopic, Integrator, IntegratorStep, RigidState, Spring,
 };
+pub(crate) use integrator::{spins_steadily, steady_spin_step};
 pub use step_motion::StepMotion;
 pub(crate) use step_motion::MAX_TURN_PER_STEP;
 #[cfg(test)]

@@ -165,6 +165,9 @@ pub(crate) struct Stepper {
     /// The bodies that move in the stepper's own integration without being
     /// integrated (free, not still), found at its first step.
     movers: Option<Vec<usize>>,
+    /// Whether each body's step is a steady spin's, found at the first
+    /// step (`integrate.rs`).
+    steady: Option<Vec<bool>>,
     /// The trace, when the scene asks for one.
     trace: Option<TraceObserver>,
     /// The pose record, when the scene asks for one.
@@ -227,6 +230,7 @@ impl Stepper {
             kept: None,
             still: model.bodies.iter().map(|b| b.motion == BodyMotion::Fixed).collect(),
             movers: None,
+            steady: None,
             trace: run.and_then(|run| {
                 TraceObserver::of(&model, run, options.parallel.then_some(options.parallel_trace_pairs))
             }),
