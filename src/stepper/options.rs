@@ -8,7 +8,11 @@ use crate::math::Real;
 /// whatever the options).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct RunOptions {
-    /// Run the pairs' CCD on several threads (rayon's pool). Default: true.
+    /// Run the stages that scale with bodies or pairs on several threads
+    /// (rayon's pool). A step of `AWAKE_STEP_BODIES` (4,096) bodies or
+    /// more, run from outside the pool, also keeps the pool's other threads
+    /// looking for work (spinning) while it runs, so that each parallel
+    /// stage starts at once. Default: true.
     pub parallel: bool,
     /// Select pairs with the broad phase when there are more than two
     /// bodies (otherwise every pair not both fixed is queried). Default: true.
