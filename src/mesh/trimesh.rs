@@ -220,6 +220,13 @@ impl TriMesh {
         }
     }
 
+    /// Builds the farthest-vertex table now (see
+    /// [`TriMesh::farthest_vertex`]), which the first query that needs it
+    /// otherwise builds.
+    pub(crate) fn prepare_farthest_vertex(&self) {
+        self.support.get_or_init(|| SupportTable::build(&self.vertices));
+    }
+
     /// Bytes the mesh holds on the heap: vertices, triangles, BVH, the
     /// triangles around each vertex, and the farthest-vertex table (once
     /// built).

@@ -122,19 +122,17 @@ impl Integrated {
     }
 }
 
-/// Makes what each distinct mesh of `model` keeps for its queries and
-/// otherwise makes at the first query near it (whether it is convex, and
-/// the farthest-vertex table that decides it): in a scene of many bodies
-/// nearly every mesh meets another, and a step in which several first
-/// did took up to a millisecond longer, on one thread, in the middle of a
-/// run. On rayon's threads when `parallel`, a mesh each.
+/// Builds each distinct mesh's farthest-vertex table, which the CCD's
+/// hull steps read and the first of them near the mesh otherwise builds:
+/// in a scene of many bodies nearly every mesh comes near another, and the
+/// step in which they first did took up to a millisecond longer, on one
+/// thread, in the middle of a run. On rayon's threads when `parallel`, a
+/// mesh each.
 fn prepare_meshes(model: &Model, parallel: bool) {
     let mut meshes: Vec<&crate::mesh::TriMesh> = model.bodies.iter().map(|b| &*b.mesh).collect();
     meshes.sort_unstable_by_key(|mesh| std::ptr::from_ref(*mesh));
     meshes.dedup_by_key(|mesh| std::ptr::from_ref(*mesh));
-    let prepare = |mesh: &&crate::mesh::TriMesh| {
-        mesh.is_convex();
-    };
+    let prepare = |mesh: &&crate::mesh::TriMesh| mesh.prepare_farthest_vertex();
     if parallel {
         use rayon::prelude::*;
         meshes.par_iter().for_each(prepare);
