@@ -111,7 +111,11 @@ impl Stepper {
                 extra: extra_box_margin,
                 rounding: model.parameters.broad_phase_rounding_ulps * Real::EPSILON,
             };
-            let mesh = |i: usize| &*model.bodies[i].mesh;
+            let body_meshes = self.body_meshes.as_ref();
+            let mesh = |i: usize| match body_meshes {
+                Some(meshes) => meshes.of_body(i),
+                None => &*model.bodies[i].mesh,
+            };
             let bodies = Bodies { motions: &world.motions, mesh, margin, dt: model.dt };
             let swept = |i: usize| bodies.swept(i);
             // The boxes of the bodies `only` lists (all of them for `None`),

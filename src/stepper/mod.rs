@@ -64,6 +64,7 @@ pub(crate) use world::{PairState, World};
 use crate::broad_phase::{BroadPhase, SweptBox};
 use crate::ccd::MeshCcdScratch;
 use crate::math::Real;
+use crate::mesh::TriMesh;
 use crate::scene::{Body, BodyMotion, Model, RunSpec, Scene};
 use observe::near_miss::NearMissObserver;
 use observe::poses::PoseObserver;
@@ -122,22 +123,45 @@ impl Integrated {
     }
 }
 
-/// Builds each distinct mesh's farthest-vertex table, which the CCD's
-/// hull steps read and the first of them near the mesh otherwise builds:
-/// in a scene of many bodies nearly every mesh comes near another, and the
-/// step in which they first did took up to a millisecond longer, on one
-/// thread, in the middle of a run. On rayon's threads when `parallel`, a
-/// mesh each.
-fn prepare_meshes(model: &Model, parallel: bool) {
-    let mut meshes: Vec<&crate::mesh::TriMesh> = model.bodies.iter().map(|b| &*b.mesh).collect();
-    meshes.sort_unstable_by_key(|mesh| std::ptr::from_ref(*mesh));
-    meshes.dedup_by_key(|mesh| std::ptr::from_ref(*mesh));
-    let prepare = |mesh: &&crate::mesh::TriMesh| mesh.prepare_farthest_vertex();
-    if parallel {
-        use rayon::prelude::*;
-        meshes.par_iter().for_each(prepare);
-    } else {
-        meshes.iter().for_each(prepare);
+/// Each body's mesh as an index into the run's distinct meshes, for the
+/// broad phase: a body's mesh found from its 4-byte index rather than from
+/// the body itself (296 bytes, read at random for the bodies a crowded
+/// step boxes again).
+pub(crate) struct BodyMeshes {
+    ids: Vec<u32>,
+    meshes: Vec<Arc<TriMesh>>,
+}
+
+impl BodyMeshes {
+    /// The meshes of `model`'s bodies, each distinct mesh's farthest-vertex
+    /// table built now: the CCD's hull steps read it, and the first of them
+    /// near the mesh otherwise builds it (in a scene of many bodies nearly
+    /// every mesh comes near another, and the step in which they first did
+    /// took up to a millisecond longer, on one thread, in the middle of a
+    /// run). On rayon's threads when `parallel`, a mesh each.
+    fn of(model: &Model, parallel: bool) -> BodyMeshes {
+        let mut meshes: Vec<&Arc<TriMesh>> = model.bodies.iter().map(|b| &b.mesh).collect();
+        meshes.sort_unstable_by_key(|mesh| Arc::as_ptr(mesh));
+        meshes.dedup_by_key(|mesh| Arc::as_ptr(mesh));
+        let place = |mesh: &Arc<TriMesh>| {
+            meshes.binary_search_by_key(&Arc::as_ptr(mesh), |m| Arc::as_ptr(m)).expect("a body's mesh") as u32
+        };
+        let ids = model.bodies.iter().map(|b| place(&b.mesh)).collect();
+        let meshes: Vec<Arc<TriMesh>> = meshes.into_iter().cloned().collect();
+        let prepare = |mesh: &Arc<TriMesh>| mesh.prepare_farthest_vertex();
+        if parallel {
+            use rayon::prelude::*;
+            meshes.par_iter().for_each(prepare);
+        } else {
+            meshes.iter().for_each(prepare);
+        }
+        BodyMeshes { ids, meshes }
+    }
+
+    /// Body `i`'s mesh.
+    #[inline]
+    pub(crate) fn of_body(&self, i: usize) -> &TriMesh {
+        &self.meshes[self.ids[i] as usize]
     }
 }
 
@@ -150,6 +174,8 @@ pub(crate) struct Stepper {
     response: Box<dyn Response>,
     /// The broad phase, for scenes of more than two bodies.
     broad: Option<BroadPhase>,
+    /// The bodies' meshes, with the broad phase.
+    body_meshes: Option<BodyMeshes>,
     /// The fixed bodies' boxes, made once, in the stepper's own
     /// integration of a scene with many fixed bodies (under a guard, an
     /// engine may move a fixed body: every box is made each step).
@@ -217,12 +243,10 @@ impl Stepper {
         response: Box<dyn Response>,
     ) -> Stepper {
         let broad = (options.broad_phase && model.bodies.len() > 2).then(BroadPhase::default);
-        if broad.is_some() {
-            prepare_meshes(&model, options.parallel);
-        }
         Stepper {
             options,
             response,
+            body_meshes: broad.as_ref().map(|_| BodyMeshes::of(&model, options.parallel)),
             broad,
             fixed_apart: None,
             kept: None,
@@ -482,7 +506,7 @@ impl Stepper {
             .collect();
         // The step's buffers go before the result is built beside them (a
         // third of the run's peak at 100,000 bodies).
-        (self.broad, self.kept, self.scratch) = (None, None, Scratch::default());
+        (self.broad, self.body_meshes, self.kept, self.scratch) = (None, None, None, Scratch::default());
         world.release_buffers();
         let near_misses = match self.near_misses.take() {
             Some(observer) => {
