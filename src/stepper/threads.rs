@@ -164,8 +164,8 @@ fn look_for_work(done: &AtomicBool) {
         match rayon::yield_now() {
             Some(rayon::Yield::Executed) => idle_since = Instant::now(),
             _ if idle_since.elapsed() > AWAKE_IDLE_LIMIT => return,
-            // A pause between looks (about a microsecond), which leaves the
-            // core's resources to a sibling thread.
+            // A pause between looks (under a microsecond), which leaves
+            // the core's resources to a sibling thread.
             _ => (0..AWAKE_PAUSES).for_each(|_| std::hint::spin_loop()),
         }
     }
