@@ -486,6 +486,12 @@ impl GridBroadPhase {
     }
 }
 
+/// The length of the runs [`in_runs`] splits `count` items into on rayon's
+/// threads: about a quarter of a thread's share (at least one).
+pub(crate) fn run_length(count: usize) -> usize {
+    count.div_ceil(4 * rayon::current_num_threads()).max(1)
+}
+
 /// `find` over `0..count`, appending what it finds (pairs) in order: on
 /// rayon's threads when `threads`, as runs of about a quarter of a
 /// thread's share each (what they find joined in the runs' order, so the
@@ -501,7 +507,7 @@ pub(crate) fn in_runs<T: Send + Copy>(
         return;
     }
     use rayon::prelude::*;
-    let run = count.div_ceil(4 * rayon::current_num_threads()).max(1);
+    let run = run_length(count);
     let found: Vec<Vec<T>> = (0..count.div_ceil(run))
         .into_par_iter()
         .map(|k| {

@@ -213,8 +213,7 @@ impl TriMesh {
     /// vertices or more.
     #[inline]
     pub fn farthest_vertex(&self, direction: &Vector) -> usize {
-        let table = self.support.get_or_init(|| SupportTable::build(&self.vertices));
-        match table.as_ref().and_then(|table| table.candidates(direction)) {
+        match self.support_table().as_ref().and_then(|table| table.candidates(direction)) {
             Some(candidates) => support::farthest_of(&self.vertices, candidates, direction),
             None => support::farthest_by_scan(&self.vertices, direction),
         }
@@ -224,7 +223,13 @@ impl TriMesh {
     /// [`TriMesh::farthest_vertex`]), which the first query that needs it
     /// otherwise builds.
     pub(crate) fn prepare_farthest_vertex(&self) {
-        self.support.get_or_init(|| SupportTable::build(&self.vertices));
+        self.support_table();
+    }
+
+    /// The farthest-vertex table (`None` for a mesh too small for one),
+    /// built at the first call.
+    fn support_table(&self) -> &Option<SupportTable> {
+        self.support.get_or_init(|| SupportTable::build(&self.vertices))
     }
 
     /// Bytes the mesh holds on the heap: vertices, triangles, BVH, the

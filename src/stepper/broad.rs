@@ -101,7 +101,7 @@ impl Stepper {
     /// Replaces `world.pairs` by the pairs of this step's swept boxes.
     pub(super) fn broad_phase(&mut self, world: &mut World) {
         let clock = Instant::now();
-        if let Some(broad) = self.broad.as_mut() {
+        if let (Some(broad), Some(body_meshes)) = (self.broad.as_mut(), self.body_meshes.as_ref()) {
             let model = Arc::clone(&self.model);
             let model = &*model;
             let boxes = &mut self.scratch.boxes;
@@ -111,11 +111,7 @@ impl Stepper {
                 extra: extra_box_margin,
                 rounding: model.parameters.broad_phase_rounding_ulps * Real::EPSILON,
             };
-            let body_meshes = self.body_meshes.as_ref();
-            let mesh = |i: usize| match body_meshes {
-                Some(meshes) => meshes.of_body(i),
-                None => &*model.bodies[i].mesh,
-            };
+            let mesh = |i: usize| body_meshes.of_body(i);
             let bodies = Bodies { motions: &world.motions, mesh, margin, dt: model.dt };
             let swept = |i: usize| bodies.swept(i);
             // The boxes of the bodies `only` lists (all of them for `None`),

@@ -94,8 +94,9 @@ impl Stepper {
                 EnergyCheck { now: dynamics.energy(&advance.step.next), initial, scale, limit }
             })
         };
-        let checked = |i: usize, dynamics: &Dynamics, advance: &Advance| {
-            let energy = energy_of(i, dynamics, advance);
+        // (`None` for a steady spin's step, whose run checks no energy.)
+        let checked = |i: usize, dynamics: Option<&Dynamics>, advance: &Advance| {
+            let energy = dynamics.and_then(|dynamics| energy_of(i, dynamics, advance));
             Checked {
                 first_failure: advance.failure(dt, energy).map(|_| i),
                 unconverged: usize::from(!advance.step.converged),
@@ -122,11 +123,10 @@ impl Stepper {
             }
             let Some(current) = state.as_mut() else { return Checked::default() };
             let (advance, checks) = if steady[i] {
-                // `integrate_turning`'s own step for such a body, and its
-                // checks without an energy (the run checks none).
+                // `integrate_turning`'s own step for such a body.
                 let advance = Advance { step: steady_spin_step(current, &model.gravity, dt) };
-                let first_failure = advance.failure(dt, None).map(|_| i);
-                (advance, Checked { first_failure, ..Checked::default() })
+                let checks = checked(i, None, &advance);
+                (advance, checks)
             } else {
                 let Some(dynamics) = body.dynamics(model.gravity) else { return Checked::default() };
                 // (Made here, not through `advance`: its tuple was copied
@@ -135,7 +135,7 @@ impl Stepper {
                 let advance = Advance {
                     step: integrate_turning(current, &dynamics, model.integrator, model.gyroscopic, dt),
                 };
-                let checks = checked(i, &dynamics, &advance);
+                let checks = checked(i, Some(&dynamics), &advance);
                 (advance, checks)
             };
             *saved = (current.velocity, current.angular_velocity);

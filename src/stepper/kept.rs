@@ -37,7 +37,9 @@ use std::ops::Range;
 use nalgebra::UnitQuaternion;
 
 use super::broad::{BoxMargin, PARALLEL_BOX_BODIES};
-use crate::broad_phase::{boxes_overlap, in_runs, swept_box, swept_reach, GridBroadPhase, SweptBox};
+use crate::broad_phase::{
+    boxes_overlap, in_runs, run_length, swept_box, swept_reach, GridBroadPhase, SweptBox,
+};
 use crate::math::{Point, Real, Vector};
 use crate::mesh::TriMesh;
 use crate::motion::StepMotion;
@@ -292,8 +294,8 @@ impl KeptBoxes {
             check(0..n, paired, &mut self.paired_boxes, &mut self.escapees);
             return;
         }
-        // Runs of about a quarter of a thread's share, as `in_runs` makes.
-        let run = n.div_ceil(4 * rayon::current_num_threads()).max(1);
+        // Runs of bodies as `in_runs` makes them.
+        let run = run_length(n);
         let mut runs = Vec::with_capacity(n.div_ceil(run));
         let (mut boxes, mut placed) = (&mut self.paired_boxes[..], 0);
         for start in (0..n).step_by(run) {

@@ -175,7 +175,6 @@ fn look_for_work(done: &AtomicBool) {
 mod tests {
     use super::*;
     use std::sync::mpsc::channel;
-    use std::time::Duration;
 
     /// A sum on the pool's threads, as a step's parallel stage makes one.
     fn stage() -> u64 {
