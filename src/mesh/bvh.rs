@@ -108,6 +108,22 @@ impl MeshBvh {
     pub fn nodes(&self) -> &[BvhNode] {
         &self.nodes
     }
+
+    /// The triangles under node `k`, a range of the mesh's (each subtree's
+    /// triangles are contiguous), where they are at most `most`; `None`
+    /// where there are more (found from the subtree's first and last
+    /// leaves, so a small node costs a few reads).
+    pub(crate) fn small_span(&self, k: u32, most: u32) -> Option<(u32, u32)> {
+        let (mut low, mut high) = (&self.nodes[k as usize], &self.nodes[k as usize]);
+        while !low.is_leaf() {
+            low = &self.nodes[low.first as usize];
+        }
+        while !high.is_leaf() {
+            high = &self.nodes[high.first as usize + 1];
+        }
+        let span = (low.first, high.first + high.count);
+        (span.1 - span.0 <= most).then_some(span)
+    }
 }
 
 /// The fewest triangles of a subtree built on a thread of its own while
