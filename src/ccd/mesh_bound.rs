@@ -89,6 +89,14 @@
 //! the spin across any slab fixed in the world, where a ball, whose gap is
 //! its centre's less its radius, loses only what the distance does.
 //!
+//! Where a pair of small nodes (up to [`SLAB_TRIANGLES`] triangles each)
+//! is still short, it is also bounded over its triangles' vertices along
+//! the line of its centres ([`vertex_slab_time`]): the bound above,
+//! minimum and maximum apart over each vertex set. A box holds a curved
+//! patch's empty space and turns with its body; the vertices do not. On
+//! the KUKA links 1 and 7 passing 0.06 apart it halves the node pairs of
+//! the closest approach's proof.
+//!
 //! A pair of leaves is bounded as a whole before its triangle pairs
 //! ([`PosedPair::leaves_time`](super::posed_pair::PosedPair::leaves_time)):
 //! the turning slab of the triangle pair whose centroids are nearest, its
@@ -99,7 +107,7 @@
 //! tightly as by each triangle pair's own slab.
 
 use crate::math::{Pose, Real, Vector};
-use crate::mesh::BvhNode;
+use crate::mesh::{BvhNode, TriMesh};
 use nalgebra::Matrix3;
 
 /// The motion of `b` relative to `a`, in `a`'s frame at the current time.
@@ -420,6 +428,57 @@ fn node_pair_bounds(
         }
     }
     NodeBounds { sphere_time, box_time, box_direction, spin_time, gap: gap.max(spheres) }
+}
+
+/// The most triangles under each node of a pair bounded also by its
+/// vertices ([`vertex_slab_time`]): `16`, as the distance search's.
+pub(crate) const SLAB_TRIANGLES: u32 = crate::mesh::distance::SLAB_TRIANGLES;
+
+/// A lower bound on the time before any triangle pair of the triangles
+/// `span_a` of `a` and `span_b` of `b` comes within `target`, and on their
+/// distance now: the slab along the line of the two nodes' centres (`na`,
+/// `nb`) over the triangles' vertices themselves (the bound of the module,
+/// minimum and maximum separately over each vertex set). A node's box holds
+/// the empty space of a curved patch and turns with its body, so it loses
+/// its extent times the spin; each vertex loses only its own rate.
+pub(crate) fn vertex_slab_time(
+    (a, na, span_a): (&TriMesh, &BvhNode, (u32, u32)),
+    (b, nb, span_b): (&TriMesh, &BvhNode, (u32, u32)),
+    frame: &PairFrame,
+    target: Real,
+) -> (Real, Real) {
+    let shift = frame.pos_ab.translation.vector;
+    let offset = frame.rotation * nb.center.coords + shift - na.center.coords;
+    let length = offset.norm();
+    if length == 0.0 {
+        return (0.0, 0.0);
+    }
+    let n = offset / length;
+    let (turn_a, turn_b) = (n.cross(&frame.omega_a), n.cross(&frame.omega_b));
+    // b's vertices in b's frame: the height `n · (R p + shift)` and the rate
+    // `(n × ω_b) · R p` as dot products with `p`.
+    let (n_b, turn_b_local) = (frame.rotation.tr_mul(&n), frame.rotation.tr_mul(&turn_b));
+    let (mut high_a, mut fastest_a, mut reach_a) = (Real::NEG_INFINITY, Real::NEG_INFINITY, 0.0 as Real);
+    for t in span_a.0..span_a.1 {
+        for p in a.triangle(t as usize) {
+            high_a = high_a.max(n.dot(&p.coords));
+            fastest_a = fastest_a.max(turn_a.dot(&p.coords));
+            reach_a = reach_a.max(p.coords.norm_squared());
+        }
+    }
+    let (mut low_b, mut slowest_b, mut reach_b) = (Real::INFINITY, Real::INFINITY, 0.0 as Real);
+    for t in span_b.0..span_b.1 {
+        for p in b.triangle(t as usize) {
+            low_b = low_b.min(n_b.dot(&p.coords));
+            slowest_b = slowest_b.min(turn_b_local.dot(&p.coords));
+            reach_b = reach_b.max(p.coords.norm_squared());
+        }
+    }
+    let gap = low_b + n.dot(&shift) - high_a;
+    let rate = n.dot(&frame.velocity) + slowest_b - fastest_a;
+    let curvature =
+        turn_a.norm() * frame.spin_a * reach_a.sqrt() + turn_b.norm() * frame.spin_b * reach_b.sqrt();
+    (first_root(gap - target, rate, curvature), gap)
 }
 
 /// The widest gap over the `horizon` between the spin-swept regions of
@@ -819,6 +878,56 @@ mod tests {
             }
         }
         assert!(spheres > 100 && boxes > 100, "{spheres} sphere and {boxes} box bounds checked");
+    }
+
+    #[test]
+    fn a_small_node_pair_s_vertex_slab_holds_over_its_time() {
+        // Every vertex below two small nodes (of an icosphere and a flat box
+        // or another icosphere, moving and spinning at random) stays on its
+        // side of the slab along the line of the nodes' centres, fixed in
+        // the world, until the bound's time (sampled); and the bound
+        // sometimes lasts longer than the nodes' spheres' and boxes' (126
+        // of 2,469 cases: these bodies are 1.5 to 3.5 apart, where the
+        // boxes do well; near a closest approach it is the other way).
+        let mesh_a = icosphere(1.0, 2).unwrap();
+        let mesh_b = box_mesh(&Vector::new(0.6, 0.05, 0.4)).unwrap();
+        let mesh_c = icosphere(0.6, 2).unwrap();
+        let mut rng = Rng::new(61);
+        let target = 0.01;
+        let (mut checked, mut longer) = (0, 0);
+        for case in 0..3000 {
+            let (ma, mb, frame) = random_pair(&mut rng);
+            let mesh_b = if case % 2 == 0 { &mesh_b } else { &mesh_c };
+            let (nodes_a, nodes_b) = (mesh_a.bvh().nodes(), mesh_b.bvh().nodes());
+            let (i, j) = (rng.index(nodes_a.len()) as u32, rng.index(nodes_b.len()) as u32);
+            let (Some(span_a), Some(span_b)) =
+                (mesh_a.bvh().small_span(i, SLAB_TRIANGLES), mesh_b.bvh().small_span(j, SLAB_TRIANGLES))
+            else {
+                continue;
+            };
+            let (na, nb) = (&nodes_a[i as usize], &nodes_b[j as usize]);
+            let (_, gap) = vertex_slab_time((&mesh_a, na, span_a), (mesh_b, nb, span_b), &frame, 0.0);
+            // Every other case asks for a target just below the gap, where
+            // the bound is short and tight.
+            let target = if case % 2 == 0 { target } else { 0.98 * gap };
+            let (time, _) = vertex_slab_time((&mesh_a, na, span_a), (mesh_b, nb, span_b), &frame, target);
+            if time <= 0.0 {
+                continue;
+            }
+            checked += 1;
+            let (boxes, _) = node_pair_time(na, nb, &frame, target, (Real::INFINITY, 0.0));
+            longer += usize::from(time > boxes);
+            let (pa, pb) = (ma.pose_at(0.0), mb.pose_at(0.0));
+            let centre_line = (pb * nb.center - pa * na.center).normalize();
+            let (a, b) = (vertices_below(&mesh_a, na), vertices_below(mesh_b, nb));
+            let horizon = time.min(10.0);
+            for k in 0..=100 {
+                let t = horizon * k as Real / 100.0;
+                let g = gap_at(&centre_line, &a, &ma, &b, &mb, t);
+                assert!(g >= target - 1e-12, "case {case}: gap {g} at {t} < target {target}, bound {time}");
+            }
+        }
+        assert!(checked > 300 && longer > checked / 50, "{longer} longer of {checked} checked");
     }
 
     #[test]

@@ -45,7 +45,7 @@
 //! and the contact distance without ever closing to `target` (a resting
 //! pair, a receding one) need not be reported.
 
-use super::mesh_bound::{lopsided_leaf, node_pair_time, PairFrame, Side};
+use super::mesh_bound::{lopsided_leaf, node_pair_time, vertex_slab_time, PairFrame, Side, SLAB_TRIANGLES};
 use super::posed_pair::PosedPair;
 use crate::math::Real;
 use crate::mesh::{BvhNode, DistanceKernel, TriMesh};
@@ -125,6 +125,15 @@ impl Items<'_> {
         if bound.0 < needed {
             if let Some(balls) = self.ball_bound(na, nb) {
                 bound = (bound.0.max(balls.0), bound.1.max(balls.1));
+            }
+        }
+        if bound.0 < needed {
+            let (a, b) = (self.meshes.a, self.meshes.b);
+            if let (Some(span_a), Some(span_b)) =
+                (a.bvh().small_span(i, SLAB_TRIANGLES), b.bvh().small_span(j, SLAB_TRIANGLES))
+            {
+                let slab = vertex_slab_time((a, na, span_a), (b, nb, span_b), self.frame, limits.target);
+                bound = (bound.0.max(slab.0), bound.1.max(slab.1));
             }
         }
         self.item(bound, i, j, ItemKind::Nodes)

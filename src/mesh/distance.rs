@@ -609,7 +609,7 @@ impl Eq for Pending {}
 /// reads a side). On the KUKA links 7 and 1, 0.1 apart, the slab of nodes
 /// of up to 16 triangles cut the search's time by 45%; up to 8, by 35%; up
 /// to 64, by 55% there but 30% more on others.
-const SLAB_TRIANGLES: u32 = 16;
+pub(crate) const SLAB_TRIANGLES: u32 = 16;
 
 /// A lower bound on the distance between the triangles `span_a` of `a`
 /// (under node `na`) and `span_b` of `b` (under `nb`, moved by `relative`):
