@@ -316,7 +316,11 @@ fn search_relative(
                 break;
             }
         }
-        if bound >= search.best || search.best <= enough {
+        if search.best <= enough {
+            // Near enough: what is left could only find closer pairs.
+            break;
+        }
+        if bound >= search.best {
             continue;
         }
         let (na, nb) = (&nodes_a[i as usize], &nodes_b[j as usize]);
