@@ -94,8 +94,8 @@
 //! the line of its centres ([`vertex_slab_time`]): the bound above,
 //! minimum and maximum apart over each vertex set. A box holds a curved
 //! patch's empty space and turns with its body; the vertices do not. On
-//! the KUKA links 1 and 7 passing 0.06 apart it halves the node pairs of
-//! the closest approach's proof.
+//! the KUKA links 1 and 7 passing 0.06 apart it takes 45% off the node
+//! pairs of the closest approach's proof (11,140 → 6,130).
 //!
 //! A pair of leaves is bounded as a whole before its triangle pairs
 //! ([`PosedPair::leaves_time`](super::posed_pair::PosedPair::leaves_time)):

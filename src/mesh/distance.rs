@@ -612,7 +612,7 @@ impl Eq for Pending {}
 /// The most triangles under a node for [`vertex_slab`]: `16` (48 vertex
 /// reads a side). On the KUKA links 7 and 1, 0.1 apart, the slab of nodes
 /// of up to 16 triangles cut the search's time by 45%; up to 8, by 35%; up
-/// to 64, by 55% there but 30% more on others.
+/// to 64, by 55% there, but other pairs' searches took 20–30% longer.
 pub(crate) const SLAB_TRIANGLES: u32 = 16;
 
 /// A lower bound on the distance between the triangles `span_a` of `a`
@@ -620,9 +620,10 @@ pub(crate) const SLAB_TRIANGLES: u32 = 16;
 /// the gap between their vertices projected on the line of the nodes'
 /// centres. Where two curved patches face each other, their boxes hold
 /// much empty space and the boxes' gap falls well short; the vertices'
-/// does not (on the KUKA links 7 and 1, 0.1 apart, it prunes 83% of the
-/// node pairs the boxes leave open). Rounding: the projections err by a
-/// few ulps of the coordinates, within the search's prune slack.
+/// does not (on the KUKA links 7 and 1, 0.1 apart, 83% of the node pairs
+/// the boxes left open lay beyond the distance by this bound). Rounding:
+/// the projections err by a few ulps of the coordinates, within the
+/// search's prune slack.
 fn vertex_slab(
     a: &TriMesh,
     na: &super::BvhNode,
