@@ -600,6 +600,37 @@ mod tests {
         low_b - high_a
     }
 
+    /// Rounding allowed to a sampled gap below the target: `1e-12`.
+    const SAMPLED_GAP_ROUNDING: Real = 1e-12;
+
+    /// The gap along the world direction `n` between vertex sets `a` and
+    /// `b` stays at least `target` (to [`SAMPLED_GAP_ROUNDING`]) at
+    /// `samples + 1` evenly spaced times over `[0, until]`.
+    fn assert_apart_until(
+        n: &Vector,
+        (a, ma): (&[crate::math::Point], &StepMotion),
+        (b, mb): (&[crate::math::Point], &StepMotion),
+        (until, samples): (Real, usize),
+        target: Real,
+        case: usize,
+    ) {
+        for k in 0..=samples {
+            let t = until * k as Real / samples as Real;
+            let g = gap_at(n, a, ma, b, mb, t);
+            assert!(
+                g >= target - SAMPLED_GAP_ROUNDING,
+                "case {case}: gap {g} at {t} < target {target}, until {until}"
+            );
+        }
+    }
+
+    /// The node tests' meshes: an icosphere, and a flat box or a smaller
+    /// icosphere (by the case's parity) to meet it.
+    fn node_test_meshes() -> (TriMesh, [TriMesh; 2]) {
+        let sphere = icosphere(1.0, 2).unwrap();
+        (sphere, [box_mesh(&Vector::new(0.6, 0.05, 0.4)).unwrap(), icosphere(0.6, 2).unwrap()])
+    }
+
     #[test]
     fn triangle_slab_bound_holds_over_its_time() {
         // The true gap along the fixed direction never drops below the target
@@ -621,11 +652,7 @@ mod tests {
             checked += 1;
             let n_world = ma.rotation_at(0.0) * n;
             let (a, b) = (mesh_a.triangle(ta), mesh_b.triangle(tb));
-            for k in 0..=50 {
-                let t = time * k as Real / 50.0;
-                let g = gap_at(&n_world, &a, &ma, &b, &mb, t);
-                assert!(g >= target - 1e-12, "case {case}: gap {g} at {t} < target, bound {time}");
-            }
+            assert_apart_until(&n_world, (&a, &ma), (&b, &mb), (time, 50), target, case);
         }
         assert!(checked > 300, "{checked} cases with a positive gap");
     }
@@ -830,11 +857,7 @@ mod tests {
             checked += 1;
             let n_world = ma.rotation_at(0.0) * direction;
             let (a, b) = (vertices_below(&mesh_a, &na), vertices_below(&mesh_b, &nb));
-            for k in 0..=1000 {
-                let t = horizon * k as Real / 1000.0;
-                let g = gap_at(&n_world, &a, &ma, &b, &mb, t);
-                assert!(g >= target - 1e-12, "case {case}: gap {g} at {t} < target");
-            }
+            assert_apart_until(&n_world, (&a, &ma), (&b, &mb), (horizon, 1000), target, case);
         }
         assert!(checked > 100, "{checked} node pairs settled by the spin-swept bound");
     }
@@ -845,15 +868,13 @@ mod tests {
         // slab (fixed in the world) until that bound's time: the spheres'
         // along the line of centres, the boxes' along the direction chosen
         // among the centre line and the box axes (a flat box node too).
-        let mesh_a = icosphere(1.0, 2).unwrap();
-        let mesh_b = box_mesh(&Vector::new(0.6, 0.05, 0.4)).unwrap();
-        let mesh_c = icosphere(0.6, 2).unwrap();
+        let (mesh_a, others) = node_test_meshes();
         let mut rng = Rng::new(5);
         let target = 0.01;
         let (mut spheres, mut boxes) = (0, 0);
         for case in 0..1000 {
             let (ma, mb, frame) = random_pair(&mut rng);
-            let mesh_b = if case % 2 == 0 { &mesh_b } else { &mesh_c };
+            let mesh_b = &others[case % 2];
             let (nodes_a, nodes_b) = (mesh_a.bvh().nodes(), mesh_b.bvh().nodes());
             let na = nodes_a[rng.next_u64() as usize % nodes_a.len()];
             let nb = nodes_b[rng.next_u64() as usize % nodes_b.len()];
@@ -870,11 +891,7 @@ mod tests {
                     continue;
                 }
                 *count += 1;
-                for k in 0..=40 {
-                    let t = time * k as Real / 40.0;
-                    let g = gap_at(&n_world, &a, &ma, &b, &mb, t);
-                    assert!(g >= target - 1e-12, "case {case}: gap {g} at {t} < target, bound {time}");
-                }
+                assert_apart_until(&n_world, (&a, &ma), (&b, &mb), (time, 40), target, case);
             }
         }
         assert!(spheres > 100 && boxes > 100, "{spheres} sphere and {boxes} box bounds checked");
@@ -889,15 +906,13 @@ mod tests {
         // sometimes lasts longer than the nodes' spheres' and boxes' (126
         // of 2,469 cases: these bodies are 1.5 to 3.5 apart, where the
         // boxes do well; near a closest approach it is the other way).
-        let mesh_a = icosphere(1.0, 2).unwrap();
-        let mesh_b = box_mesh(&Vector::new(0.6, 0.05, 0.4)).unwrap();
-        let mesh_c = icosphere(0.6, 2).unwrap();
+        let (mesh_a, others) = node_test_meshes();
         let mut rng = Rng::new(61);
         let target = 0.01;
         let (mut checked, mut longer) = (0, 0);
         for case in 0..3000 {
             let (ma, mb, frame) = random_pair(&mut rng);
-            let mesh_b = if case % 2 == 0 { &mesh_b } else { &mesh_c };
+            let mesh_b = &others[case % 2];
             let (nodes_a, nodes_b) = (mesh_a.bvh().nodes(), mesh_b.bvh().nodes());
             let (i, j) = (rng.index(nodes_a.len()) as u32, rng.index(nodes_b.len()) as u32);
             let (Some(span_a), Some(span_b)) =
@@ -920,12 +935,7 @@ mod tests {
             let (pa, pb) = (ma.pose_at(0.0), mb.pose_at(0.0));
             let centre_line = (pb * nb.center - pa * na.center).normalize();
             let (a, b) = (vertices_below(&mesh_a, na), vertices_below(mesh_b, nb));
-            let horizon = time.min(10.0);
-            for k in 0..=100 {
-                let t = horizon * k as Real / 100.0;
-                let g = gap_at(&centre_line, &a, &ma, &b, &mb, t);
-                assert!(g >= target - 1e-12, "case {case}: gap {g} at {t} < target {target}, bound {time}");
-            }
+            assert_apart_until(&centre_line, (&a, &ma), (&b, &mb), (time.min(10.0), 100), target, case);
         }
         assert!(checked > 300 && longer > checked / 50, "{longer} longer of {checked} checked");
     }
@@ -980,11 +990,7 @@ mod tests {
                 node.radius
             );
             let (time, n_world) = (bounds.box_time.min(1.0), a.rotation_at(0.0) * bounds.box_direction);
-            for k in 0..=40 {
-                let t = time * k as Real / 40.0;
-                let g = gap_at(&n_world, &a_points, &a, &b_points, &b, t);
-                assert!(g >= target - 1e-12, "case {case}: gap {g} at {t} < target, bound {time}");
-            }
+            assert_apart_until(&n_world, (&a_points, &a), (&b_points, &b), (time, 40), target, case);
         }
     }
 
