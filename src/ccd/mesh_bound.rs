@@ -711,8 +711,8 @@ mod tests {
             // 1e-6 to 0.1 of the distance below it.
             let target = d * (1.0 - Real::powf(10.0, -6.0 + 5.0 * rng.uniform()));
             let (time, _) = pair.exact_time(&frame, target, DistanceKernel::Exact, horizon);
-            let fixed = pair.vertex_slab_time(&n, &frame, target);
-            let turning = pair.turning_slab_time(&closest, &n, &frame, target, horizon);
+            let fixed = pair.vertex_slab_time::<3, 3>(&n, &frame, target);
+            let turning = pair.turning_slab_time::<3, 3>(&closest, &n, &frame, target, horizon);
             *features.entry(format!("{:?}-{:?}", closest.feature_a, closest.feature_b)).or_insert(0) += 1;
             checked += 1;
             longer += usize::from(turning > fixed);
@@ -1068,7 +1068,7 @@ mod tests {
             let (p, q) = if ball_on_a { (pair.a[0], &pair.b) } else { (pair.b[0], &pair.a) };
             let closest = crate::kernels::point_triangle(&p, q);
             let n = if ball_on_a { closest.point - p } else { p - closest.point }.normalize();
-            longer += usize::from(time > pair.vertex_slab_time(&n, &frame, target + radius));
+            longer += usize::from(time > pair.vertex_slab_time::<3, 3>(&n, &frame, target + radius));
         }
         assert!(checked > 800, "{checked} cases");
         assert!(2 * longer > checked, "the turning frame longer for {longer} of {checked}");

@@ -123,7 +123,7 @@ impl Items<'_> {
         let sweep_horizon = if limits.spin_sweep { limits.horizon } else { 0.0 };
         let mut bound = node_pair_time(na, nb, self.frame, limits.target, (needed, sweep_horizon));
         if bound.0 < needed {
-            if let Some(balls) = self.ball_bound(na, nb) {
+            if let Some(balls) = self.ball_bound(na, nb, bound) {
                 bound = (bound.0.max(balls.0), bound.1.max(balls.1));
             }
         }
@@ -147,7 +147,9 @@ impl Items<'_> {
     /// leaf (a sliver of a spinning gear ring) sweeps its length times the
     /// spin in a world slab; a ball against the leaf's own triangles, in
     /// the frame turning with them, loses only what the distance does.
-    fn ball_bound(&self, na: &BvhNode, nb: &BvhNode) -> Option<(Real, Real)> {
+    /// `None` also once it cannot raise `floor`, the time and gap already
+    /// known: the least over the triangles is then at or below both.
+    fn ball_bound(&self, na: &BvhNode, nb: &BvhNode, floor: (Real, Real)) -> Option<(Real, Real)> {
         let (leaf, ball, ball_on_a, leaf_mesh) = match lopsided_leaf(na, nb)? {
             Side::A => (na, nb, false, self.meshes.a),
             Side::B => (nb, na, true, self.meshes.b),
@@ -164,6 +166,9 @@ impl Items<'_> {
                 (limits.target, limits.horizon),
             );
             bound = (bound.0.min(time), bound.1.min(gap));
+            if bound.0 <= floor.0 && bound.1 <= floor.1 {
+                return None;
+            }
         }
         Some(bound)
     }

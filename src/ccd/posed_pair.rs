@@ -57,15 +57,24 @@ impl PosedPair {
     /// have come down (a spinning box's corner near a wall: the other
     /// corners of its triangle swing faster, but from higher up). Never
     /// shorter than the slab's time; nine roots instead of one, so kept for
-    /// the full bound.
+    /// the full bound. Over the first `A` vertices of `a` and `B` of `b`
+    /// (1 for a point posed as three equal vertices, 3 otherwise).
     #[inline]
-    pub(super) fn vertex_slab_time(&self, n: &Vector, frame: &PairFrame, target: Real) -> Real {
+    pub(super) fn vertex_slab_time<const A: usize, const B: usize>(
+        &self,
+        n: &Vector,
+        frame: &PairFrame,
+        target: Real,
+    ) -> Real {
         let (nwa, nwb) = (n.cross(&frame.omega_a), n.cross(&frame.omega_b));
         let curvature = nwa.norm() * frame.spin_a * self.reach_a + nwb.norm() * frame.spin_b * self.reach_b;
         let along = n.dot(&frame.velocity);
-        let a = self.a.map(|p| (n.dot(&p.coords), nwa.dot(&p.coords)));
+        let mut a = [(0.0, 0.0); A];
+        for (h, p) in a.iter_mut().zip(&self.a) {
+            *h = (n.dot(&p.coords), nwa.dot(&p.coords));
+        }
         let mut time = Real::INFINITY;
-        for (q, p) in self.offsets_b.iter().zip(&self.b) {
+        for (q, p) in self.offsets_b[..B].iter().zip(&self.b) {
             let (height, rate) = (n.dot(&p.coords), along + nwb.dot(&q.coords));
             for &(height_a, rate_a) in &a {
                 time = time.min(first_root(height - height_a - target, rate - rate_a, curvature));
@@ -126,7 +135,7 @@ impl PosedPair {
                 return (self.head_on_time(d, frame, target), d);
             }
         };
-        (self.time_from(&closest, frame, target, horizon), closest.distance)
+        (self.time_from::<3, 3>(&closest, frame, target, horizon), closest.distance)
     }
 
     /// The full bound of a ball against a triangle: everything within
@@ -173,7 +182,12 @@ impl PosedPair {
             feature_b,
             within_range: true,
         };
-        let time = pair.time_from(&closest, frame, target + radius, horizon);
+        // The point's three equal vertices count once.
+        let time = if ball_on_a {
+            pair.time_from::<1, 3>(&closest, frame, target + radius, horizon)
+        } else {
+            pair.time_from::<3, 1>(&closest, frame, target + radius, horizon)
+        };
         (time, found.distance - radius)
     }
 
@@ -253,27 +267,35 @@ impl PosedPair {
     /// their direction, the head-on bound and the turning slab, the longest.
     /// The gaps are the vertices' own (the closest points only choose the
     /// direction and the turning frame), so a rounded closest point costs
-    /// tightness, never validity.
+    /// tightness, never validity. Over the first `A` vertices of `a` and
+    /// `B` of `b`, as [`Self::vertex_slab_time`].
     #[inline]
-    fn time_from(&self, closest: &TriangleDistance, frame: &PairFrame, target: Real, horizon: Real) -> Real {
+    fn time_from<const A: usize, const B: usize>(
+        &self,
+        closest: &TriangleDistance,
+        frame: &PairFrame,
+        target: Real,
+        horizon: Real,
+    ) -> Real {
         let d = closest.distance;
         if d <= target {
             return 0.0;
         }
         let n = (closest.point_b - closest.point_a) / d;
-        let time = self.vertex_slab_time(&n, frame, target).max(self.head_on_time(d, frame, target));
+        let time = self.vertex_slab_time::<A, B>(&n, frame, target).max(self.head_on_time(d, frame, target));
         if time >= horizon || frame.spin_a + frame.spin_b == 0.0 {
             return time;
         }
-        time.max(self.turning_slab_time(closest, &n, frame, target, horizon))
+        time.max(self.turning_slab_time::<A, B>(closest, &n, frame, target, horizon))
     }
 
     /// The slab along `n` in a frame that turns with the closest features
     /// (see the module's "A turning slab"): the gap's rate there is the
     /// distance's own, so a pair near its closest approach is bounded to
     /// second order, where a slab fixed in the world loses at first order
-    /// to each feature's tilt. At most `horizon`.
-    pub(super) fn turning_slab_time(
+    /// to each feature's tilt. At most `horizon`. Over the first `A`
+    /// vertices of `a` and `B` of `b`, as [`Self::vertex_slab_time`].
+    pub(super) fn turning_slab_time<const A: usize, const B: usize>(
         &self,
         closest: &TriangleDistance,
         n: &Vector,
@@ -283,8 +305,8 @@ impl PosedPair {
     ) -> Real {
         let Some(spin) = self.frame_spin(closest, n, frame) else { return 0.0 };
         let turning = TurningSlab::new(closest, n, spin, frame, horizon);
-        let heights_a = self.a.map(|p| turning.height_a(&p));
-        let heights_b = [0, 1, 2].map(|k| turning.height_b(&self.offsets_b[k], &self.b[k]));
+        let heights_a: [_; A] = std::array::from_fn(|k| turning.height_a(&self.a[k]));
+        let heights_b: [_; B] = std::array::from_fn(|k| turning.height_b(&self.offsets_b[k], &self.b[k]));
         turning.time(&heights_a, &heights_b, target)
     }
 
