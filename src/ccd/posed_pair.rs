@@ -1,7 +1,7 @@
 //! A pair of BVH nodes posed at a time: the bounds of their distance and
 //! of its rate over the step.
 
-use super::mesh_bound::{first_root, PairFrame};
+use super::mesh_bound::{first_root, PairFrame, Side};
 use crate::kernels::{dyop_distance, point_triangle, triangle_distance, Feature, TriangleDistance};
 use crate::math::{Point, Real, Triangle, Vector};
 use crate::mesh::BVH_LEAF_SIZE;
@@ -227,7 +227,8 @@ impl PosedPair {
             return None;
         }
         let n = (closest.point_b - closest.point_a) / d;
-        let spin = pair.frame_spin(&closest, &n, frame).unwrap_or_else(Vector::zeros);
+        let spin =
+            pair.frame_spin(&closest, &n, frame).unwrap_or(FrameSpin { omega: Vector::zeros(), body: None });
         let turning = TurningSlab::new(&closest, &n, spin, frame, horizon);
         let mut heights_a = [[0.0; 3]; 3 * BVH_LEAF_SIZE];
         let mut reach_a: Real = 0.0;
@@ -320,7 +321,7 @@ impl PosedPair {
         closest: &TriangleDistance,
         n: &Vector,
         frame: &PairFrame,
-    ) -> Option<Vector> {
+    ) -> Option<FrameSpin> {
         let rank = |feature: Feature| match feature {
             Feature::Vertex(_) => 0,
             Feature::Edge(_) => 1,
@@ -343,14 +344,22 @@ impl PosedPair {
                 }
                 let (ca, cb) = (frame.omega_a.dot(&ua), frame.omega_b.dot(&ub));
                 let (alpha, beta) = ((ca * g22 - cb * g12) / det, (cb * g11 - ca * g12) / det);
-                Some(ua * alpha + ub * beta)
+                Some(FrameSpin { omega: ua * alpha + ub * beta, body: None })
             }
-            _ if rank(fa) > rank(fb) => Some(frame.omega_a),
-            _ if rank(fb) > rank(fa) => Some(frame.omega_b),
-            (Feature::Face, Feature::Face) => Some(frame.omega_a),
+            _ if rank(fa) > rank(fb) => Some(FrameSpin { omega: frame.omega_a, body: Some(Side::A) }),
+            _ if rank(fb) > rank(fa) => Some(FrameSpin { omega: frame.omega_b, body: Some(Side::B) }),
+            (Feature::Face, Feature::Face) => Some(FrameSpin { omega: frame.omega_a, body: Some(Side::A) }),
             _ => None,
         }
     }
+}
+
+/// The angular velocity of a turning slab's frame, and the body it turns
+/// with, if it is one body's own (a face's, or an edge's against a vertex).
+#[derive(Copy, Clone, Debug)]
+pub(super) struct FrameSpin {
+    pub omega: Vector,
+    pub body: Option<Side>,
 }
 
 /// The slab along `n` in a frame turning at `spin` about the midpoint of
@@ -365,10 +374,15 @@ pub(super) struct TurningSlab<'f> {
     n: Vector,
     spin: Vector,
     spin_norm: Real,
+    /// `|spin × n|`: the frame's normal turns at this rate.
+    tilt: Real,
     origin: Vector,
     origin_velocity: Vector,
     /// Each body's centre's speed relative to the origin (a's, b's).
     centre_speeds: (Real, Real),
+    /// The curvature of every vertex of a (b) where the frame turns with
+    /// a (b), infinite otherwise.
+    rigid: (Real, Real),
     horizon: Real,
 }
 
@@ -377,7 +391,7 @@ impl<'f> TurningSlab<'f> {
     pub(super) fn new(
         closest: &TriangleDistance,
         n: &Vector,
-        spin: Vector,
+        spin: FrameSpin,
         frame: &'f PairFrame,
         horizon: Real,
     ) -> TurningSlab<'f> {
@@ -385,40 +399,59 @@ impl<'f> TurningSlab<'f> {
         let origin_velocity =
             (frame.omega_a.cross(&closest.point_a.coords) + velocity_b(frame, &closest.point_b.coords)) / 2.0;
         let centre_speeds = (origin_velocity.norm(), (frame.velocity - origin_velocity).norm());
+        let (spin_norm, tilt) = (spin.omega.norm(), spin.omega.cross(n).norm());
+        // The body the frame turns with: each of its vertices keeps its
+        // height over its centre's, so only the centre's counts.
+        let rigid = |centre: Vector, centre_speed: Real| {
+            spin_norm * tilt * ((centre - origin).norm() + horizon * centre_speed) + 2.0 * tilt * centre_speed
+        };
+        let rigid = match spin.body {
+            Some(Side::A) => (rigid(Vector::zeros(), centre_speeds.0), Real::INFINITY),
+            Some(Side::B) => (Real::INFINITY, rigid(frame.pos_ab.translation.vector, centre_speeds.1)),
+            None => (Real::INFINITY, Real::INFINITY),
+        };
         TurningSlab {
             frame,
             n: *n,
-            spin,
-            spin_norm: spin.norm(),
+            spin: spin.omega,
+            spin_norm,
+            tilt,
             origin,
             origin_velocity,
             centre_speeds,
+            rigid,
             horizon,
         }
+    }
+
+    /// The origin and its velocity (a's frame, a's centre at rest).
+    #[cfg(test)]
+    pub(super) fn origin_motion(&self) -> (Vector, Vector) {
+        (self.origin, self.origin_velocity)
     }
 
     /// A vertex's height along `n` in the turning frame, its rate, and the
     /// bound of its second derivative over the horizon: `x` the vertex (a's
     /// frame), `offset` its offset from its body's centre, `velocity` its
     /// velocity, `centre_speed` its body centre's speed relative to the
-    /// origin, `omega` its body's spin.
+    /// origin, `omega` its body's spin, `rigid` the bound where the frame
+    /// turns with its body (infinite otherwise).
     #[inline]
     fn height(
         &self,
         x: &Vector,
         offset: &Vector,
         velocity: Vector,
-        centre_speed: Real,
-        omega: Real,
+        (centre_speed, omega): (Real, Real),
+        rigid: Real,
     ) -> [Real; 3] {
         let (q, dq) = (x - self.origin, velocity - self.origin_velocity);
         let reach = offset.norm();
         let speed = centre_speed + omega * reach;
-        let spin_norm = self.spin_norm;
-        let curvature = omega * omega * reach
-            + 2.0 * spin_norm * speed
-            + spin_norm * spin_norm * (q.norm() + self.horizon * speed);
-        [self.n.dot(&q), self.n.dot(&(dq - self.spin.cross(&q))), curvature]
+        let (spin_norm, tilt) = (self.spin_norm, self.tilt);
+        let curvature =
+            omega * omega * reach + 2.0 * tilt * speed + spin_norm * tilt * (q.norm() + self.horizon * speed);
+        [self.n.dot(&q), self.n.dot(&(dq - self.spin.cross(&q))), curvature.min(rigid)]
     }
 
     /// The height, rate and curvature of a vertex of `a` (in a's frame,
@@ -426,7 +459,8 @@ impl<'f> TurningSlab<'f> {
     #[inline]
     pub(super) fn height_a(&self, p: &Point) -> [Real; 3] {
         let frame = self.frame;
-        self.height(&p.coords, &p.coords, frame.omega_a.cross(&p.coords), self.centre_speeds.0, frame.spin_a)
+        let motion = (self.centre_speeds.0, frame.spin_a);
+        self.height(&p.coords, &p.coords, frame.omega_a.cross(&p.coords), motion, self.rigid.0)
     }
 
     /// ... of a vertex of `b`: `offset` from b's centre and the point, both
@@ -434,13 +468,8 @@ impl<'f> TurningSlab<'f> {
     #[inline]
     pub(super) fn height_b(&self, offset: &Point, p: &Point) -> [Real; 3] {
         let frame = self.frame;
-        self.height(
-            &p.coords,
-            &offset.coords,
-            velocity_b(frame, &p.coords),
-            self.centre_speeds.1,
-            frame.spin_b,
-        )
+        let motion = (self.centre_speeds.1, frame.spin_b);
+        self.height(&p.coords, &offset.coords, velocity_b(frame, &p.coords), motion, self.rigid.1)
     }
 
     /// The least first root over the vertex pairs, from their heights
