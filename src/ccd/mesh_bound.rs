@@ -640,6 +640,25 @@ mod tests {
 
     /// The node tests' meshes: an icosphere, and a flat box or a smaller
     /// icosphere (by the case's parity) to meet it.
+    /// The closest triangle pair of two meshes posed by `frame` (every
+    /// pair measured with the exact kernel), and its distance.
+    fn closest_triangle_pair(
+        mesh_a: &TriMesh,
+        mesh_b: &TriMesh,
+        frame: &PairFrame,
+    ) -> ((usize, usize), Real) {
+        let (mut best, mut d) = ((0, 0), Real::INFINITY);
+        for ta in 0..mesh_a.triangles().len() {
+            for tb in 0..mesh_b.triangles().len() {
+                let pair = PosedPair::new(mesh_a, ta, mesh_b, tb, frame);
+                let found = triangle_distance(&pair.a, &pair.b).distance;
+                if found < d {
+                    (best, d) = ((ta, tb), found);
+                }
+            }
+        }
+        (best, d)
+    }
     fn node_test_meshes() -> (TriMesh, [TriMesh; 2]) {
         let sphere = icosphere(1.0, 2).unwrap();
         (sphere, [box_mesh(&Vector::new(0.6, 0.05, 0.4)).unwrap(), icosphere(0.6, 2).unwrap()])
@@ -705,21 +724,11 @@ mod tests {
         for case in 0..600 {
             let (mesh_a, mesh_b) = (&meshes[case % 2], &meshes[(case / 2) % 2]);
             let (ma, mb, frame) = near_each_other(&mut rng, mesh_a, mesh_b, (0.8, 0.4));
-            let posed = |ta: usize, tb: usize| PosedPair::new(mesh_a, ta, mesh_b, tb, &frame);
-            let (mut best, mut d) = ((0, 0), Real::INFINITY);
-            for ta in 0..mesh_a.triangles().len() {
-                for tb in 0..mesh_b.triangles().len() {
-                    let pair = posed(ta, tb);
-                    let found = triangle_distance(&pair.a, &pair.b).distance;
-                    if found < d {
-                        (best, d) = ((ta, tb), found);
-                    }
-                }
-            }
+            let (best, d) = closest_triangle_pair(mesh_a, mesh_b, &frame);
             if d < 1e-3 {
                 continue;
             }
-            let pair = posed(best.0, best.1);
+            let pair = PosedPair::new(mesh_a, best.0, mesh_b, best.1, &frame);
             let closest = triangle_distance(&pair.a, &pair.b);
             let n = (closest.point_b - closest.point_a) / closest.distance;
             // 1e-6 to 0.1 of the distance below it.
@@ -769,21 +778,11 @@ mod tests {
         for case in 0..600 {
             let (mesh_a, mesh_b) = (&meshes[case % 2], &meshes[(case / 2) % 2]);
             let (ma, mb, frame) = near_each_other(&mut rng, mesh_a, mesh_b, (0.8, 0.4));
-            let posed = |ta: usize, tb: usize| PosedPair::new(mesh_a, ta, mesh_b, tb, &frame);
-            let (mut best, mut d) = ((0, 0), Real::INFINITY);
-            for ta in 0..mesh_a.triangles().len() {
-                for tb in 0..mesh_b.triangles().len() {
-                    let pair = posed(ta, tb);
-                    let found = triangle_distance(&pair.a, &pair.b).distance;
-                    if found < d {
-                        (best, d) = ((ta, tb), found);
-                    }
-                }
-            }
+            let (best, d) = closest_triangle_pair(mesh_a, mesh_b, &frame);
             if d < 1e-3 {
                 continue;
             }
-            let pair = posed(best.0, best.1);
+            let pair = PosedPair::new(mesh_a, best.0, mesh_b, best.1, &frame);
             let closest = triangle_distance(&pair.a, &pair.b);
             let n = (closest.point_b - closest.point_a) / closest.distance;
             let Some(spin) = pair.frame_spin(&closest, &n, &frame) else { continue };
