@@ -13,8 +13,9 @@
 //! meshes are within `S + τ` (where their exact distance, measured there,
 //! is an upper bound that is reached). From such a time the distance is
 //! falling; a descent (Brent's; on two convex meshes it probes with GJK on
-//! their hulls, warm from probe to probe) finds its local minimum after
-//! it, measured there exactly: the best upper bound `u` so far (where the
+//! their hulls, warm from probe to probe, on others it walks over their
+//! triangles) finds its local minimum after it and the distance of its
+//! closest pair there: the best upper bound `u` so far (where the
 //! best so far is the interval's start and the distance falls there, as
 //! the closest points' velocities say, the descent starts from it without
 //! that first run, which would stop a hair later). The next
@@ -178,13 +179,18 @@ pub struct ClosestApproach {
     pub status: ApproachStatus,
     /// Certified: the meshes are never closer than this over the interval.
     pub lower: Real,
-    /// Reached: the meshes are this far apart at `time` (infinite, with
-    /// `closest` `None`, when the status is [`ApproachStatus::Beyond`]).
+    /// Reached: the reported points are this far apart at `time`, so the
+    /// meshes' distance there is at most this, and at least `lower`
+    /// (infinite, with `closest` `None`, when the status is
+    /// [`ApproachStatus::Beyond`]).
     pub upper: Real,
     /// When `upper` is reached (the time of first contact under
     /// [`ApproachStatus::Contact`]).
     pub time: Real,
-    /// The closest points (world frame), triangles and features at `time`.
+    /// The closest points (world frame), triangles and features at `time`:
+    /// `upper` apart, the meshes' closest to the bracket's width (on meshes
+    /// not both convex, the pair the descent walked to, which another pair
+    /// may undercut by at most `upper − lower`).
     pub closest: Option<MeshDistance>,
     /// CCD runs taken.
     pub runs: usize,

@@ -86,7 +86,7 @@ pub(crate) fn measure_below(
 }
 
 /// `found` (points in `a`'s frame at time `s`) with its points in the world.
-fn in_world(a: &MovingMesh<'_>, s: Real, mut found: MeshDistance) -> MeshDistance {
+pub(super) fn in_world(a: &MovingMesh<'_>, s: Real, mut found: MeshDistance) -> MeshDistance {
     let pose_a = a.motion.pose_at(s);
     found.point_a = pose_a * found.point_a;
     found.point_b = pose_a * found.point_b;

@@ -302,3 +302,101 @@ fn a_small_cube_over_a_comb_of_slivers_is_bracketed() {
         assert!(approach.upper - approach.lower <= 1e-6 * cube.radius(), "gap {gap}: {approach:?}");
     }
 }
+
+/// A ring gear of `teeth` teeth (bore 0.7, root radius 1, tip 1.2, 0.3
+/// thick) about the z axis: an outline of four points a tooth, extruded,
+/// its faces strips between the outline and the bore. Not convex, and a
+/// triangle's neighbours reach only the next points of the outline: a
+/// descent's walks over its triangles can stop on one tooth while another
+/// comes closer.
+fn ring_gear(teeth: usize) -> TriMesh {
+    let (bore, root, tip, half) = (0.7, 1.0, 1.2, 0.15);
+    let angles = (0..teeth).flat_map(|k| {
+        [(0.0, root), (0.15, tip), (0.35, tip), (0.5, root)]
+            .map(move |(f, r)| (std::f64::consts::TAU * (k as Real + f) / teeth as Real, r))
+    });
+    let mut vertices: Vec<nearmiss::math::Point> = Vec::new();
+    // Outline below and above, then the bore below and above.
+    for (radius_of, z) in [(true, -half), (true, half), (false, -half), (false, half)] {
+        vertices.extend(angles.clone().map(|(angle, r)| {
+            let r = if radius_of { r } else { bore };
+            nearmiss::math::Point::new(r * angle.cos(), r * angle.sin(), z)
+        }));
+    }
+    let n = 4 * teeth as u32;
+    let (outer_low, outer_high, bore_low, bore_high) = (0, n, 2 * n, 3 * n);
+    let mut triangles = Vec::new();
+    let mut quad = |[p, q, r, s]: [u32; 4]| triangles.extend([[p, q, r], [p, r, s]]);
+    for i in 0..n {
+        let j = (i + 1) % n;
+        quad([outer_low + i, outer_low + j, outer_high + j, outer_high + i]);
+        quad([bore_high + i, bore_high + j, bore_low + j, bore_low + i]);
+        quad([outer_high + i, outer_high + j, bore_high + j, bore_high + i]);
+        quad([bore_low + i, bore_low + j, outer_low + j, outer_low + i]);
+    }
+    TriMesh::new(vertices, triangles).unwrap()
+}
+
+/// A small tumbling box passes the rim of a spinning ring gear: the
+/// closest pair moves from tooth to tooth, where the descent's walks (a
+/// pair's neighbours at a time) can lose it, and the descent's answer is
+/// then its pair's distance, above the meshes' own. The bracket still
+/// holds against a dense brute-force scan, and the reported points are
+/// `upper` apart at `time`, within the width of the meshes' distance there.
+#[test]
+fn a_box_past_a_spinning_gear_is_bracketed() {
+    let gear = ring_gear(48);
+    let block = box_mesh(&Vector::new(0.05, 0.03, 0.04)).unwrap();
+    let mut rng = Rng::new(53);
+    let (rounding, width) = (1e-12, DEFAULT_APPROACH_TOLERANCE * block.radius());
+    let mut scratch = MeshDistanceScratch::default();
+    let search = DistanceSearch::new(DistanceKernel::Exact, None);
+    let mut descents = 0;
+    for case in 0..8 {
+        let spinning = StepMotion::new(
+            Pose::new(Vector::zeros(), Vector::new(0.0, 0.0, rng.range(0.0, 6.0))),
+            Vector::zeros(),
+            Vector::new(0.0, 0.0, rng.range(8.0, 20.0)) + rng.in_unit_ball() * 0.3,
+        );
+        // Across the rim's far side, 0.02 to 0.2 beyond the tips at the closest.
+        let height = 1.2 + 0.07 + rng.range(0.02, 0.2);
+        let passing = StepMotion::new(
+            Pose::new(Vector::new(-0.8, height, rng.range(-0.1, 0.1)), rng.in_unit_ball() * 3.0),
+            Vector::new(1.6, 0.0, 0.0),
+            rng.in_unit_ball() * 4.0,
+        );
+        let approach = bracket(&gear, &spinning, &block, &passing, 1.0, Real::INFINITY);
+        // The scan by the static BVH search (not the CCD's), the reported
+        // time by brute force.
+        let scanned = |s: Real, scratch: &mut MeshDistanceScratch| {
+            let (pose_gear, pose_block) = (spinning.pose_at(s), passing.pose_at(s));
+            mesh_distance(&gear, &pose_gear, &block, &pose_block, &search, scratch).distance
+        };
+        let lowest =
+            (0..=4000).map(|k| scanned(k as Real / 4000.0, &mut scratch)).fold(Real::INFINITY, Real::min);
+        assert_eq!(approach.status, ApproachStatus::Bracketed, "case {case}: {approach:?}");
+        descents += approach.runs - 2;
+        assert!(lowest >= approach.lower - rounding, "case {case}: a sample at {lowest} below {approach:?}");
+        assert!(approach.upper <= lowest + width, "case {case}: the scan found {lowest} < {approach:?}");
+        assert!(approach.upper - approach.lower <= width, "case {case}: {approach:?}");
+        let closest = approach.closest.unwrap();
+        let apart = (closest.point_b - closest.point_a).norm();
+        assert!(
+            (apart - approach.upper).abs() <= rounding,
+            "case {case}: points {apart} apart, {approach:?}"
+        );
+        let there = mesh_distance_brute_force(
+            &gear,
+            &spinning.pose_at(approach.time),
+            &block,
+            &passing.pose_at(approach.time),
+        );
+        assert!(
+            there <= approach.upper + rounding && there >= approach.upper - width,
+            "case {case}: {there} at the time, {approach:?}"
+        );
+    }
+    // Most passes go by several teeth, each a local minimum that a proving
+    // run finds closer than the last descent's answer.
+    assert!(descents >= 16, "{descents} descents after the first");
+}
