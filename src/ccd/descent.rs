@@ -25,8 +25,8 @@ pub(super) const DESCENT_STEPS: usize = 48;
 /// golden section where not), until the bracket is so short that the
 /// distance cannot change by `precision` across it (the distance moves at
 /// most at the head-on speed `|v_a − v_b| + |ω_a| r_a + |ω_b| r_b`), a
-/// parabola's step gains less than `precision`, or [`DESCENT_STEPS`]
-/// steps. The probes are [`Probe`]'s: for two convex meshes, GJK on their
+/// parabola's step finds a closer point by less than `precision`, or
+/// [`DESCENT_STEPS`] steps. The probes are [`Probe`]'s: for two convex meshes, GJK on their
 /// hulls, warm from probe to probe; otherwise a walk from the closest pair
 /// of the best time so far to a closer one (a few dozen triangle pairs
 /// where an exact distance searches thousands), and the exact distance
@@ -148,9 +148,11 @@ fn descend_with(
                 third = (probe_time, found);
             }
         }
-        // A parabola's step that gains less than the precision: the
-        // minimum is found to it (the proving run checks).
-        if by_parabola && gain < precision {
+        // A parabola's step that gains, but less than the precision: the
+        // minimum is found to it (the proving run checks). One that gains
+        // nothing only narrows the bracket (the parabola missed: a kink,
+        // where the closest features change), and the search goes on.
+        if by_parabola && gain > 0.0 && gain < precision {
             break;
         }
     }
