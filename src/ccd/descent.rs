@@ -2,7 +2,7 @@
 //! triangles or exact distances along the step, stepping down to the
 //! nearest time by parabolic steps.
 
-use super::convex_measure::{certificate_slack, in_world, measure};
+use super::convex_measure::{certificate_slack, in_world, measure, measure_below};
 use super::hull_gap::{convex_distance, ConvexDistance, WarmSimplex};
 use super::query::{MeshCcdScratch, MovingMesh};
 use crate::math::Real;
@@ -26,12 +26,14 @@ pub(super) const DESCENT_STEPS: usize = 48;
 /// distance cannot change by `precision` across it (the distance moves at
 /// most at the head-on speed `|v_a − v_b| + |ω_a| r_a + |ω_b| r_b`), a
 /// parabola's step finds a closer point by less than `precision`, or
-/// [`DESCENT_STEPS`] steps. The probes are [`Probe`]'s: for two convex meshes, GJK on their
-/// hulls, warm from probe to probe; otherwise a walk from the closest pair
-/// of the best time so far to a closer one (a few dozen triangle pairs
-/// where an exact distance searches thousands), and the exact distance
-/// where a walk would end the march (over a long step the closest pair may
-/// have moved out of a walk's reach, to a gear's next tooth).
+/// [`DESCENT_STEPS`] steps. The probes are [`Probe`]'s: for two convex
+/// meshes, GJK on their hulls, warm from probe to probe; otherwise a walk
+/// from the closest pair of the best time so far to a closer one (a few
+/// dozen triangle pairs where an exact distance searches thousands), and,
+/// where a walk would end the march, the exact search for a pair closer
+/// than the best (over a long step the closest pair may have moved out of
+/// a walk's reach, to a gear's next tooth; where the distance has risen,
+/// the search below the best prunes at once).
 ///
 /// The answer is the best time's pair, measured: a distance the meshes
 /// reach there, so an upper bound of the closest approach, never wrong.
@@ -76,8 +78,8 @@ fn descend_with(
         if found >= best.1 && probe.walks() {
             // The march would end here: a walk may have lost the closest
             // pair over the long step (a gear's next tooth), so the exact
-            // distance decides.
-            found = probe.measure(next, scratch).distance;
+            // search for a pair closer than the best decides.
+            found = probe.below(next, best.1, scratch).map_or(Real::INFINITY, |closer| closer.distance);
         }
         if found >= best.1 {
             break;
@@ -229,6 +231,16 @@ impl<'q, 'm> Probe<'q, 'm> {
             Some((_, exact)) => exact,
             None => in_world(self.a, s, walked),
         }
+    }
+
+    /// The exact distance at `s` where it is below `ceiling` (with its
+    /// points and features, kept as [`Probe::measure`]'s), `None` where it
+    /// is not.
+    fn below(&mut self, s: Real, ceiling: Real, scratch: &mut MeshCcdScratch) -> Option<MeshDistance> {
+        let found = measure_below(self.a, self.b, s, ceiling, scratch)?;
+        self.hint = Some((found.triangle_a, found.triangle_b));
+        self.last = Some((s, found));
+        Some(found)
     }
 
     /// The exact distance at `s`, with its points and features.
