@@ -542,7 +542,7 @@ fn spin_swept_gap(pair: &NodePair<'_>, horizon: Real) -> (Real, Vector) {
 mod tests {
     use super::*;
     use crate::ccd::posed_pair::{PosedPair, TurningSlab};
-    use crate::kernels::triangle_distance;
+    use crate::kernels::{triangle_distance, TriangleDistance};
     use crate::mesh::{box_mesh, icosphere};
     use crate::mesh::{DistanceKernel, TriMesh};
     use crate::motion::StepMotion;
@@ -638,15 +638,16 @@ mod tests {
         }
     }
 
-    /// The node tests' meshes: an icosphere, and a flat box or a smaller
-    /// icosphere (by the case's parity) to meet it.
     /// The closest triangle pair of two meshes posed by `frame` (every
-    /// pair measured with the exact kernel), and its distance.
+    /// pair measured with the exact kernel): its triangles, the pair
+    /// posed, its closest points and the unit direction from a's to b's.
+    /// `None` where they are nearer than 1e-3 (a direction that rounding
+    /// would turn).
     fn closest_triangle_pair(
         mesh_a: &TriMesh,
         mesh_b: &TriMesh,
         frame: &PairFrame,
-    ) -> ((usize, usize), Real) {
+    ) -> Option<((usize, usize), PosedPair, TriangleDistance, Vector)> {
         let (mut best, mut d) = ((0, 0), Real::INFINITY);
         for ta in 0..mesh_a.triangles().len() {
             for tb in 0..mesh_b.triangles().len() {
@@ -657,8 +658,17 @@ mod tests {
                 }
             }
         }
-        (best, d)
+        if d < 1e-3 {
+            return None;
+        }
+        let pair = PosedPair::new(mesh_a, best.0, mesh_b, best.1, frame);
+        let closest = triangle_distance(&pair.a, &pair.b);
+        let n = (closest.point_b - closest.point_a) / closest.distance;
+        Some((best, pair, closest, n))
     }
+
+    /// The node tests' meshes: an icosphere, and a flat box or a smaller
+    /// icosphere (by the case's parity) to meet it.
     fn node_test_meshes() -> (TriMesh, [TriMesh; 2]) {
         let sphere = icosphere(1.0, 2).unwrap();
         (sphere, [box_mesh(&Vector::new(0.6, 0.05, 0.4)).unwrap(), icosphere(0.6, 2).unwrap()])
@@ -724,13 +734,10 @@ mod tests {
         for case in 0..600 {
             let (mesh_a, mesh_b) = (&meshes[case % 2], &meshes[(case / 2) % 2]);
             let (ma, mb, frame) = near_each_other(&mut rng, mesh_a, mesh_b, (0.8, 0.4));
-            let (best, d) = closest_triangle_pair(mesh_a, mesh_b, &frame);
-            if d < 1e-3 {
+            let Some((best, pair, closest, n)) = closest_triangle_pair(mesh_a, mesh_b, &frame) else {
                 continue;
-            }
-            let pair = PosedPair::new(mesh_a, best.0, mesh_b, best.1, &frame);
-            let closest = triangle_distance(&pair.a, &pair.b);
-            let n = (closest.point_b - closest.point_a) / closest.distance;
+            };
+            let d = closest.distance;
             // 1e-6 to 0.1 of the distance below it.
             let target = d * (1.0 - Real::powf(10.0, -6.0 + 5.0 * rng.uniform()));
             let (time, _) = pair.exact_time(&frame, target, DistanceKernel::Exact, horizon);
@@ -778,13 +785,9 @@ mod tests {
         for case in 0..600 {
             let (mesh_a, mesh_b) = (&meshes[case % 2], &meshes[(case / 2) % 2]);
             let (ma, mb, frame) = near_each_other(&mut rng, mesh_a, mesh_b, (0.8, 0.4));
-            let (best, d) = closest_triangle_pair(mesh_a, mesh_b, &frame);
-            if d < 1e-3 {
+            let Some((best, pair, closest, n)) = closest_triangle_pair(mesh_a, mesh_b, &frame) else {
                 continue;
-            }
-            let pair = PosedPair::new(mesh_a, best.0, mesh_b, best.1, &frame);
-            let closest = triangle_distance(&pair.a, &pair.b);
-            let n = (closest.point_b - closest.point_a) / closest.distance;
+            };
             let Some(spin) = pair.frame_spin(&closest, &n, &frame) else { continue };
             let slab = TurningSlab::new(&closest, &n, spin, &frame, horizon);
             checked += 1;
