@@ -66,6 +66,7 @@ pub use point_segment::{
     heron_height, point_segment_distance, point_segment_distance_checked, point_segment_distance_with,
     stable_heron_height, PointEdgeFormula,
 };
+pub(crate) use point_triangle::nearest_of_four;
 pub use point_triangle::{point_face_interior, point_triangle, FacePlane, PointTriangle};
 #[cfg(test)]
 pub(crate) use refine::{REFINE_BELOW_EXTENT, REFINE_TIE_BAND_ULPS};

@@ -11,8 +11,9 @@
 //! per triangle in a [`FacePlane`] and reused for every query point.
 
 use super::compensated;
+use super::dispatch::multiversioned;
 use super::feature::Feature;
-use super::lanes::{Lane, V3};
+use super::lanes::{F64x, Lane, V3};
 use super::segment_segment::point_on_segment;
 use crate::math::{Point, Real, Triangle};
 
@@ -114,6 +115,39 @@ pub fn point_triangle(p: &Point, triangle: &Triangle) -> PointTriangle {
     best
 }
 
+/// The squared distance from `p` to `triangle`, lane by lane: the face's
+/// interior or the nearest edge, by the operations of [`point_triangle`]
+/// (so the same value, rounding for rounding), without the point and
+/// feature.
+#[inline(always)]
+fn point_triangle_squared<L: Lane>(p: &V3<L>, triangle: &[V3<L>; 3]) -> L {
+    let (mut best, _) = point_face_interior(p, &FacePlane::new(triangle));
+    for edge in 0..3 {
+        let (a, b) = (triangle[edge], triangle[(edge + 1) % 3]);
+        let ab = b - a;
+        // A zero-length edge: 0 / 0, which the clamp maps to its start.
+        let s = ((*p - a).dot(&ab) / ab.norm_squared()).clamp_unit();
+        let point = V3::select(L::splat(1.0).le(s), b, a + ab * s);
+        best = best.min((*p - point).norm_squared());
+    }
+    best
+}
+
+multiversioned! {
+    /// The least distance from `p` to four triangles (repeat one to query
+    /// fewer), in four vector lanes: the least of [`point_triangle`]'s
+    /// distances, bit for bit.
+    pub(crate) fn nearest_of_four / nearest_of_four_with(p: &Point, triangles: &[Triangle; 4]) -> Real {
+        let lanes = |coordinate: fn(&Point) -> Real, corner: usize| {
+            F64x(triangles.each_ref().map(|t| coordinate(&t[corner])))
+        };
+        let corner = |k: usize| V3::new(lanes(|q| q.x, k), lanes(|q| q.y, k), lanes(|q| q.z, k));
+        let p = V3::new(F64x::splat(p.x), F64x::splat(p.y), F64x::splat(p.z));
+        let squared = point_triangle_squared(&p, &[corner(0), corner(1), corner(2)]);
+        squared.0.into_iter().fold(Real::INFINITY, Real::min).sqrt()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -134,6 +168,33 @@ mod tests {
             assert!(on <= 1e-15, "{c:?} is {on:e} off the triangle");
             assert!(((p - c.point).norm() - expected).abs() <= 1e-14, "{c:?} vs {expected:e}");
             assert!((c.distance - expected).abs() <= 1e-14);
+        }
+    }
+
+    #[test]
+    fn four_at_once_is_the_least_of_one_at_a_time() {
+        // Random triangles, some with a repeated or a collinear corner
+        // (zero area: their edges), and points near and far: the four-lane
+        // distance is the least of the scalar kernel's, bit for bit, at
+        // every instruction-set level.
+        let mut rng = Rng::new(48);
+        for case in 0..2000 {
+            let triangles = [0, 1, 2, 3].map(|k| {
+                let mut t = [0, 1, 2].map(|_| Point::from(rng.in_unit_ball()));
+                match (case + k) % 7 {
+                    0 => t[2] = t[0],
+                    1 => t[2] = t[0] + (t[1] - t[0]) * 0.375,
+                    2 => t = [t[0]; 3],
+                    _ => {}
+                }
+                t
+            });
+            let p = Point::from(rng.in_unit_ball() * [0.1, 1.0, 10.0][case % 3]);
+            let least =
+                triangles.iter().map(|t| point_triangle(&p, t).distance).fold(Real::INFINITY, Real::min);
+            for level in crate::kernels::SimdLevel::available() {
+                assert_eq!(nearest_of_four_with(level, &p, &triangles), least, "case {case} at {level:?}");
+            }
         }
     }
 }
