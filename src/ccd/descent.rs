@@ -238,9 +238,7 @@ impl<'q, 'm> Probe<'q, 'm> {
     /// is not.
     fn below(&mut self, s: Real, ceiling: Real, scratch: &mut MeshCcdScratch) -> Option<MeshDistance> {
         let found = measure_below(self.a, self.b, s, ceiling, scratch)?;
-        self.hint = Some((found.triangle_a, found.triangle_b));
-        self.last = Some((s, found));
-        Some(found)
+        Some(self.keep(s, found))
     }
 
     /// The exact distance at `s`, with its points and features.
@@ -249,6 +247,12 @@ impl<'q, 'm> Probe<'q, 'm> {
             return found;
         }
         let found = measure(self.a, self.b, s, self.hint, scratch);
+        self.keep(s, found)
+    }
+
+    /// Keeps `found`, the exact distance at `s`, as the last exact probe
+    /// and its pair as where the next walk or search starts.
+    fn keep(&mut self, s: Real, found: MeshDistance) -> MeshDistance {
         self.hint = Some((found.triangle_a, found.triangle_b));
         self.last = Some((s, found));
         found
