@@ -103,7 +103,8 @@
 //! the spin across any slab fixed in the world, where a ball, whose gap is
 //! its centre's less its radius, loses only what the distance does.
 //!
-//! Where a pair of small nodes (up to [`SLAB_TRIANGLES`] triangles each)
+//! Where a pair of small nodes (up to
+//! [`SLAB_TRIANGLES`](crate::mesh::distance::SLAB_TRIANGLES) triangles each)
 //! is still short, it is also bounded over its triangles' vertices along
 //! the line of its centres ([`vertex_slab_time`]): the bound above,
 //! minimum and maximum apart over each vertex set. A box holds a curved
@@ -444,20 +445,17 @@ fn node_pair_bounds(
     NodeBounds { sphere_time, box_time, box_direction, spin_time, gap: gap.max(spheres) }
 }
 
-/// The most triangles under each node of a pair bounded also by its
-/// vertices ([`vertex_slab_time`]): `16`, as the distance search's.
-pub(crate) const SLAB_TRIANGLES: u32 = crate::mesh::distance::SLAB_TRIANGLES;
-
 /// A lower bound on the time before any triangle pair of the triangles
-/// `span_a` of `a` and `span_b` of `b` comes within `target`, and on their
-/// distance now: the slab along the line of the two nodes' centres (`na`,
-/// `nb`) over the triangles' vertices themselves (the bound of the module,
+/// under node `na` of `a` and `nb` of `b` comes within `target`, and on
+/// their distance now: the slab along the line of the two nodes' centres
+/// over the triangles' distinct vertices themselves (`vertices_a`,
+/// `vertices_b`: [`TriMesh::small_node_vertices`]) (the bound of the module,
 /// minimum and maximum separately over each vertex set). A node's box holds
 /// the empty space of a curved patch and turns with its body, so it loses
 /// its extent times the spin; each vertex loses only its own rate.
 pub(crate) fn vertex_slab_time(
-    (a, na, span_a): (&TriMesh, &BvhNode, (u32, u32)),
-    (b, nb, span_b): (&TriMesh, &BvhNode, (u32, u32)),
+    (a, na, vertices_a): (&TriMesh, &BvhNode, &[u32]),
+    (b, nb, vertices_b): (&TriMesh, &BvhNode, &[u32]),
     frame: &PairFrame,
     target: Real,
 ) -> (Real, Real) {
@@ -473,20 +471,18 @@ pub(crate) fn vertex_slab_time(
     // `(n × ω_b) · R p` as dot products with `p`.
     let (n_b, turn_b_local) = (frame.rotation.tr_mul(&n), frame.rotation.tr_mul(&turn_b));
     let (mut high_a, mut fastest_a, mut reach_a) = (Real::NEG_INFINITY, Real::NEG_INFINITY, 0.0 as Real);
-    for t in span_a.0..span_a.1 {
-        for p in a.triangle(t as usize) {
-            high_a = high_a.max(n.dot(&p.coords));
-            fastest_a = fastest_a.max(turn_a.dot(&p.coords));
-            reach_a = reach_a.max(p.coords.norm_squared());
-        }
+    for &v in vertices_a {
+        let p = a.vertices()[v as usize].coords;
+        high_a = high_a.max(n.dot(&p));
+        fastest_a = fastest_a.max(turn_a.dot(&p));
+        reach_a = reach_a.max(p.norm_squared());
     }
     let (mut low_b, mut slowest_b, mut reach_b) = (Real::INFINITY, Real::INFINITY, 0.0 as Real);
-    for t in span_b.0..span_b.1 {
-        for p in b.triangle(t as usize) {
-            low_b = low_b.min(n_b.dot(&p.coords));
-            slowest_b = slowest_b.min(turn_b_local.dot(&p.coords));
-            reach_b = reach_b.max(p.coords.norm_squared());
-        }
+    for &v in vertices_b {
+        let p = b.vertices()[v as usize].coords;
+        low_b = low_b.min(n_b.dot(&p));
+        slowest_b = slowest_b.min(turn_b_local.dot(&p));
+        reach_b = reach_b.max(p.norm_squared());
     }
     let gap = low_b + n.dot(&shift) - high_a;
     let rate = n.dot(&frame.velocity) + slowest_b - fastest_a;
@@ -1013,8 +1009,7 @@ mod tests {
             let mesh_b = &others[case % 2];
             let (nodes_a, nodes_b) = (mesh_a.bvh().nodes(), mesh_b.bvh().nodes());
             let (i, j) = (rng.index(nodes_a.len()) as u32, rng.index(nodes_b.len()) as u32);
-            let (Some(span_a), Some(span_b)) =
-                (mesh_a.bvh().small_span(i, SLAB_TRIANGLES), mesh_b.bvh().small_span(j, SLAB_TRIANGLES))
+            let (Some(span_a), Some(span_b)) = (mesh_a.small_node_vertices(i), mesh_b.small_node_vertices(j))
             else {
                 continue;
             };

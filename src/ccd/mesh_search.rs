@@ -45,7 +45,7 @@
 //! and the contact distance without ever closing to `target` (a resting
 //! pair, a receding one) need not be reported.
 
-use super::mesh_bound::{lopsided_leaf, node_pair_time, vertex_slab_time, PairFrame, Side, SLAB_TRIANGLES};
+use super::mesh_bound::{lopsided_leaf, node_pair_time, vertex_slab_time, PairFrame, Side};
 use super::posed_pair::PosedPair;
 use crate::math::Real;
 use crate::mesh::{BvhNode, DistanceKernel, TriMesh};
@@ -129,10 +129,10 @@ impl Items<'_> {
         }
         if bound.0 < needed {
             let (a, b) = (self.meshes.a, self.meshes.b);
-            if let (Some(span_a), Some(span_b)) =
-                (a.bvh().small_span(i, SLAB_TRIANGLES), b.bvh().small_span(j, SLAB_TRIANGLES))
+            if let (Some(vertices_a), Some(vertices_b)) = (a.small_node_vertices(i), b.small_node_vertices(j))
             {
-                let slab = vertex_slab_time((a, na, span_a), (b, nb, span_b), self.frame, limits.target);
+                let slab =
+                    vertex_slab_time((a, na, vertices_a), (b, nb, vertices_b), self.frame, limits.target);
                 bound = (bound.0.max(slab.0), bound.1.max(slab.1));
             }
         }

@@ -271,16 +271,16 @@ fn search_relative(
         // sphere is smaller than the leaf and than the boxes' gap (elsewhere
         // it seldom prunes more and costs four point–triangle distances).
         if bound < cutoff && nb.is_leaf() && na.radius < bound.min(nb.radius) {
-            bound = leaf_sphere_gap(b, nb, &relative.apply_inverse(&na.center), na.radius, bound);
+            bound = leaf_sphere_gap(b, j, &relative.apply_inverse(&na.center), na.radius, bound);
         }
         if bound < cutoff && na.is_leaf() && nb.radius < bound.min(na.radius) {
-            bound = leaf_sphere_gap(a, na, &relative.apply(&nb.center), nb.radius, bound);
+            bound = leaf_sphere_gap(a, i, &relative.apply(&nb.center), nb.radius, bound);
         }
         // Small nodes: their vertices on the line of centres.
         if bound < cutoff {
-            let spans = (a.bvh().small_span(i, SLAB_TRIANGLES), b.bvh().small_span(j, SLAB_TRIANGLES));
-            if let (Some(span_a), Some(span_b)) = spans {
-                bound = bound.max(vertex_slab(a, na, span_a, b, nb, span_b, relative));
+            if let (Some(vertices_a), Some(vertices_b)) = (a.small_node_vertices(i), b.small_node_vertices(j))
+            {
+                bound = bound.max(vertex_slab((a, na, vertices_a), (b, nb, vertices_b), relative));
             }
         }
         bound - slack
@@ -524,8 +524,8 @@ impl LeafTriangle {
     }
 }
 
-/// A lower bound on the distance between the triangles of `leaf` (of
-/// `mesh`) and a sphere (`centre` in `mesh`'s frame, `radius`): the least
+/// A lower bound on the distance between the triangles of leaf node `k`
+/// of `mesh` and a sphere (`centre` in `mesh`'s frame, `radius`): the least
 /// distance from the centre to a triangle, less the radius. Far tighter
 /// than two boxes where the sphere is small beside its distance, as a
 /// robot link's node in a gear ring's hole: each ring triangle's box
@@ -534,24 +534,30 @@ impl LeafTriangle {
 ///
 /// Returns the larger of that and `floor`, a bound already known. Where
 /// a vertex is within `floor + radius` of the centre the answer is
-/// `floor`, found without the triangles' distances. On pybullet_data's
-/// meshes two thirds of the looks near the gear ring end so, and the
-/// distance queries take a fifth less time, every search the same node for
-/// node. The distances of the others are taken four at once, in vector
+/// `floor`, found from the leaf's distinct vertices
+/// ([`TriMesh::small_node_vertices`]) without its triangles. On
+/// pybullet_data's meshes two thirds of the looks near the gear ring end
+/// so, and the distance queries take a fifth less time, every search the
+/// same node for node. The distances of the others are taken four at once, in vector
 /// lanes ([`nearest_of_four`]): the same values as one at a time.
-fn leaf_sphere_gap(mesh: &TriMesh, leaf: &super::BvhNode, centre: &Point, radius: Real, floor: Real) -> Real {
-    // The leaf's triangles (at most four: `BVH_LEAF_SIZE`; the first
-    // repeated to fill).
-    const _: () = assert!(BVH_LEAF_SIZE <= 4);
-    let (first, count) = (leaf.first as usize, leaf.count as usize);
-    let four = [0, 1, 2, 3].map(|k| mesh.triangle(first + if k < count { k } else { 0 }));
+fn leaf_sphere_gap(mesh: &TriMesh, k: u32, centre: &Point, radius: Real, floor: Real) -> Real {
     // A vertex within `floor + radius` of the centre: no triangle can
     // raise the bound (a vertex's distance is at least its triangle's).
+    // The leaf's distinct vertices, read before its triangles.
     let reach = floor + radius;
     let reach_squared = if reach > 0.0 { reach * reach } else { -1.0 };
-    if four[..count].iter().flatten().any(|p| (p - centre).norm_squared() <= reach_squared) {
-        return floor;
+    let points = mesh.vertices();
+    if let Some(vertices) = mesh.small_node_vertices(k) {
+        if vertices.iter().any(|&v| (points[v as usize] - centre).norm_squared() <= reach_squared) {
+            return floor;
+        }
     }
+    // The leaf's triangles (at most four: `BVH_LEAF_SIZE`; the first
+    // repeated to fill).
+    const _: () = assert!(BVH_LEAF_SIZE <= 4 && BVH_LEAF_SIZE as u32 <= SLAB_TRIANGLES);
+    let leaf = &mesh.bvh().nodes()[k as usize];
+    let (first, count) = (leaf.first as usize, leaf.count as usize);
+    let four = [0, 1, 2, 3].map(|j| mesh.triangle(first + if j < count { j } else { 0 }));
     (nearest_of_four(centre, &four) - radius).max(floor)
 }
 
@@ -605,28 +611,26 @@ impl PartialEq for Pending {
 
 impl Eq for Pending {}
 
-/// The most triangles under a node for [`vertex_slab`]: `16` (48 vertex
-/// reads a side). On the KUKA links 7 and 1, 0.1 apart, the slab of nodes
-/// of up to 16 triangles cut the search's time by 45%; up to 8, by 35%; up
-/// to 64, by 55% there, but other pairs' searches took 20–30% longer.
+/// The most triangles under a node for [`vertex_slab`]: `16` (its
+/// distinct vertices read, about 14 on a closed mesh's patch, from the
+/// mesh's table: [`TriMesh::small_node_vertices`]). On the KUKA links 7
+/// and 1, 0.1 apart, the slab of nodes of up to 16 triangles cut the
+/// search's time by 45%; up to 8, by 35%; up to 64, by 55% there, but
+/// other pairs' searches took 20–30% longer.
 pub(crate) const SLAB_TRIANGLES: u32 = 16;
 
-/// A lower bound on the distance between the triangles `span_a` of `a`
-/// (under node `na`) and `span_b` of `b` (under `nb`, moved by `relative`):
-/// the gap between their vertices projected on the line of the nodes'
-/// centres. Where two curved patches face each other, their boxes hold
-/// much empty space and the boxes' gap falls well short; the vertices'
-/// does not (on the KUKA links 7 and 1, 0.1 apart, 83% of the node pairs
-/// the boxes left open lay beyond the distance by this bound). Rounding:
-/// the projections err by a few ulps of the coordinates, within the
-/// search's prune slack.
+/// A lower bound on the distance between the triangles under node `na` of
+/// `a` (whose distinct vertices are `vertices_a`) and those under `nb` of
+/// `b` (`vertices_b`, moved by `relative`): the gap between their vertices
+/// projected on the line of the nodes' centres. Where two curved patches
+/// face each other, their boxes hold much empty space and the boxes' gap
+/// falls well short; the vertices' does not (on the KUKA links 7 and 1,
+/// 0.1 apart, 83% of the node pairs the boxes left open lay beyond the
+/// distance by this bound). Rounding: the projections err by a few ulps of
+/// the coordinates, within the search's prune slack.
 fn vertex_slab(
-    a: &TriMesh,
-    na: &super::BvhNode,
-    span_a: (u32, u32),
-    b: &TriMesh,
-    nb: &super::BvhNode,
-    span_b: (u32, u32),
+    (a, na, vertices_a): (&TriMesh, &super::BvhNode, &[u32]),
+    (b, nb, vertices_b): (&TriMesh, &super::BvhNode, &[u32]),
     relative: &Relative,
 ) -> Real {
     let offset = relative.apply(&nb.center) - na.center;
@@ -638,11 +642,13 @@ fn vertex_slab(
     // b's vertices are projected in b's frame: `line · (R p + shift)`.
     let line_b = relative.rotation.tr_mul(&line);
     let shift = line.dot(&relative.shift);
-    fn corners(mesh: &TriMesh, (first, end): (u32, u32)) -> impl Iterator<Item = Point> + '_ {
-        (first..end).flat_map(move |t| mesh.triangle(t as usize))
-    }
-    let high_a = corners(a, span_a).map(|p| line.dot(&p.coords)).fold(Real::NEG_INFINITY, Real::max);
-    let low_b = corners(b, span_b).map(|p| line_b.dot(&p.coords)).fold(Real::INFINITY, Real::min);
+    let (points_a, points_b) = (a.vertices(), b.vertices());
+    let high_a = vertices_a
+        .iter()
+        .map(|&v| line.dot(&points_a[v as usize].coords))
+        .fold(Real::NEG_INFINITY, Real::max);
+    let low_b =
+        vertices_b.iter().map(|&v| line_b.dot(&points_b[v as usize].coords)).fold(Real::INFINITY, Real::min);
     low_b + shift - high_a
 }
 
@@ -792,7 +798,11 @@ mod tests {
                 for j in 0..nodes_b.len() as u32 {
                     let Some(span_b) = b.bvh().small_span(j, SLAB_TRIANGLES) else { continue };
                     let (na, nb) = (&nodes_a[i as usize], &nodes_b[j as usize]);
-                    let bound = vertex_slab(&sphere, na, span_a, b, nb, span_b, &relative);
+                    let (vertices_a, vertices_b) = (
+                        sphere.small_node_vertices(i).expect("a small node's vertices"),
+                        b.small_node_vertices(j).expect("a small node's vertices"),
+                    );
+                    let bound = vertex_slab((&sphere, na, vertices_a), (b, nb, vertices_b), &relative);
                     let mut least = Real::INFINITY;
                     for ta in span_a.0..span_a.1 {
                         for tb in span_b.0..span_b.1 {
@@ -816,8 +826,8 @@ mod tests {
         let plate = box_mesh(&Vector::new(0.5, 0.5, 0.1)).unwrap();
         let pos_ab = Pose::translation(0.0, 0.0, 0.7);
         let (nodes, relative) = (plate.bvh().nodes(), Relative::of(&pos_ab));
-        let root = plate.bvh().small_span(0, SLAB_TRIANGLES).expect("a box is one small node");
-        let bound = vertex_slab(&plate, &nodes[0], root, &plate, &nodes[0], root, &relative);
+        let corners = plate.small_node_vertices(0).expect("a box is one small node");
+        let bound = vertex_slab((&plate, &nodes[0], corners), (&plate, &nodes[0], corners), &relative);
         assert!((bound - 0.5).abs() <= 1e-15, "{bound}");
     }
 

@@ -1,7 +1,8 @@
 //! The validated triangle mesh.
 
-use super::bvh::MeshBvh;
+use super::bvh::{MeshBvh, NodeVertices};
 use super::convex_features::ConvexFeatures;
+use super::distance::SLAB_TRIANGLES;
 use super::mass::MassProperties;
 use super::support::{self, SupportTable};
 use crate::math::{Point, Real, Triangle, Vector};
@@ -84,6 +85,9 @@ pub struct TriMesh {
     zero_area: Vec<u32>,
     /// Faces the file's reader dropped (see [`TriMesh::dropped_faces`]).
     dropped_faces: usize,
+    /// The distinct vertices of each small BVH node (see
+    /// [`TriMesh::small_node_vertices`]), built at the first call.
+    node_vertices: std::sync::OnceLock<NodeVertices>,
 }
 
 /// How far a vertex may lie outside a triangle's plane, as a fraction of
@@ -172,6 +176,7 @@ impl TriMesh {
             closed: std::sync::OnceLock::new(),
             zero_area,
             dropped_faces: 0,
+            node_vertices: std::sync::OnceLock::new(),
         }
     }
 
@@ -266,6 +271,17 @@ impl TriMesh {
     /// The bounding volume hierarchy.
     pub fn bvh(&self) -> &MeshBvh {
         &self.bvh
+    }
+
+    /// The distinct vertices (indices into [`TriMesh::vertices`]) of the
+    /// triangles under BVH node `k`, where it holds at most
+    /// [`SLAB_TRIANGLES`] of them; `None` where it holds more. The table is
+    /// built at the first call, a pass over the small nodes.
+    #[inline]
+    pub(crate) fn small_node_vertices(&self, k: u32) -> Option<&[u32]> {
+        self.node_vertices
+            .get_or_init(|| NodeVertices::of(&self.bvh, &self.triangles, SLAB_TRIANGLES))
+            .of_node(k)
     }
 
     /// The box of the vertices in the mesh's frame: smallest and largest corners.
