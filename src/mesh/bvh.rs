@@ -132,8 +132,9 @@ impl MeshBvh {
 /// projected on a line, as the distance search's and the CCD's slabs take
 /// them) read each vertex once instead of once for each of its triangles:
 /// on a closed mesh's patch of 16 triangles about 14 vertices, not 48
-/// corners, with no triangle read between.
-#[derive(Clone, Debug, Default)]
+/// corners, with no triangle read between. About 20 bytes a triangle
+/// (a million triangles: 4.1 million indices).
+#[derive(Clone, Debug, Default, PartialEq)]
 pub(crate) struct NodeVertices {
     /// Node `k`'s vertices are `indices[ranges[k][0]..ranges[k][1]]`
     /// (empty for a node with more triangles).
@@ -141,24 +142,58 @@ pub(crate) struct NodeVertices {
     indices: Vec<u32>,
 }
 
+/// The nodes listed together, on one thread, by [`NodeVertices::of`]:
+/// `4096`.
+const NODE_VERTICES_RUN: usize = 4096;
+
 impl NodeVertices {
     /// The table of `bvh` over `triangles` (in its leaf order) for the
-    /// nodes of at most `most` triangles.
+    /// nodes of at most `most` triangles. A mesh of
+    /// [`PARALLEL_BUILD_TRIANGLES`] or more is listed on rayon's threads,
+    /// in runs of nodes joined in order (the same table whatever the
+    /// thread count).
     pub(crate) fn of(bvh: &MeshBvh, triangles: &[[u32; 3]], most: u32) -> NodeVertices {
-        let mut table = NodeVertices { ranges: Vec::with_capacity(bvh.nodes.len()), indices: Vec::new() };
-        let mut corners = Vec::with_capacity(3 * most as usize);
-        for k in 0..bvh.nodes.len() as u32 {
-            let start = table.indices.len() as u32;
-            if let Some((first, end)) = bvh.small_span(k, most) {
-                corners.clear();
-                corners.extend(triangles[first as usize..end as usize].iter().flatten());
-                corners.sort_unstable();
-                corners.dedup();
-                table.indices.extend_from_slice(&corners);
+        let nodes = bvh.nodes.len();
+        // The nodes `range`, their ranges counted from the run's start.
+        let list = |range: std::ops::Range<usize>| {
+            let mut run = NodeVertices { ranges: Vec::with_capacity(range.len()), indices: Vec::new() };
+            let mut corners = Vec::with_capacity(3 * most as usize);
+            for k in range {
+                let start = run.indices.len() as u32;
+                if let Some((first, end)) = bvh.small_span(k as u32, most) {
+                    corners.clear();
+                    corners.extend(triangles[first as usize..end as usize].iter().flatten());
+                    corners.sort_unstable();
+                    corners.dedup();
+                    run.indices.extend_from_slice(&corners);
+                }
+                run.ranges.push([start, run.indices.len() as u32]);
             }
-            table.ranges.push([start, table.indices.len() as u32]);
+            run
+        };
+        if triangles.len() < PARALLEL_BUILD_TRIANGLES {
+            return list(0..nodes);
+        }
+        use rayon::prelude::*;
+        let runs: Vec<NodeVertices> = (0..nodes.div_ceil(NODE_VERTICES_RUN))
+            .into_par_iter()
+            .map(|r| list(r * NODE_VERTICES_RUN..((r + 1) * NODE_VERTICES_RUN).min(nodes)))
+            .collect();
+        let mut table = NodeVertices {
+            ranges: Vec::with_capacity(nodes),
+            indices: Vec::with_capacity(runs.iter().map(|run| run.indices.len()).sum()),
+        };
+        for run in runs {
+            let offset = table.indices.len() as u32;
+            table.ranges.extend(run.ranges.iter().map(|[start, end]| [start + offset, end + offset]));
+            table.indices.extend_from_slice(&run.indices);
         }
         table
+    }
+
+    /// Bytes the table holds on the heap.
+    pub(crate) fn bytes(&self) -> usize {
+        std::mem::size_of_val(self.ranges.as_slice()) + std::mem::size_of_val(self.indices.as_slice())
     }
 
     /// Node `k`'s distinct vertices (indices into the mesh's vertices), or
@@ -465,20 +500,26 @@ mod tests {
     }
 
     /// A tree big enough to be built on several threads is the one a
-    /// single thread builds, node for node, and fills exactly the slots
-    /// `node_count` gives it.
+    /// single thread builds, node for node (and its small nodes' vertices
+    /// the same list), and fills exactly the slots `node_count` gives it.
     #[test]
     fn the_tree_does_not_depend_on_the_thread_count() {
         let mesh = super::super::primitives::torus(1.0, 0.3, 300, 150).unwrap();
         let build = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            pool.install(|| super::MeshBvh::build(mesh.vertices(), mesh.triangles().to_vec()))
+            pool.install(|| {
+                let (tree, order) = super::MeshBvh::build(mesh.vertices(), mesh.triangles().to_vec());
+                let listed = super::NodeVertices::of(&tree, &order, crate::mesh::distance::SLAB_TRIANGLES);
+                (tree, order, listed)
+            })
         };
-        let (one, one_order) = build(1);
-        let (four, four_order) = build(4);
+        let (one, one_order, one_listed) = build(1);
+        let (four, four_order, four_listed) = build(4);
         assert!(mesh.triangles().len() > 4 * super::PARALLEL_BUILD_TRIANGLES);
         assert_eq!(one.nodes(), four.nodes());
         assert_eq!(one_order, four_order);
+        // The small nodes' vertices, listed in runs on the threads, too.
+        assert_eq!(one_listed, four_listed);
         assert_eq!(one.nodes().len(), super::node_count(mesh.triangles().len()));
         // Every slot filled: no node is left as the placeholder.
         assert!(one.nodes().iter().all(|n| n.radius > 0.0));

@@ -86,8 +86,8 @@ pub struct TriMesh {
     /// Faces the file's reader dropped (see [`TriMesh::dropped_faces`]).
     dropped_faces: usize,
     /// The distinct vertices of each small BVH node (see
-    /// [`TriMesh::small_node_vertices`]), built at the first call.
-    node_vertices: std::sync::OnceLock<NodeVertices>,
+    /// [`TriMesh::small_node_vertices`]).
+    node_vertices: NodeVertices,
 }
 
 /// How far a vertex may lie outside a triangle's plane, as a fraction of
@@ -139,16 +139,18 @@ impl TriMesh {
                 filled[v as usize] += 1;
             }
         }
-        Ok(TriMesh::assemble(vertices, triangles, bvh, (incident_start, incident)))
+        let node_vertices = NodeVertices::of(&bvh, &triangles, SLAB_TRIANGLES);
+        Ok(TriMesh::assemble(vertices, triangles, (bvh, node_vertices), (incident_start, incident)))
     }
 
     /// The mesh from checked vertices, triangles in its BVH's order, the BVH
-    /// and the triangles around each vertex; what follows from them is
-    /// computed here (the rest at first use).
+    /// with its small nodes' vertices, and the triangles around each
+    /// vertex; what follows from them is computed here (the rest at first
+    /// use).
     fn assemble(
         vertices: Vec<Point>,
         triangles: Vec<[u32; 3]>,
-        bvh: MeshBvh,
+        (bvh, node_vertices): (MeshBvh, NodeVertices),
         (incident_start, incident): (Vec<u32>, Vec<u32>),
     ) -> TriMesh {
         let zero_area = (0..triangles.len() as u32)
@@ -176,7 +178,7 @@ impl TriMesh {
             closed: std::sync::OnceLock::new(),
             zero_area,
             dropped_faces: 0,
-            node_vertices: std::sync::OnceLock::new(),
+            node_vertices,
         }
     }
 
@@ -237,13 +239,14 @@ impl TriMesh {
         self.support.get_or_init(|| SupportTable::build(&self.vertices))
     }
 
-    /// Bytes the mesh holds on the heap: vertices, triangles, BVH, the
-    /// triangles around each vertex, and the farthest-vertex table (once
-    /// built).
+    /// Bytes the mesh holds on the heap: vertices, triangles, BVH (with its
+    /// small nodes' vertices), the triangles around each vertex, and the
+    /// farthest-vertex table (once built).
     pub fn heap_bytes(&self) -> usize {
         std::mem::size_of_val(self.vertices.as_slice())
             + std::mem::size_of_val(self.triangles.as_slice())
             + std::mem::size_of_val(self.bvh.nodes())
+            + self.node_vertices.bytes()
             + 4 * (self.incident_start.len() + self.incident.len())
             + self.support.get().and_then(Option::as_ref).map_or(0, SupportTable::bytes)
             + 4 * self.zero_area.len()
@@ -276,12 +279,10 @@ impl TriMesh {
     /// The distinct vertices (indices into [`TriMesh::vertices`]) of the
     /// triangles under BVH node `k`, where it holds at most
     /// [`SLAB_TRIANGLES`] of them; `None` where it holds more. The table is
-    /// built at the first call, a pass over the small nodes.
+    /// built with the BVH.
     #[inline]
     pub(crate) fn small_node_vertices(&self, k: u32) -> Option<&[u32]> {
-        self.node_vertices
-            .get_or_init(|| NodeVertices::of(&self.bvh, &self.triangles, SLAB_TRIANGLES))
-            .of_node(k)
+        self.node_vertices.of_node(k)
     }
 
     /// The box of the vertices in the mesh's frame: smallest and largest corners.
@@ -456,7 +457,9 @@ impl TriMesh {
         check_coordinates(&vertices)?;
         let bvh = self.bvh.translated(&shift);
         let incident = (self.incident_start.clone(), self.incident.clone());
-        Ok(TriMesh::assemble(vertices, self.triangles.clone(), bvh, incident)
+        // The same triangles in the same tree: the same nodes' vertices.
+        let tree = (bvh, self.node_vertices.clone());
+        Ok(TriMesh::assemble(vertices, self.triangles.clone(), tree, incident)
             .with_dropped_faces(self.dropped_faces))
     }
 }
