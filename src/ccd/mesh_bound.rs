@@ -848,10 +848,16 @@ mod tests {
             box_mesh(&Vector::new(0.3, 0.2, 0.25)).unwrap(),
             icosphere(0.3, 3).unwrap(),
         ];
-        let leaves = |mesh: &TriMesh| -> Vec<BvhNode> {
-            mesh.bvh().nodes().iter().filter(|n| n.is_leaf()).copied().collect()
+        // Leaves as node indices.
+        let leaves = |mesh: &TriMesh| -> Vec<u32> {
+            (0..mesh.bvh().nodes().len() as u32)
+                .filter(|&k| mesh.bvh().nodes()[k as usize].is_leaf())
+                .collect()
         };
-        let triangles = |leaf: &BvhNode| (leaf.first..leaf.first + leaf.count).map(|t| t as usize);
+        let triangles = |mesh: &TriMesh, k: u32| {
+            let leaf = mesh.bvh().nodes()[k as usize];
+            (leaf.first..leaf.first + leaf.count).map(|t| t as usize)
+        };
         let mut rng = Rng::new(23);
         let horizon = 0.05;
         let (mut bounded, mut flat, mut flat_reaching) = (0, 0, 0);
@@ -862,8 +868,8 @@ mod tests {
             let (mut best, mut d) = ((leaves(mesh_a)[0], leaves(mesh_b)[0], 0, 0), Real::INFINITY);
             for la in leaves(mesh_a) {
                 for lb in leaves(mesh_b) {
-                    for ta in triangles(&la) {
-                        for tb in triangles(&lb) {
+                    for ta in triangles(mesh_a, la) {
+                        for tb in triangles(mesh_b, lb) {
                             let pair = PosedPair::new(mesh_a, ta, mesh_b, tb, &frame);
                             let found = triangle_distance(&pair.a, &pair.b).distance;
                             if found < d {
@@ -879,7 +885,7 @@ mod tests {
             let (la, lb, ta, tb) = best;
             let target = d * (1.0 - Real::powf(10.0, -6.0 + 5.0 * rng.uniform()));
             let Some((time, gap)) =
-                PosedPair::leaves_time((mesh_a, &la), (mesh_b, &lb), &frame, (target, horizon))
+                PosedPair::leaves_time((mesh_a, la), (mesh_b, lb), &frame, (target, horizon))
             else {
                 continue;
             };
@@ -895,8 +901,8 @@ mod tests {
             for k in 0..=200 {
                 let t = time * k as Real / 200.0;
                 let (pa, pb) = (ma.pose_at(t), mb.pose_at(t));
-                for ta in triangles(&la) {
-                    for tb in triangles(&lb) {
+                for ta in triangles(mesh_a, la) {
+                    for tb in triangles(mesh_b, lb) {
                         let a = mesh_a.triangle(ta).map(|p| pa * p);
                         let b = mesh_b.triangle(tb).map(|p| pb * p);
                         let distance = triangle_distance(&a, &b).distance;

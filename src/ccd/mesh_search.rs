@@ -177,11 +177,10 @@ impl Items<'_> {
     /// ([`PosedPair::leaves_time`]); `None` where it cannot give one.
     fn leaves(&self, i: u32, j: u32, work: &mut StepWork) -> Option<FrontItem> {
         work.node_pairs += 1;
-        let (na, nb) = (&self.meshes.a.bvh().nodes()[i as usize], &self.meshes.b.bvh().nodes()[j as usize]);
         let limits = self.limits;
         let bound = PosedPair::leaves_time(
-            (self.meshes.a, na),
-            (self.meshes.b, nb),
+            (self.meshes.a, i),
+            (self.meshes.b, j),
             self.frame,
             (limits.target, limits.horizon),
         )?;

@@ -200,13 +200,15 @@ impl PosedPair {
     /// leaves' triangle pairs (up to sixteen) about as well as each one's own
     /// bound, for one kernel call. `None` where that pair is within
     /// `target` (the leaves are then bounded pair by pair). The bound and a
-    /// lower bound on the leaves' distance now.
+    /// lower bound on the leaves' distance now. The leaves are BVH nodes
+    /// `i` of `a` and `j` of `b`.
     pub(crate) fn leaves_time(
-        (a, leaf_a): (&TriMesh, &BvhNode),
-        (b, leaf_b): (&TriMesh, &BvhNode),
+        (a, i): (&TriMesh, u32),
+        (b, j): (&TriMesh, u32),
         frame: &PairFrame,
         (target, horizon): (Real, Real),
     ) -> Option<(Real, Real)> {
+        let (leaf_a, leaf_b) = (&a.bvh().nodes()[i as usize], &b.bvh().nodes()[j as usize]);
         let range = |leaf: &BvhNode| leaf.first as usize..(leaf.first + leaf.count) as usize;
         let centroid = |t: &Triangle| (t[0].coords + t[1].coords + t[2].coords) / 3.0;
         let mut nearest = (Real::INFINITY, leaf_a.first as usize, leaf_b.first as usize);
@@ -232,13 +234,13 @@ impl PosedPair {
         let turning = TurningSlab::new(&closest, &n, spin, frame, horizon);
         let mut heights_a = [[0.0; 3]; 3 * BVH_LEAF_SIZE];
         let mut reach_a: Real = 0.0;
-        let count_a = each_vertex(a, leaf_a, |k, p| {
+        let count_a = each_vertex(a, i, |k, p| {
             heights_a[k] = turning.height_a(p);
             reach_a = reach_a.max(p.coords.norm());
         });
         let mut heights_b = [[0.0; 3]; 3 * BVH_LEAF_SIZE];
         let mut reach_b: Real = 0.0;
-        let count_b = each_vertex(b, leaf_b, |k, p| {
+        let count_b = each_vertex(b, j, |k, p| {
             let offset = Point::from(frame.rotation * p.coords);
             heights_b[k] = turning.height_b(&offset, &(offset + frame.pos_ab.translation.vector));
             reach_b = reach_b.max(offset.coords.norm());
@@ -494,20 +496,16 @@ fn velocity_b(frame: &PairFrame, x: &Vector) -> Vector {
     frame.velocity + frame.omega_b.cross(&(x - frame.pos_ab.translation.vector))
 }
 
-/// Calls `visit` with each vertex of `leaf`'s triangles once (its index
-/// among them and the point, in `mesh`'s frame); how many there were.
+/// Calls `visit` with each vertex of leaf node `k`'s triangles once (its
+/// index among them and the point, in `mesh`'s frame), from the mesh's
+/// list of the leaf's distinct vertices; how many there were.
 #[inline]
-fn each_vertex(mesh: &TriMesh, leaf: &BvhNode, mut visit: impl FnMut(usize, &Point)) -> usize {
-    let mut seen = [u32::MAX; 3 * BVH_LEAF_SIZE];
-    let mut count = 0;
-    for t in leaf.first..leaf.first + leaf.count {
-        for v in mesh.triangles()[t as usize] {
-            if !seen[..count].contains(&v) {
-                seen[count] = v;
-                visit(count, &mesh.vertices()[v as usize]);
-                count += 1;
-            }
-        }
+fn each_vertex(mesh: &TriMesh, k: u32, mut visit: impl FnMut(usize, &Point)) -> usize {
+    // Every leaf is a small node: its vertices are listed.
+    const _: () = assert!(BVH_LEAF_SIZE as u32 <= crate::mesh::distance::SLAB_TRIANGLES);
+    let vertices = mesh.small_node_vertices(k).expect("a leaf's vertices are listed with the tree");
+    for (count, &v) in vertices.iter().enumerate() {
+        visit(count, &mesh.vertices()[v as usize]);
     }
-    count
+    vertices.len()
 }
