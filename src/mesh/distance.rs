@@ -612,8 +612,9 @@ impl PartialEq for Pending {
 impl Eq for Pending {}
 
 /// The most triangles under a node for [`vertex_slab`]: `16` (its
-/// distinct vertices read, about 14 on a closed mesh's patch, from the
-/// mesh's table: [`TriMesh::small_node_vertices`]). On the KUKA links 7
+/// distinct vertices read from the mesh's table,
+/// [`TriMesh::small_node_vertices`]: on a KUKA link about 13 where a
+/// node's triangles have 33 corners). On the KUKA links 7
 /// and 1, 0.1 apart, the slab of nodes of up to 16 triangles cut the
 /// search's time by 45%; up to 8, by 35%; up to 64, by 55% there, but
 /// other pairs' searches took 20–30% longer.
