@@ -145,7 +145,9 @@ pub(crate) struct NodeVertices {
 }
 
 /// The nodes listed together, on one thread, by [`NodeVertices::of`]:
-/// `4096`.
+/// `4096`. A run is about 0.8 ms of work (a million-triangle torus's
+/// 524,287 nodes take 100 ms on one thread), far more than handing it to
+/// another thread costs, and a million triangles make 128 runs to share.
 const NODE_VERTICES_RUN: usize = 4096;
 
 impl NodeVertices {
