@@ -501,9 +501,7 @@ fn velocity_b(frame: &PairFrame, x: &Vector) -> Vector {
 /// list of the leaf's distinct vertices; how many there were.
 #[inline]
 fn each_vertex(mesh: &TriMesh, k: u32, mut visit: impl FnMut(usize, &Point)) -> usize {
-    // Every leaf is a small node: its vertices are listed.
-    const _: () = assert!(BVH_LEAF_SIZE as u32 <= crate::mesh::distance::SLAB_TRIANGLES);
-    let vertices = mesh.small_node_vertices(k).expect("a leaf's vertices are listed with the tree");
+    let vertices = mesh.leaf_vertices(k);
     for (count, &v) in vertices.iter().enumerate() {
         visit(count, &mesh.vertices()[v as usize]);
     }

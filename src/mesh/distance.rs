@@ -535,10 +535,10 @@ impl LeafTriangle {
 /// Returns the larger of that and `floor`, a bound already known. Where
 /// a vertex is within `floor + radius` of the centre the answer is
 /// `floor`, found from the leaf's distinct vertices
-/// ([`TriMesh::small_node_vertices`]) without its triangles. On
-/// pybullet_data's meshes two thirds of the looks near the gear ring end
-/// so, and the distance queries take a fifth less time, every search the
-/// same node for node. The distances of the others are taken four at once, in vector
+/// ([`TriMesh::leaf_vertices`]) without its triangles. On pybullet_data's
+/// meshes two thirds of the looks near the gear ring end so, and the
+/// distance queries take a fifth less time, every search the same node for
+/// node. The distances of the others are taken four at once, in vector
 /// lanes ([`nearest_of_four`]): the same values as one at a time.
 fn leaf_sphere_gap(mesh: &TriMesh, k: u32, centre: &Point, radius: Real, floor: Real) -> Real {
     // A vertex within `floor + radius` of the centre: no triangle can
@@ -547,14 +547,12 @@ fn leaf_sphere_gap(mesh: &TriMesh, k: u32, centre: &Point, radius: Real, floor: 
     let reach = floor + radius;
     let reach_squared = if reach > 0.0 { reach * reach } else { -1.0 };
     let points = mesh.vertices();
-    if let Some(vertices) = mesh.small_node_vertices(k) {
-        if vertices.iter().any(|&v| (points[v as usize] - centre).norm_squared() <= reach_squared) {
-            return floor;
-        }
+    if mesh.leaf_vertices(k).iter().any(|&v| (points[v as usize] - centre).norm_squared() <= reach_squared) {
+        return floor;
     }
     // The leaf's triangles (at most four: `BVH_LEAF_SIZE`; the first
     // repeated to fill).
-    const _: () = assert!(BVH_LEAF_SIZE <= 4 && BVH_LEAF_SIZE as u32 <= SLAB_TRIANGLES);
+    const _: () = assert!(BVH_LEAF_SIZE <= 4);
     let leaf = &mesh.bvh().nodes()[k as usize];
     let (first, count) = (leaf.first as usize, leaf.count as usize);
     let four = [0, 1, 2, 3].map(|j| mesh.triangle(first + if j < count { j } else { 0 }));

@@ -1,6 +1,6 @@
 //! The validated triangle mesh.
 
-use super::bvh::{MeshBvh, NodeVertices};
+use super::bvh::{MeshBvh, NodeVertices, BVH_LEAF_SIZE};
 use super::convex_features::ConvexFeatures;
 use super::distance::SLAB_TRIANGLES;
 use super::mass::MassProperties;
@@ -283,6 +283,15 @@ impl TriMesh {
     #[inline]
     pub(crate) fn small_node_vertices(&self, k: u32) -> Option<&[u32]> {
         self.node_vertices.of_node(k)
+    }
+
+    /// The distinct vertices of leaf node `k`'s triangles: every leaf
+    /// (at most [`BVH_LEAF_SIZE`] triangles) is a small node, so they are
+    /// listed.
+    #[inline]
+    pub(crate) fn leaf_vertices(&self, k: u32) -> &[u32] {
+        const _: () = assert!(BVH_LEAF_SIZE as u32 <= SLAB_TRIANGLES);
+        self.small_node_vertices(k).expect("a leaf's vertices are listed with the tree")
     }
 
     /// The box of the vertices in the mesh's frame: smallest and largest corners.
