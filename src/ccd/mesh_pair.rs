@@ -60,7 +60,7 @@
 
 use super::contact::ContactContract;
 use super::hull_advance::{advance_on_hulls, pair_at_touching_hulls};
-use super::mesh_bound::{PairFrame, SPIN_SWEEP_AFTER_ITERATIONS};
+use super::mesh_bound::{PairFrame, SPIN_SWEEP_AFTER_ITERATIONS, SPIN_SWEEP_MIN_TURN};
 use super::mesh_search::{SearchMeshes, StepLimits, StepOutcome, StepWork};
 use super::options::{CcdOptions, CcdStatus};
 use super::pair_motion::{spheres_apart, PairMotion, Reached};
@@ -240,6 +240,7 @@ fn search(
     let (target, contact_distance) = (contract.target, contract.contact_distance);
     let relative_velocity = b.motion.velocity - a.motion.velocity;
     let (omega_a, omega_b) = (a.motion.angular_velocity, b.motion.angular_velocity);
+    let spin = omega_a.norm() + omega_b.norm();
     // A step shorter than this proves nothing a triangle pair outside the
     // contact distance could not (see `mesh_search.rs`).
     let min_step = if speed > 0.0 { (contact_distance - target) / speed } else { Real::INFINITY };
@@ -247,9 +248,12 @@ fn search(
     scratch.front.reset();
     let mut last_step = Real::INFINITY;
     for iteration in 0..options.max_iterations.max(1) {
-        if iteration == SPIN_SWEEP_AFTER_ITERATIONS {
+        if iteration == SPIN_SWEEP_AFTER_ITERATIONS && spin * (duration - s) >= SPIN_SWEEP_MIN_TURN {
             // The spin-swept bounds start now: from the roots again, so
-            // that whole subtrees can be settled by them.
+            // that whole subtrees can be settled by them. (Where the bodies
+            // turn too little over the rest of the interval for them, the
+            // front is kept: a new one would cost as many node pairs as
+            // the front holds, for the same bounds.)
             scratch.front.reset();
         }
         let frame = PairFrame::new(
