@@ -40,6 +40,7 @@ use super::pair_motion::PairMotion;
 use super::query::{MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, Touching, WarmStart};
 use crate::math::{Point, Real};
 use crate::mesh::{DistanceKernel, MeshDistance};
+use crate::motion::StepMotion;
 
 /// The bracket's width, relative to the smaller mesh's radius, when the
 /// query states none: `1e-6`, the contact contract's default
@@ -249,7 +250,7 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
         // filters settle it), and a pair that touches is answered by it,
         // where the runs from the ends' distance down would each search
         // every triangle pair within that distance.
-        let (run, result) = runs.below(query, 0.0, warm, scratch);
+        let (run, result) = runs.below(query, (0.0, 0.0), warm, scratch);
         answer.runs += 1;
         warm = WarmStart { lower_bound: None, hint: result.hint, axis: result.axis, simplex: result.simplex };
         match run {
@@ -280,6 +281,9 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
             answer.keep(found, at);
         }
     }
+    // Every time before `proven.0` is certified farther than `proven.1`
+    // (by a run that stopped there).
+    let mut proven = (0.0, Real::NEG_INFINITY);
     while answer.runs < MAX_APPROACH_RUNS {
         // The first run asks for `within`; each later one whether anything
         // comes closer than the best found less three quarters of the
@@ -289,7 +293,11 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
         } else {
             answer.upper - PROOF_MARGIN_FRACTION * runs.width
         };
-        let (run, result) = runs.below(query, target, warm, scratch);
+        // A run after one that stopped closer than its target starts where
+        // that one stopped: before, the distance stayed above that target,
+        // which is above this one (see `Runs::below`).
+        let from = if proven.1 >= target { proven.0 } else { 0.0 };
+        let (run, result) = runs.below(query, (from, target), warm, scratch);
         answer.runs += 1;
         warm = WarmStart { lower_bound: None, hint: result.hint, axis: result.axis, simplex: result.simplex };
         match run {
@@ -310,6 +318,7 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
                 return answer;
             }
             Run::Closer { time } => {
+                proven = (time, result.guaranteed_distance);
                 // Closer than asked at `time`, and closing: the distance's
                 // local minimum after it is the next best.
                 let (at, found) = descend(
@@ -395,20 +404,31 @@ impl Runs {
         }
     }
 
-    /// One CCD run: does anything come closer than `target`?
+    /// One CCD run: does anything come closer than `target` from time
+    /// `from` on? Its times are the query's (from 0).
+    ///
+    /// A run that stops at a time (closer than its target there) has
+    /// certified the distance above its guaranteed distance `G` before it,
+    /// and the meshes within `G + τ / 2` there: the next target, three
+    /// quarters of the width below the next best (at most that distance),
+    /// is lower than `G`, so the next run need only start there.
     fn below(
         &self,
         query: &ClosestApproachQuery<'_>,
-        target: Real,
+        (from, target): (Real, Real),
         warm: WarmStart,
         scratch: &mut MeshCcdScratch,
     ) -> (Run, MeshCcdResult) {
+        // (A start at or past the end would leave no interval to ask about.)
+        let from = if from < query.duration { from } else { 0.0 };
+        let later = |m: &MovingMesh<'_>| StepMotion { elapsed: m.motion.elapsed + from, ..*m.motion };
+        let (motion_a, motion_b) = (later(&query.a), later(&query.b));
         // The run's target (`separation + τ / 2`, the contract's) is `target`.
         let separation = (target - TARGET_FRACTION * self.tau).max(0.0);
         let ccd = MeshCcdQuery {
-            a: query.a,
-            b: query.b,
-            duration: query.duration,
+            a: MovingMesh { motion: &motion_a, ..query.a },
+            b: MovingMesh { motion: &motion_b, ..query.b },
+            duration: query.duration - from,
             options: self.options,
             contact: ContactRule::Separation(separation),
             kernel: query.kernel,
@@ -424,6 +444,7 @@ impl Runs {
             let ccd = MeshCcdQuery { options: CcdOptions { max_iterations: budget, ..self.options }, ..ccd };
             result = mesh_time_of_impact_with(&ccd, warm, scratch, Touching::Named);
         }
+        result.time_of_impact = result.time_of_impact.map(|time| time + from);
         let run = match (result.status, result.time_of_impact) {
             (CcdStatus::OutOfIterations, _) => Run::Undecided,
             // Never within the run's guaranteed distance: certified.
@@ -461,7 +482,7 @@ pub(crate) fn screen(
         runs.options.distance_tolerance *= coarse / runs.tau;
         runs.tau = coarse;
     }
-    runs.below(query, query.within, warm, scratch)
+    runs.below(query, (0.0, query.within), warm, scratch)
 }
 
 impl ClosestApproach {

@@ -70,6 +70,33 @@ fn a_translating_pass_is_bracketed_at_every_scale() {
     }
 }
 
+/// A cube passes over two fixed blocks in turn, 0.3 above the first and
+/// 0.25 above the second (one mesh of two boxes): the run from the end's
+/// distance stops at the first pass, the next (from where that one
+/// stopped) at the second, and a third closes the bracket on 0.25.
+#[test]
+fn a_pass_over_two_blocks_is_bracketed_at_the_lower_one() {
+    let (first, second) =
+        (box_mesh(&Vector::new(0.5, 0.5, 0.5)).unwrap(), box_mesh(&Vector::new(0.5, 0.55, 0.5)).unwrap());
+    let mut vertices = first.vertices().to_vec();
+    vertices.extend(second.vertices().iter().map(|p| p + Vector::new(4.0, 0.0, 0.0)));
+    let mut triangles = first.triangles().to_vec();
+    triangles.extend(second.triangles().iter().map(|t| t.map(|k| k + 8)));
+    let blocks = TriMesh::new(vertices, triangles).unwrap();
+    let cube = box_mesh(&Vector::new(0.5, 0.5, 0.5)).unwrap();
+    let fixed = StepMotion::new(Pose::identity(), Vector::zeros(), Vector::zeros());
+    let moving =
+        StepMotion::new(Pose::translation(-3.0, 1.3, 0.0), Vector::new(5.0, 0.0, 0.0), Vector::zeros());
+    let approach = bracket(&blocks, &fixed, &cube, &moving, 2.0, Real::INFINITY);
+    assert_eq!(approach.status, ApproachStatus::Bracketed, "{approach:?}");
+    assert!(approach.lower <= 0.25 && 0.25 <= approach.upper * (1.0 + 1e-12), "{approach:?}");
+    assert!(approach.upper - approach.lower <= 1e-6 * cube.radius(), "{approach:?}");
+    // Over the second block: x from 3 to 5, t from 1.2 to 1.6.
+    assert!((1.2..=1.6).contains(&approach.time), "{approach:?}");
+    // Whether anything touches, then the two passes and the proof.
+    assert_eq!(approach.runs, 4, "{approach:?}");
+}
+
 /// A bar spinning a whole turn about z next to a fixed block: its corner,
 /// `sqrt(L² + w²)` from the axis, sweeps past the block's face at `x = f`,
 /// so the closest approach is `f − sqrt(L² + w²)`, at the turn where the
