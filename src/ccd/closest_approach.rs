@@ -34,6 +34,7 @@
 use super::contact::{ContactRule, TARGET_FRACTION};
 use super::convex_measure::{measure, measure_below};
 use super::descent::descend;
+use super::hull_gap::hull_gap;
 use super::mesh_pair::mesh_time_of_impact_with;
 use super::options::{CcdOptions, CcdStatus};
 use super::pair_motion::PairMotion;
@@ -234,10 +235,27 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
     };
     if !query.within.is_finite() {
         // Every approach is wanted: the interval's ends are a first upper
-        // bound; the end only where it is the closer one.
-        answer.keep(measure(&a, &b, 0.0, None, scratch), 0.0);
-        if let Some(found) = measure_below(&a, &b, query.duration, answer.upper, scratch) {
-            answer.keep(found, query.duration);
+        // bound. The end whose hulls are nearer (or, where they touch at
+        // both, whose centres are) is measured first, and the other only
+        // where it is as near or nearer (a search that starts with that
+        // distance as its best: a few node pairs where it is well beyond).
+        // On a tie the start is kept.
+        let guess = |s: Real| {
+            let pose = StepMotion::relative_pose(a.motion, b.motion, s);
+            let hulls = hull_gap(a.mesh, b.mesh, &pose, None, (0.0, Real::INFINITY)).lower.max(0.0);
+            (hulls, pose.translation.vector.norm())
+        };
+        if guess(query.duration) < guess(0.0) {
+            let at_end = measure(&a, &b, query.duration, None, scratch);
+            match measure_below(&a, &b, 0.0, at_end.distance.next_up(), scratch) {
+                Some(found) => answer.keep(found, 0.0),
+                None => answer.keep(at_end, query.duration),
+            }
+        } else {
+            answer.keep(measure(&a, &b, 0.0, None, scratch), 0.0);
+            if let Some(found) = measure_below(&a, &b, query.duration, answer.upper, scratch) {
+                answer.keep(found, query.duration);
+            }
         }
     }
     if let Some((s, found)) = query.reached.filter(|(_, found)| found.distance <= query.within) {

@@ -70,6 +70,27 @@ fn a_translating_pass_is_bracketed_at_every_scale() {
     }
 }
 
+/// A cube closing head-on on a fixed cube, stopping 0.5 short of it at the
+/// interval's end (measured first: its hulls are the nearer) or starting
+/// there and backing away (the start measured first): the closest
+/// approach is 0.5 at the nearer end; two cubes at rest keep the start.
+#[test]
+fn the_nearer_end_is_the_closest_approach_of_a_steady_approach() {
+    let cube = box_mesh(&Vector::new(0.5, 0.5, 0.5)).unwrap();
+    let fixed = StepMotion::new(Pose::identity(), Vector::zeros(), Vector::zeros());
+    for (start, velocity, end) in [(4.0, -2.5, 1.0), (1.5, 2.5, 0.0), (1.5, 0.0, 0.0)] {
+        let moving = StepMotion::new(
+            Pose::translation(start, 0.2, 0.1),
+            Vector::new(velocity, 0.0, 0.0),
+            Vector::zeros(),
+        );
+        let approach = bracket(&cube, &fixed, &cube, &moving, 1.0, Real::INFINITY);
+        assert_eq!(approach.status, ApproachStatus::Bracketed, "{approach:?}");
+        assert!(approach.lower <= 0.5 && (approach.upper - 0.5).abs() <= 1e-12, "{approach:?}");
+        assert_eq!(approach.time, end, "{approach:?}");
+    }
+}
+
 /// A cube passes over two fixed blocks in turn, 0.3 above the first and
 /// 0.25 above the second (one mesh of two boxes): the run from the end's
 /// distance stops at the first pass, the next (from where that one
