@@ -233,13 +233,25 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
         closest: None,
         runs: 0,
     };
-    if !query.within.is_finite() {
-        // Every approach is wanted: the interval's ends are a first upper
-        // bound. The end whose hulls are nearer (or, where they touch at
-        // both, whose centres are) is measured first, and the other only
-        // where it is as near or nearer (a search that starts with that
-        // distance as its best: a few node pairs where it is well beyond).
-        // On a tie the start is kept.
+    let mut warm = WarmStart::default();
+    // Every approach is wanted: first, do they touch? That run is the time
+    // of impact's own (cheap where the meshes stay apart: its filters settle
+    // it), and a pair that touches is answered by it, where the runs from
+    // the ends' distance down would each search every triangle pair within
+    // that distance (and the ends' distances are not needed).
+    let first = (!query.within.is_finite()).then(|| runs.below(query, (0.0, 0.0), warm, scratch));
+    if let Some((run, result)) = &first {
+        answer.runs += 1;
+        warm = WarmStart { lower_bound: None, hint: result.hint, axis: result.axis, simplex: result.simplex };
+        if let Run::Touching { time } = *run {
+            answer.touch(measure(&a, &b, time, result.hint, scratch), time);
+            return answer;
+        }
+        // The interval's ends are a first upper bound. The end whose hulls
+        // are nearer (or, where they touch at both, whose centres are) is
+        // measured first, and the other only where it is as near or nearer
+        // (a search that starts with that distance as its best: a few node
+        // pairs where it is well beyond). On a tie the start is kept.
         let guess = |s: Real| {
             let pose = StepMotion::relative_pose(a.motion, b.motion, s);
             let hulls = hull_gap(a.mesh, b.mesh, &pose, None, (0.0, Real::INFINITY)).lower.max(0.0);
@@ -261,27 +273,14 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
     if let Some((s, found)) = query.reached.filter(|(_, found)| found.distance <= query.within) {
         answer.keep(found, s);
     }
-    let mut warm = WarmStart::default();
-    if !query.within.is_finite() {
-        // Every approach is wanted: first, do they touch? That run is the
-        // time of impact's own (cheap where the meshes stay apart: its
-        // filters settle it), and a pair that touches is answered by it,
-        // where the runs from the ends' distance down would each search
-        // every triangle pair within that distance.
-        let (run, result) = runs.below(query, (0.0, 0.0), warm, scratch);
-        answer.runs += 1;
-        warm = WarmStart { lower_bound: None, hint: result.hint, axis: result.axis, simplex: result.simplex };
+    if let Some((run, _)) = first {
         match run {
-            Run::Touching { time } => {
-                answer.touch(measure(&a, &b, time, result.hint, scratch), time);
-                return answer;
-            }
             Run::Beyond { lower } => answer.lower = lower.min(answer.upper),
             Run::Undecided => {
                 answer.status = ApproachStatus::Undecided;
                 return answer;
             }
-            Run::Closer { .. } => {}
+            Run::Closer { .. } | Run::Touching { .. } => {}
         }
         // Closing at the start, where the best is: the first run would
         // stop a hair later (the distance falls below the best at once),
