@@ -257,17 +257,14 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
             let hulls = hull_gap(a.mesh, b.mesh, &pose, None, (0.0, Real::INFINITY)).lower.max(0.0);
             (hulls, pose.translation.vector.norm())
         };
-        if guess(query.duration) < guess(0.0) {
-            let at_end = measure(&a, &b, query.duration, None, scratch);
-            match measure_below(&a, &b, 0.0, at_end.distance.next_up(), scratch) {
-                Some(found) => answer.keep(found, 0.0),
-                None => answer.keep(at_end, query.duration),
-            }
-        } else {
-            answer.keep(measure(&a, &b, 0.0, None, scratch), 0.0);
-            if let Some(found) = measure_below(&a, &b, query.duration, answer.upper, scratch) {
-                answer.keep(found, query.duration);
-            }
+        let end = query.duration;
+        let (near, far) = if guess(end) < guess(0.0) { (end, 0.0) } else { (0.0, end) };
+        let at_near = measure(&a, &b, near, None, scratch);
+        // The far end where it is nearer, or as near and the start.
+        let ceiling = if far == 0.0 { at_near.distance.next_up() } else { at_near.distance };
+        match measure_below(&a, &b, far, ceiling, scratch) {
+            Some(found) => answer.keep(found, far),
+            None => answer.keep(at_near, near),
         }
     }
     if let Some((s, found)) = query.reached.filter(|(_, found)| found.distance <= query.within) {
