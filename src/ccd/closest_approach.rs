@@ -32,14 +32,14 @@
 //! `within`) asks that first, with one run at separation 0.
 
 use super::contact::{ContactRule, TARGET_FRACTION};
-use super::convex_measure::{measure, measure_below};
+use super::convex_measure::{in_world, measure, measure_below, pair_at_hulls};
 use super::descent::descend;
-use super::hull_gap::hull_gap;
+use super::hull_gap::{hull_gap, HullGap};
 use super::mesh_pair::mesh_time_of_impact_with;
 use super::options::{CcdOptions, CcdStatus};
 use super::pair_motion::PairMotion;
 use super::query::{MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, Touching, WarmStart};
-use crate::math::{Point, Real};
+use crate::math::{Point, Pose, Real};
 use crate::mesh::{DistanceKernel, MeshDistance};
 use crate::motion::StepMotion;
 
@@ -85,6 +85,15 @@ pub(crate) const SCREEN_TOLERANCE_FRACTION: Real = 0.25;
 /// this fraction of the width across its time bracket: `0.125` (the upper
 /// bound is then that close to the local minimum).
 pub(crate) const DESCENT_PRECISION_FRACTION: Real = 0.125;
+
+/// An end of the interval takes its distance from a triangle pair around
+/// the hulls' closest vertices where that is within this fraction of the
+/// width of the hulls' gap ([`pair_at_hulls`]): `0.5`. The first run then asks for
+/// `0.75` of the width below it, and stops only within `0.125` of the
+/// width above that (its own tolerance, `RUN_TOLERANCE_FRACTION / 2`), so
+/// at least `0.125` of the width below the end's distance: never at the
+/// end itself.
+pub(crate) const ENDS_TOLERANCE_FRACTION: Real = 0.5;
 
 /// A closest-approach query: two meshes moving as in
 /// [`mesh_time_of_impact`](crate::ccd::mesh_time_of_impact) over `[0, duration]`.
@@ -251,20 +260,33 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
         // are nearer (or, where they touch at both, whose centres are) is
         // measured first, and the other only where it is as near or nearer
         // (a search that starts with that distance as its best: a few node
-        // pairs where it is well beyond). On a tie the start is kept.
-        let guess = |s: Real| {
+        // pairs where it is well beyond). On a tie the start is kept. Where
+        // the hulls' gap certifies a pair around their closest vertices to
+        // `ENDS_TOLERANCE_FRACTION` of the width, that pair's distance is
+        // the end's, with no search.
+        let at = |s: Real| {
             let pose = StepMotion::relative_pose(a.motion, b.motion, s);
-            let hulls = hull_gap(a.mesh, b.mesh, &pose, None, (0.0, Real::INFINITY)).lower.max(0.0);
-            (hulls, pose.translation.vector.norm())
+            let gap = hull_gap(a.mesh, b.mesh, &pose, None, (0.0, Real::INFINITY));
+            (s, pose, gap)
         };
-        let end = query.duration;
-        let (near, far) = if guess(end) < guess(0.0) { (end, 0.0) } else { (0.0, end) };
-        let at_near = measure(&a, &b, near, None, scratch);
+        let guess =
+            |(_, pose, gap): &(Real, Pose, HullGap)| (gap.lower.max(0.0), pose.translation.vector.norm());
+        let on_hulls = |(s, pose, gap): &(Real, Pose, HullGap)| {
+            let found = pair_at_hulls(a.mesh, b.mesh, pose, gap, ENDS_TOLERANCE_FRACTION * runs.width)?;
+            Some(in_world(&a, *s, found))
+        };
+        let (start, end) = (at(0.0), at(query.duration));
+        let (near, far) = if guess(&end) < guess(&start) { (end, start) } else { (start, end) };
+        let at_near = on_hulls(&near).unwrap_or_else(|| measure(&a, &b, near.0, None, scratch));
         // The far end where it is nearer, or as near and the start.
-        let ceiling = if far == 0.0 { at_near.distance.next_up() } else { at_near.distance };
-        match measure_below(&a, &b, far, ceiling, scratch) {
-            Some(found) => answer.keep(found, far),
-            None => answer.keep(at_near, near),
+        let ceiling = if far.0 == 0.0 { at_near.distance.next_up() } else { at_near.distance };
+        let at_far = match on_hulls(&far) {
+            Some(found) => Some(found).filter(|found| found.distance < ceiling),
+            None => measure_below(&a, &b, far.0, ceiling, scratch),
+        };
+        match at_far {
+            Some(found) => answer.keep(found, far.0),
+            None => answer.keep(at_near, near.0),
         }
     }
     if let Some((s, found)) = query.reached.filter(|(_, found)| found.distance <= query.within) {

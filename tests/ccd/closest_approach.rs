@@ -10,7 +10,7 @@ use nearmiss::ccd::{
 };
 use nearmiss::math::{Pose, Real, Vector};
 use nearmiss::mesh::{
-    box_mesh, icosphere, mesh_distance, mesh_distance_brute_force, DistanceKernel, DistanceSearch,
+    box_mesh, icosphere, mesh_distance, mesh_distance_brute_force, torus, DistanceKernel, DistanceSearch,
     MeshDistanceScratch, TriMesh,
 };
 use nearmiss::motion::StepMotion;
@@ -88,6 +88,39 @@ fn the_nearer_end_is_the_closest_approach_of_a_steady_approach() {
         assert_eq!(approach.status, ApproachStatus::Bracketed, "{approach:?}");
         assert!(approach.lower <= 0.5 && (approach.upper - 0.5).abs() <= 1e-12, "{approach:?}");
         assert_eq!(approach.time, end, "{approach:?}");
+    }
+}
+
+/// A small cube moves straight away from a torus's outside, or straight
+/// at it, or up along its axis over its hole: the closest approach is at
+/// the start or the end. Beside the outside, the torus's outermost vertex
+/// `(R + r, 0, 0)` faces the cube's face, so the distance there is the
+/// face's `x` less `R + r` (0.1), taken from the pair at the hulls' closest
+/// vertices; over the hole the hull's flat top is far nearer than the tube,
+/// and the distance is the brute force's at the start.
+#[test]
+fn the_ends_of_a_torus_and_a_cube_are_measured_beside_and_over_its_hole() {
+    let ring = torus(1.0, 0.3, 24, 8).unwrap();
+    let cube = box_mesh(&Vector::new(0.1, 0.1, 0.1)).unwrap();
+    let fixed = StepMotion::new(Pose::identity(), Vector::zeros(), Vector::zeros());
+    let over_the_hole = Pose::translation(0.0, 0.0, 0.3 + 0.5 + 0.1);
+    let exact_over = mesh_distance_brute_force(&ring, &Pose::identity(), &cube, &over_the_hole);
+    for (pose, velocity, distance, end) in [
+        (Pose::translation(1.5, 0.0, 0.0), Vector::new(1.0, 0.0, 0.0), 0.1, 0.0),
+        (Pose::translation(2.5, 0.0, 0.0), Vector::new(-1.0, 0.0, 0.0), 0.1, 1.0),
+        (over_the_hole, Vector::new(0.0, 0.0, 1.0), exact_over, 0.0),
+    ] {
+        let moving = StepMotion::new(pose, velocity, Vector::zeros());
+        let approach = bracket(&ring, &fixed, &cube, &moving, 1.0, Real::INFINITY);
+        assert_eq!(approach.status, ApproachStatus::Bracketed, "{approach:?}");
+        assert!(approach.lower <= distance + 1e-12 && distance <= approach.upper + 1e-12, "{approach:?}");
+        assert!(
+            approach.upper - approach.lower <= DEFAULT_APPROACH_TOLERANCE * cube.radius(),
+            "{approach:?}"
+        );
+        assert_eq!(approach.time, end, "{approach:?}");
+        // Whether anything touches, then the proof from the end's distance.
+        assert_eq!(approach.runs, 2, "{approach:?}");
     }
 }
 
