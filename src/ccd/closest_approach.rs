@@ -36,6 +36,7 @@ use super::convex_measure::{in_world, measure, measure_below, pair_at_hulls};
 use super::descent::descend;
 use super::hull_gap::{hull_gap, HullGap};
 use super::mesh_pair::mesh_time_of_impact_with;
+use super::mesh_search::FrontStart;
 use super::options::{CcdOptions, CcdStatus};
 use super::pair_motion::PairMotion;
 use super::query::{MeshCcdQuery, MeshCcdResult, MeshCcdScratch, MovingMesh, Touching, WarmStart};
@@ -248,7 +249,10 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
     // it), and a pair that touches is answered by it, where the runs from
     // the ends' distance down would each search every triangle pair within
     // that distance (and the ends' distances are not needed).
-    let first = (!query.within.is_finite()).then(|| runs.below(query, (0.0, 0.0), warm, scratch));
+    // Every front a run keeps is this query's (see `Runs::below`).
+    scratch.front.reset();
+    let first =
+        (!query.within.is_finite()).then(|| runs.below(query, (0.0, 0.0), warm, scratch, FrontStart::Roots));
     if let Some((run, result)) = &first {
         answer.runs += 1;
         warm = WarmStart { lower_bound: None, hint: result.hint, axis: result.axis, simplex: result.simplex };
@@ -333,7 +337,7 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
         // that one stopped: before, the distance stayed above that target,
         // which is above this one (see `Runs::below`).
         let from = if proven.1 >= target { proven.0 } else { 0.0 };
-        let (run, result) = runs.below(query, (from, target), warm, scratch);
+        let (run, result) = runs.below(query, (from, target), warm, scratch, FrontStart::Kept);
         answer.runs += 1;
         warm = WarmStart { lower_bound: None, hint: result.hint, axis: result.axis, simplex: result.simplex };
         match run {
@@ -447,13 +451,19 @@ impl Runs {
     /// certified the distance above its guaranteed distance `G` before it,
     /// and the meshes within `G + τ / 2` there: the next target, three
     /// quarters of the width below the next best (at most that distance),
-    /// is lower than `G`, so the next run need only start there.
+    /// is lower than `G`, so the next run need only start there, and its
+    /// search from the front the stopped one left (`FrontStart::Kept`):
+    /// every element of it holds for the lower target from there on
+    /// ([`Front::begin`](super::mesh_search::Front::begin) checks both), so
+    /// the node pairs it opened are not opened again. A run that starts
+    /// earlier, or from a higher target, starts from the roots.
     fn below(
         &self,
         query: &ClosestApproachQuery<'_>,
         (from, target): (Real, Real),
         warm: WarmStart,
         scratch: &mut MeshCcdScratch,
+        front_start: FrontStart,
     ) -> (Run, MeshCcdResult) {
         // (A start at or past the end would leave no interval to ask about.)
         let from = if from < query.duration { from } else { 0.0 };
@@ -469,7 +479,7 @@ impl Runs {
             contact: ContactRule::Separation(separation),
             kernel: query.kernel,
         };
-        let mut result = mesh_time_of_impact_with(&ccd, warm, scratch, Touching::Named);
+        let mut result = mesh_time_of_impact_with(&ccd, warm, scratch, (Touching::Named, front_start));
         // Out of iterations: the run again with `BUDGET_GROWTH` times the
         // budget, up to the steps that decide it (a grazing pass can need
         // many small advancement steps).
@@ -478,7 +488,7 @@ impl Runs {
         while result.status == CcdStatus::OutOfIterations && budget < decided_within {
             budget = budget.saturating_mul(BUDGET_GROWTH).min(decided_within);
             let ccd = MeshCcdQuery { options: CcdOptions { max_iterations: budget, ..self.options }, ..ccd };
-            result = mesh_time_of_impact_with(&ccd, warm, scratch, Touching::Named);
+            result = mesh_time_of_impact_with(&ccd, warm, scratch, (Touching::Named, front_start));
         }
         result.time_of_impact = result.time_of_impact.map(|time| time + from);
         let run = match (result.status, result.time_of_impact) {
@@ -518,7 +528,7 @@ pub(crate) fn screen(
         runs.options.distance_tolerance *= coarse / runs.tau;
         runs.tau = coarse;
     }
-    runs.below(query, (0.0, query.within), warm, scratch)
+    runs.below(query, (0.0, query.within), warm, scratch, FrontStart::Roots)
 }
 
 impl ClosestApproach {

@@ -61,7 +61,7 @@
 use super::contact::ContactContract;
 use super::hull_advance::{advance_on_hulls, pair_at_touching_hulls};
 use super::mesh_bound::{PairFrame, SPIN_SWEEP_AFTER_ITERATIONS, SPIN_SWEEP_MIN_TURN};
-use super::mesh_search::{SearchMeshes, StepLimits, StepOutcome, StepWork};
+use super::mesh_search::{FrontOrigin, FrontStart, SearchMeshes, StepLimits, StepOutcome, StepWork};
 use super::options::{CcdOptions, CcdStatus};
 use super::pair_motion::{spheres_apart, PairMotion, Reached};
 use super::query::{MeshCcdQuery, MeshCcdResult, MeshCcdScratch, Touching, WarmStart};
@@ -106,15 +106,17 @@ pub fn mesh_time_of_impact(
     warm: WarmStart,
     scratch: &mut MeshCcdScratch,
 ) -> MeshCcdResult {
-    mesh_time_of_impact_with(query, warm, scratch, Touching::Searched)
+    mesh_time_of_impact_with(query, warm, scratch, (Touching::Searched, FrontStart::Roots))
 }
 
-/// [`mesh_time_of_impact`], with the choice of [`Touching`].
+/// [`mesh_time_of_impact`], with the choice of [`Touching`] and where the
+/// BVH search starts ([`FrontStart`]: `Kept` only for a query of the meshes
+/// and motions of the one that last used `scratch`, at a later time).
 pub(crate) fn mesh_time_of_impact_with(
     query: &MeshCcdQuery<'_>,
     warm: WarmStart,
     scratch: &mut MeshCcdScratch,
-    touching_pair: Touching,
+    (touching_pair, front_start): (Touching, FrontStart),
 ) -> MeshCcdResult {
     let MeshCcdQuery { a, b, duration, ref options, contact, kernel } = *query;
     let WarmStart { lower_bound, hint, axis, simplex } = warm;
@@ -174,7 +176,7 @@ pub(crate) fn mesh_time_of_impact_with(
     let reached = match touching {
         Some((found, measured)) => Reached { time: s, status: first_touch, pair: Some(found), measured },
         None => match search(
-            &Searched { pair: &pair, contract: &contract, kernel, options, first_touch },
+            &Searched { pair: &pair, contract: &contract, kernel, options, first_touch, front_start },
             s,
             hint,
             &mut result,
@@ -212,7 +214,8 @@ pub(crate) const FRONT_RESET_TRIANGLE_PAIRS: usize = 4096;
 pub(crate) const FRONT_RESET_GROWTH: Real = 1.5;
 
 /// What the BVH search asks of a pair: its motion, contract, kernel and
-/// options, and the status of a contact found at its first iteration.
+/// options, the status of a contact found at its first iteration, and
+/// where the search starts.
 #[derive(Copy, Clone)]
 struct Searched<'q, 'p> {
     pair: &'q PairMotion<'p>,
@@ -220,6 +223,7 @@ struct Searched<'q, 'p> {
     kernel: DistanceKernel,
     options: &'q CcdOptions,
     first_touch: CcdStatus,
+    front_start: FrontStart,
 }
 
 /// The BVH search from `s` (see the module): the time, status and
@@ -235,7 +239,7 @@ fn search(
     scratch: &mut MeshCcdScratch,
     work: &mut StepWork,
 ) -> Option<Reached> {
-    let Searched { pair, contract, kernel, options, first_touch } = *query;
+    let Searched { pair, contract, kernel, options, first_touch, front_start } = *query;
     let PairMotion { a, b, duration, speed, .. } = *pair;
     let (target, contact_distance) = (contract.target, contract.contact_distance);
     let relative_velocity = b.motion.velocity - a.motion.velocity;
@@ -245,7 +249,7 @@ fn search(
     // contact distance could not (see `mesh_search.rs`).
     let min_step = if speed > 0.0 { (contact_distance - target) / speed } else { Real::INFINITY };
     let meshes = SearchMeshes { a: a.mesh, b: b.mesh, kernel };
-    scratch.front.reset();
+    scratch.front.begin(FrontOrigin { elapsed: a.motion.elapsed, target, reached: s }, front_start);
     let mut last_step = Real::INFINITY;
     for iteration in 0..options.max_iterations.max(1) {
         if iteration == SPIN_SWEEP_AFTER_ITERATIONS && spin * (duration - s) >= SPIN_SWEEP_MIN_TURN {

@@ -284,12 +284,43 @@ enum ItemKind {
 /// The front of one CCD query, kept between its advancement steps: an
 /// element whose time bound still reaches past the next step is not looked
 /// at again (temporal coherence), and only the elements that limit the
-/// step are re-evaluated at the current time, opened, or both.
+/// step are re-evaluated at the current time, opened, or both. A run of a
+/// closest approach may start from the front of the run before it
+/// ([`Front::begin`]).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Front {
     heap: std::collections::BinaryHeap<FrontItem>,
     searches: u32,
+    /// What the elements' bounds hold for, where there are any.
+    origin: FrontOrigin,
 }
+
+/// The query a front was bounded for: every element holds that nothing
+/// below it comes within `target` from `reached` (the last search's start)
+/// until its time, times counted from `elapsed` (the motions' own
+/// [`StepMotion::elapsed`](crate::motion::StepMotion) at the query's start).
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub(crate) struct FrontOrigin {
+    pub elapsed: Real,
+    pub target: Real,
+    pub reached: Real,
+}
+
+/// Where a query's BVH search starts.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum FrontStart {
+    /// From the pair of roots.
+    Roots,
+    /// From the front the scratch holds, where it still holds
+    /// ([`Front::begin`]): a closest approach's runs, each with the last.
+    Kept,
+}
+
+/// A front is carried into a later query only where that query starts at
+/// or after the time the front reached, to this many ulps of the times
+/// (the two count the same instant from different starts, rounded apart):
+/// `8`. An instant that close is far below any step the bounds take.
+pub(crate) const CARRY_TIME_ULPS: Real = 8.0;
 
 /// The radii that opening a node pair can shrink: both where neither or
 /// both are leaves (two leaves open into their triangle pairs), otherwise
@@ -309,6 +340,33 @@ impl Front {
         self.searches = 0;
     }
 
+    /// Starts a query of the same two meshes and motions, bounded for
+    /// `origin` (its `reached`: the first search's start): where `start` is
+    /// [`FrontStart::Kept`] and the elements held for a target at least this one's up to a time
+    /// at or before this start (every element then still holds, for a
+    /// lower target, from here until its time), they are kept, their times
+    /// moved to the new start; otherwise from the roots. A closest
+    /// approach's run after one that stopped starts where it stopped with
+    /// a lower target: its search needs none of the node pairs the front
+    /// already opened.
+    pub fn begin(&mut self, origin: FrontOrigin, start: FrontStart) {
+        let shift = origin.elapsed - self.origin.elapsed;
+        let slack = CARRY_TIME_ULPS * Real::EPSILON * (origin.elapsed.abs() + origin.reached.abs());
+        let holds =
+            origin.target <= self.origin.target && shift + origin.reached + slack >= self.origin.reached;
+        if start == FrontStart::Kept && holds && !self.heap.is_empty() {
+            let mut items = std::mem::take(&mut self.heap).into_vec();
+            for item in &mut items {
+                item.safe_until -= shift;
+                item.evaluated -= shift;
+            }
+            self.heap = items.into();
+        } else {
+            self.reset();
+        }
+        self.origin = origin;
+    }
+
     /// The longest safe step from time `limits.start` (see the module), or
     /// the contact found on the way. `hint`, a triangle pair, is evaluated
     /// first (at the first search) so that the search starts with a good bound.
@@ -323,6 +381,7 @@ impl Front {
         let (a, b) = (meshes.a, meshes.b);
         let nodes_a = a.bvh().nodes();
         self.searches += 1;
+        self.origin.reached = limits.start;
         let items = Items { meshes, frame, limits, stamp: self.searches };
         // The shortest time of a triangle pair evaluated in full in this search.
         let mut best = limits.horizon;
@@ -351,6 +410,9 @@ impl Front {
                     self.heap.pop();
                     let mut item = items.exact(top.i, top.j, work);
                     if item.gap <= limits.contact_distance {
+                        // Kept: the front stays a cut (a later query may
+                        // start from it).
+                        self.heap.push(item);
                         return StepOutcome::Contact { pair: (top.i as usize, top.j as usize) };
                     }
                     // An earlier bound that reaches further still holds.
@@ -448,5 +510,125 @@ impl Front {
     /// gap at its evaluation and the head-on closing `speed` since.
     pub fn distance_bound_at(&self, end: Real, speed: Real) -> Real {
         self.heap.iter().map(|item| item.gap - speed * (end - item.evaluated)).fold(Real::INFINITY, Real::min)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{Pose, Vector};
+    use crate::mesh::icosphere;
+    use nalgebra::UnitQuaternion;
+
+    /// The triangle pairs below the front's elements, counted with their
+    /// repeats: `n_a × n_b` exactly when the front is a cut.
+    fn covered(front: &Front, meshes: &SearchMeshes<'_>) -> usize {
+        fn below(nodes: &[BvhNode], k: u32) -> usize {
+            let node = &nodes[k as usize];
+            if node.is_leaf() {
+                node.count as usize
+            } else {
+                below(nodes, node.first) + below(nodes, node.first + 1)
+            }
+        }
+        let (a, b) = (meshes.a.bvh().nodes(), meshes.b.bvh().nodes());
+        front
+            .heap
+            .iter()
+            .map(|item| match item.kind {
+                ItemKind::Nodes | ItemKind::Leaves => below(a, item.i) * below(b, item.j),
+                ItemKind::Triangles | ItemKind::TrianglesQuick => 1,
+            })
+            .sum()
+    }
+
+    /// A front of one search: two icospheres 0.5 apart, closing at 1,
+    /// bounded at time `start` for `target`.
+    fn searched(meshes: &SearchMeshes<'_>, start: Real, target: Real) -> Front {
+        let frame = PairFrame::new(
+            Pose::translation(1.5 - start, 0.0, 0.0),
+            &UnitQuaternion::identity(),
+            &Vector::new(-1.0, 0.0, 0.0),
+            &Vector::zeros(),
+            &Vector::new(0.0, 0.0, 2.0),
+        );
+        let limits = StepLimits {
+            start,
+            target,
+            contact_distance: target + 1e-7,
+            horizon: 1.0 - start,
+            min_step: 1e-7,
+            spin_sweep: false,
+        };
+        let mut front = Front::default();
+        front.begin(FrontOrigin { elapsed: 0.0, target, reached: start }, FrontStart::Roots);
+        let outcome = front.advance(meshes, &frame, &limits, None, &mut StepWork::default());
+        assert!(matches!(outcome, StepOutcome::Advance { .. }), "{outcome:?}");
+        front
+    }
+
+    #[test]
+    fn a_front_is_kept_only_for_a_lower_target_from_where_it_reached() {
+        let ball = icosphere(0.5, 2).unwrap();
+        let meshes = SearchMeshes { a: &ball, b: &ball, kernel: DistanceKernel::Exact };
+        let (start, target) = (0.1, 0.2);
+        let front = searched(&meshes, start, target);
+        let pairs = ball.triangles().len() * ball.triangles().len();
+        assert_eq!(covered(&front, &meshes), pairs);
+        let items = front.heap.len();
+        assert!(items > 1, "{items} elements");
+        let later = |target: Real, elapsed: Real, reached: Real, start: FrontStart| {
+            let mut kept = front.clone();
+            kept.begin(FrontOrigin { elapsed, target, reached }, start);
+            kept
+        };
+        // A lower target, from where the search reached (its times counted
+        // from 0.05 on): kept, every time moved back by 0.05.
+        let kept = later(0.15, 0.05, start - 0.05, FrontStart::Kept);
+        assert_eq!(kept.heap.len(), items);
+        let earliest = |f: &Front| f.heap.peek().map(|item| (item.safe_until, item.evaluated));
+        let (until, evaluated) = earliest(&front).unwrap();
+        assert_eq!(earliest(&kept), Some((until - 0.05, evaluated - 0.05)));
+        // A higher target, a start before the search's, or from the roots:
+        // a new front.
+        assert!(later(0.25, 0.05, start - 0.05, FrontStart::Kept).heap.is_empty());
+        assert!(later(0.15, 0.0, start - 0.01, FrontStart::Kept).heap.is_empty());
+        assert!(later(0.15, 0.05, start - 0.05, FrontStart::Roots).heap.is_empty());
+    }
+
+    #[test]
+    fn the_front_stays_a_cut_after_a_contact() {
+        // The icospheres at time 0.2, asked for a target just below their
+        // distance there: the search finds a triangle pair within the
+        // contact distance, and the front it leaves (which a later run may
+        // start from) still holds every triangle pair below exactly one
+        // element.
+        let ball = icosphere(0.5, 2).unwrap();
+        let meshes = SearchMeshes { a: &ball, b: &ball, kernel: DistanceKernel::Exact };
+        let mut front = Front::default();
+        let pose = Pose::translation(1.3, 0.0, 0.0);
+        let search = crate::mesh::DistanceSearch::default();
+        let scratch = &mut crate::mesh::MeshDistanceScratch::default();
+        let distance = crate::mesh::mesh_distance_relative(&ball, &ball, &pose, &search, scratch).distance;
+        let frame = PairFrame::new(
+            pose,
+            &UnitQuaternion::identity(),
+            &Vector::new(-1.0, 0.0, 0.0),
+            &Vector::zeros(),
+            &Vector::new(0.0, 0.0, 2.0),
+        );
+        let limits = StepLimits {
+            start: 0.2,
+            target: distance - 1e-3,
+            contact_distance: distance + 1e-3,
+            horizon: 0.8,
+            // What the search loop gives (the contact distance less the
+            // target over the head-on speed, at most 2 here).
+            min_step: 1e-3,
+            spin_sweep: false,
+        };
+        let outcome = front.advance(&meshes, &frame, &limits, None, &mut StepWork::default());
+        assert!(matches!(outcome, StepOutcome::Contact { .. }), "{outcome:?}");
+        assert_eq!(covered(&front, &meshes), ball.triangles().len() * ball.triangles().len());
     }
 }
