@@ -2,8 +2,8 @@
 //! triangles or exact distances along the step, stepping down to the
 //! nearest time by parabolic steps.
 
-use super::convex_measure::{certificate_slack, in_world, measure, measure_below};
-use super::hull_gap::{convex_distance, ConvexDistance, WarmSimplex};
+use super::convex_measure::{certificate_slack, in_world, measure, measure_below, pair_at_hulls};
+use super::hull_gap::{convex_distance, hull_gap_from, ConvexDistance, WarmSimplex};
 use super::query::{MeshCcdScratch, MovingMesh};
 use crate::math::Real;
 use crate::mesh::{triangle_pair_distance, walk_to_closer_pair, MeshDistance};
@@ -12,6 +12,14 @@ use crate::motion::StepMotion;
 /// The descent's first step, a fraction of the rest of the interval:
 /// `1/256` (then doubling while the distance falls).
 pub(crate) const DESCENT_FIRST_STEP_FRACTION: Real = 1.0 / 256.0;
+
+/// A descent's probe of two meshes not both convex is taken from the pair
+/// around the hulls' closest vertices where the hulls' gap certifies it to
+/// this fraction of the descent's precision ([`pair_at_hulls`]): `0.125`.
+/// Where the closest points lie on both hulls (a link beside another),
+/// that is one warm GJK and a few triangle pairs, where a walk evaluates
+/// every triangle around the pair's corners for up to 16 rounds.
+pub(crate) const PROBE_HULL_TOLERANCE_FRACTION: Real = 0.125;
 
 /// The most steps of [`descend`]'s minimisation: `48` (golden-section
 /// steps alone would shrink the time bracket to 0.618^48 ≈ 1e-10 of its
@@ -27,13 +35,14 @@ pub(super) const DESCENT_STEPS: usize = 48;
 /// most at the head-on speed `|v_a − v_b| + |ω_a| r_a + |ω_b| r_b`), a
 /// parabola's step finds a closer point by less than `precision`, or
 /// [`DESCENT_STEPS`] steps. The probes are [`Probe`]'s: for two convex
-/// meshes, GJK on their hulls, warm from probe to probe; otherwise a walk
-/// from the closest pair of the best time so far to a closer one (a few
-/// dozen triangle pairs where an exact distance searches thousands), and,
-/// where a walk would end the march, the exact search for a pair closer
-/// than the best (over a long step the closest pair may have moved out of
-/// a walk's reach, to a gear's next tooth; where the distance has risen,
-/// the search below the best prunes at once).
+/// meshes, GJK on their hulls, warm from probe to probe; otherwise the
+/// pair around the hulls' closest vertices where the hulls' gap certifies
+/// it, and else a walk from the closest pair of the best time so far to a
+/// closer one (a few dozen triangle pairs where an exact distance searches
+/// thousands), and, where a walk would end the march, the exact search for
+/// a pair closer than the best (over a long step the closest pair may have
+/// moved out of a walk's reach, to a gear's next tooth; where the distance
+/// has risen, the search below the best prunes at once).
 ///
 /// The answer is the best time's pair, measured: a distance the meshes
 /// reach there, so an upper bound of the closest approach, never wrong.
@@ -52,7 +61,12 @@ pub(super) fn descend(
     hint: Option<(usize, usize)>,
     scratch: &mut MeshCcdScratch,
 ) -> (Real, MeshDistance) {
-    descend_with(&mut Probe::new(a, b, hint), interval, precision, scratch)
+    descend_with(
+        &mut Probe::new(a, b, hint, PROBE_HULL_TOLERANCE_FRACTION * precision),
+        interval,
+        precision,
+        scratch,
+    )
 }
 
 /// [`descend`] with `probe`: the best time and its pair, measured.
@@ -75,7 +89,7 @@ fn descend_with(
     while step > 0.0 {
         next = (best.0 + step).min(duration);
         let mut found = probe.at(next, scratch);
-        if found >= best.1 && probe.walks() {
+        if found >= best.1 && probe.walks() && !probe.certified {
             // The march would end here: a walk may have lost the closest
             // pair over the long step (a gear's next tooth), so the exact
             // search for a pair closer than the best decides.
@@ -165,8 +179,11 @@ fn descend_with(
 /// GJK on their vertex hulls, warm from the last probe (the closest
 /// features move little between probes): certified to
 /// [`PROBE_CERTIFICATE_ULPS`](super::convex_measure::PROBE_CERTIFICATE_ULPS) ulps of the pair's scale, a few GJK
-/// iterations instead of a BVH search. For other meshes, a walk from its
-/// pair ([`walk_to_closer_pair`]): an upper bound, the distance where the
+/// iterations instead of a BVH search. For other meshes, the pair around
+/// the hulls' closest vertices where the hulls' gap (GJK, warm from the
+/// last probe) certifies it to [`PROBE_HULL_TOLERANCE_FRACTION`] of the
+/// precision, until that first fails; then a walk from its pair
+/// ([`walk_to_closer_pair`]): an upper bound, the distance where the
 /// closest pair lies downhill of the pair. With no pair yet, or where GJK
 /// does not certify, the exact mesh distance. [`Probe::measure`] gives the
 /// exact distance with its points and features (kept from the last exact
@@ -176,6 +193,14 @@ pub(super) struct Probe<'q, 'm> {
     b: &'q MovingMesh<'m>,
     convex: bool,
     warm: WarmSimplex,
+    /// Where the meshes are not both convex: the largest error of a probe
+    /// certified by the hulls' gap ([`pair_at_hulls`]), and whether to try
+    /// that (until it first fails: the closest points then lie inside a
+    /// hull, and do so nearby in time).
+    hulls: Option<Real>,
+    /// Whether the last probe was within `hulls`' tolerance of the meshes'
+    /// distance (so no search need check it).
+    certified: bool,
     /// Where the next walk or search starts: the last probe's closest pair,
     /// or the one the descent sets.
     hint: Option<(usize, usize)>,
@@ -184,10 +209,16 @@ pub(super) struct Probe<'q, 'm> {
 }
 
 impl<'q, 'm> Probe<'q, 'm> {
-    fn new(a: &'q MovingMesh<'m>, b: &'q MovingMesh<'m>, hint: Option<(usize, usize)>) -> Probe<'q, 'm> {
+    fn new(
+        a: &'q MovingMesh<'m>,
+        b: &'q MovingMesh<'m>,
+        hint: Option<(usize, usize)>,
+        tolerance: Real,
+    ) -> Probe<'q, 'm> {
         let convex = a.mesh.is_convex() && b.mesh.is_convex();
         let hint = hint.filter(|&(i, j)| i < a.mesh.triangles().len() && j < b.mesh.triangles().len());
-        Probe { a, b, convex, warm: WarmSimplex::default(), hint, last: None }
+        let hulls = (!convex).then_some(tolerance);
+        Probe { a, b, convex, warm: WarmSimplex::default(), hulls, certified: false, hint, last: None }
     }
 
     /// Whether the probes are walks (two meshes not both convex).
@@ -197,6 +228,27 @@ impl<'q, 'm> Probe<'q, 'm> {
 
     /// The distance at `s` (a walk's upper bound where [`Probe::walks`]).
     fn at(&mut self, s: Real, scratch: &mut MeshCcdScratch) -> Real {
+        self.certified = false;
+        if let Some(tolerance) = self.hulls {
+            // The hulls' gap, warm from the last probe, and the pair
+            // around their closest vertices, where it certifies.
+            let relative = StepMotion::relative_pose(self.a.motion, self.b.motion, s);
+            let gap = hull_gap_from(
+                self.a.mesh,
+                self.b.mesh,
+                &relative,
+                None,
+                (0.0, Real::INFINITY),
+                &mut self.warm,
+            );
+            match pair_at_hulls(self.a.mesh, self.b.mesh, &relative, &gap, tolerance) {
+                Some(found) => {
+                    (self.hint, self.certified) = (Some((found.triangle_a, found.triangle_b)), true);
+                    return found.distance;
+                }
+                None => self.hulls = None,
+            }
+        }
         if self.convex {
             let relative = StepMotion::relative_pose(self.a.motion, self.b.motion, s);
             let slack = certificate_slack(self.a.mesh, self.b.mesh, &relative);

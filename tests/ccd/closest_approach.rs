@@ -124,6 +124,25 @@ fn the_ends_of_a_torus_and_a_cube_are_measured_beside_and_over_its_hole() {
     }
 }
 
+/// The small cube slides past the torus's outside, its face 0.1 beyond
+/// the outermost vertex `(R + r, 0, 0)` while it passes `y = 0`: the
+/// closest approach is 0.1, reached while the face is level with that
+/// vertex (the cube's centre within 0.1 of `y = 0`, from `t = 0.9` to
+/// `1.1`), found by a descent from where the first proof stopped.
+#[test]
+fn a_cube_sliding_past_a_torus_is_bracketed_at_its_outermost_vertex() {
+    let ring = torus(1.0, 0.3, 24, 8).unwrap();
+    let cube = box_mesh(&Vector::new(0.1, 0.1, 0.1)).unwrap();
+    let fixed = StepMotion::new(Pose::identity(), Vector::zeros(), Vector::zeros());
+    let sliding =
+        StepMotion::new(Pose::translation(1.5, -1.0, 0.0), Vector::new(0.0, 1.0, 0.0), Vector::zeros());
+    let approach = bracket(&ring, &fixed, &cube, &sliding, 2.0, Real::INFINITY);
+    assert_eq!(approach.status, ApproachStatus::Bracketed, "{approach:?}");
+    assert!(approach.lower <= 0.1 + 1e-12 && 0.1 <= approach.upper + 1e-12, "{approach:?}");
+    assert!(approach.upper - approach.lower <= DEFAULT_APPROACH_TOLERANCE * cube.radius(), "{approach:?}");
+    assert!((0.9..=1.1).contains(&approach.time), "{approach:?}");
+}
+
 /// A cube passes over two fixed blocks in turn, 0.3 above the first and
 /// 0.25 above the second (one mesh of two boxes): the run from the end's
 /// distance stops at the first pass, the next (from where that one
