@@ -89,11 +89,11 @@ pub(crate) const DESCENT_PRECISION_FRACTION: Real = 0.125;
 
 /// An end of the interval takes its distance from a triangle pair around
 /// the hulls' closest vertices where that is within this fraction of the
-/// width of the hulls' gap ([`pair_at_hulls`]): `0.5`. The first run then asks for
-/// `0.75` of the width below it, and stops only within `0.125` of the
-/// width above that (its own tolerance, `RUN_TOLERANCE_FRACTION / 2`), so
-/// at least `0.125` of the width below the end's distance: never at the
-/// end itself.
+/// width of the hulls' gap ([`pair_at_hulls`]): `0.5`. The first run then
+/// asks for `0.75` of the width below it, and stops only within `0.125` of
+/// the width above that (its own tolerance, `RUN_TOLERANCE_FRACTION / 2`),
+/// so at least `0.125` of the width below the end's distance: never at
+/// the end itself.
 pub(crate) const ENDS_TOLERANCE_FRACTION: Real = 0.5;
 
 /// A closest-approach query: two meshes moving as in

@@ -98,10 +98,11 @@ pub(crate) fn pair_at_hulls(
 
 /// [`measure`] where the meshes are closer than `ceiling` at time `s`;
 /// `None` where they are not. Where their hulls are at least `ceiling`
-/// apart (GJK, a few support queries) nothing is searched; otherwise the
-/// search starts with `ceiling` as its best, so a pose where the meshes
-/// are well beyond it costs a few node pairs instead of a search down to
-/// the closest triangles.
+/// apart (GJK, a few support queries; its gap holds to the rounding of its
+/// dot products, a few ulps of the pair's scale) nothing is searched;
+/// otherwise the search starts with `ceiling` as its best, so a pose where
+/// the meshes are well beyond it costs a few node pairs instead of a
+/// search down to the closest triangles.
 pub(crate) fn measure_below(
     a: &MovingMesh<'_>,
     b: &MovingMesh<'_>,
