@@ -286,7 +286,7 @@ pub fn closest_approach(query: &ClosestApproachQuery<'_>, scratch: &mut MeshCcdS
         let ceiling = if far.0 == 0.0 { at_near.distance.next_up() } else { at_near.distance };
         let at_far = match on_hulls(&far) {
             Some(found) => Some(found).filter(|found| found.distance < ceiling),
-            None => measure_below(&a, &b, far.0, ceiling, scratch),
+            None => measure_below(&a, &b, (far.0, Some(&far.2)), ceiling, scratch),
         };
         match at_far {
             Some(found) => answer.keep(found, far.0),

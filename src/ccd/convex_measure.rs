@@ -98,15 +98,16 @@ pub(crate) fn pair_at_hulls(
 
 /// [`measure`] where the meshes are closer than `ceiling` at time `s`;
 /// `None` where they are not. Where their hulls are at least `ceiling`
-/// apart (GJK, a few support queries; its gap holds to the rounding of its
-/// dot products, a few ulps of the pair's scale) nothing is searched;
-/// otherwise the search starts with `ceiling` as its best, so a pose where
-/// the meshes are well beyond it costs a few node pairs instead of a
-/// search down to the closest triangles.
+/// apart (GJK, a few support queries, or `hulls`, their gap at `s` where
+/// the caller has it; the gap holds to the rounding of its dot products, a
+/// few ulps of the pair's scale) nothing is searched; otherwise the search
+/// starts with `ceiling` as its best, so a pose where the meshes are well
+/// beyond it costs a few node pairs instead of a search down to the
+/// closest triangles.
 pub(crate) fn measure_below(
     a: &MovingMesh<'_>,
     b: &MovingMesh<'_>,
-    s: Real,
+    (s, hulls): (Real, Option<&HullGap>),
     ceiling: Real,
     scratch: &mut MeshCcdScratch,
 ) -> Option<MeshDistance> {
@@ -114,7 +115,11 @@ pub(crate) fn measure_below(
     let found = match convex_measure(a.mesh, b.mesh, &relative) {
         Some(found) => (found.distance < ceiling).then_some(found)?,
         None => {
-            if hull_gap(a.mesh, b.mesh, &relative, None, (ceiling, ceiling)).lower >= ceiling {
+            let apart = match hulls {
+                Some(gap) => gap.lower,
+                None => hull_gap(a.mesh, b.mesh, &relative, None, (ceiling, ceiling)).lower,
+            };
+            if apart >= ceiling {
                 // No pair is closer than the hulls.
                 return None;
             }
@@ -193,8 +198,8 @@ mod tests {
         // A small box on the torus's axis, 0.5 above its top: the hulls'
         // gap is 0.5 (the hull's flat top spans the hole), the meshes'
         // distance that from the box's bottom edges down to the tube's
-        // inner side, far more (above 0.8). No pair around the hulls' closest vertices is within
-        // the tolerance of the gap.
+        // inner side, far more (above 0.8). No pair around the hulls'
+        // closest vertices is within the tolerance of the gap.
         let ring = torus(1.0, 0.3, 32, 16).unwrap();
         let cube = box_mesh(&Vector::new(0.1, 0.1, 0.1)).unwrap();
         let pos_ab = Pose::translation(0.0, 0.0, 0.3 + 0.5 + 0.1);
@@ -224,7 +229,7 @@ mod tests {
             let (still, placed) = (StepMotion::fixed(Pose::identity()), StepMotion::fixed(pos_ab));
             let (a, b) = (MovingMesh { mesh: a, motion: &still }, MovingMesh { mesh: b, motion: &placed });
             for ceiling in [0.5, 1.0 - 1e-6, 1.0 + 1e-6, 2.0].map(|f| f * exact) {
-                match measure_below(&a, &b, 0.0, ceiling, &mut scratch) {
+                match measure_below(&a, &b, (0.0, None), ceiling, &mut scratch) {
                     None => {
                         above += 1;
                         assert!(exact >= ceiling, "case {case}: none below {ceiling}, {exact} exact");

@@ -289,7 +289,7 @@ impl<'q, 'm> Probe<'q, 'm> {
     /// points and features, kept as [`Probe::measure`]'s), `None` where it
     /// is not.
     fn below(&mut self, s: Real, ceiling: Real, scratch: &mut MeshCcdScratch) -> Option<MeshDistance> {
-        let found = measure_below(self.a, self.b, s, ceiling, scratch)?;
+        let found = measure_below(self.a, self.b, (s, None), ceiling, scratch)?;
         Some(self.keep(s, found))
     }
 

@@ -342,10 +342,10 @@ impl Front {
 
     /// Starts a query of the same two meshes and motions, bounded for
     /// `origin` (its `reached`: the first search's start): where `start` is
-    /// [`FrontStart::Kept`] and the elements held for a target at least this one's up to a time
-    /// at or before this start (every element then still holds, for a
-    /// lower target, from here until its time), they are kept, their times
-    /// moved to the new start; otherwise from the roots. A closest
+    /// [`FrontStart::Kept`] and the elements held for a target at least
+    /// this one's up to a time at or before this start (every element then
+    /// still holds, for a lower target, from here until its time), they are
+    /// kept, their times moved to the new start; otherwise from the roots. A closest
     /// approach's run after one that stopped starts where it stopped with
     /// a lower target: its search needs none of the node pairs the front
     /// already opened.
